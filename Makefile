@@ -1,0 +1,28 @@
+# Single entry point. `make test` and `make render` are the two README commands: each installs what
+# a fresh Debian 12 machine (root) is missing, configures, builds and runs.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
+
+.PHONY: deps configure build test render bench clean
+
+deps:
+	@bash scripts/install_deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -G Ninja $(CMAKE_FLAGS)
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+render: build
+	@echo "make render: not yet. The renderer (hdeye delegate and eyerecord) lands with issues 5 and 6."
+
+bench: build
+	@bash scripts/run_benchmarks.sh $(BUILD_DIR)
+
+clean:
+	@rm -rf $(BUILD_DIR)

@@ -1,0 +1,231 @@
+#pragma once
+// The anterior surface of the eye as a height field z = f(r) in the canonical frame (mm, apex at the
+// origin, gaze +z, r = sqrt(x^2 + y^2)), in the two models of Chiang and Burley 2018:
+//  - ellipsoid-cone: 0.75 z^2 + 15.6 z + r^2 = 0 for 2r < 10.02 mm, then the 38 degree cone
+//    z = f(5.01) - (r - 5.01) tan 38deg out to the 15.08 mm rim. (The paper prints z - r tan 38 = 0,
+//    which omits the offset that makes the surface continuous; with it, f(7.54) = -3.734 mm, the
+//    measured iris depth.)
+//  - paraboloid: 14.5 z + r^2 = 0, the paper's continuous approximation, with the same 7.54 mm rim.
+// Each piece is a RotationalQuadric; this class adds the piece layout, the height-field derivatives
+// (sag, slope, curvature, the Hessian MNEE needs) and the exact ray intersection.
+#include "eyelib/eye_constants.h"
+#include "eyelib/rotational_quadric.h"
+#include "eyelib/vec.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+namespace eyelib {
+
+enum class CorneaModel : std::uint8_t { EllipsoidCone, Paraboloid };
+enum class SurfacePiece : std::uint8_t { Ellipsoid, Cone, Paraboloid };
+
+const char* ToString(CorneaModel model);
+const char* ToString(SurfacePiece piece);
+
+/// Principal curvatures of the surface of revolution, 1/mm, positive where the surface is convex
+/// (bends away from its outward normal).
+template <class T> struct PrincipalCurvatures {
+  T meridional;  ///< along r
+  T sagittal;    ///< around the axis
+};
+
+/// The height field h(x, y) = f(r) and its first and second partial derivatives (mm, 1, 1/mm).
+template <class T> struct HeightDerivatives {
+  T h;
+  T hx, hy;
+  T hxx, hxy, hyy;
+};
+
+/// A ray's first crossing of the anterior surface.
+template <class T> struct SurfaceHit {
+  T t;                 ///< ray parameter, in units of |ray.dir|
+  Vec3<T> point;       ///< mm
+  Vec3<T> normal;      ///< unit, outward (away from the anterior chamber)
+  SurfacePiece piece;
+  bool fromOutside;    ///< the ray arrives against the outward normal
+};
+
+template <class T> class AnteriorSurface {
+ public:
+  explicit AnteriorSurface(CorneaModel model = CorneaModel::EllipsoidCone) : model_(model) {
+    using namespace paper;
+    rim_ = T(kRimRadius);
+    if (model == CorneaModel::Paraboloid) {
+      junction_ = rim_;
+      primary_ = {0, T(kParaboloidZ1), 0};
+      zCenter_ = -std::numeric_limits<T>::infinity();
+    } else {
+      junction_ = T(kJunctionRadius);
+      primary_ = {T(kEllipsoidZ2), T(kEllipsoidZ1), 0};
+      zCenter_ = T(-kEllipsoidZ1 / (2 * kEllipsoidZ2));
+      // Cone through the junction circle with slope -tan 38deg: r^2 - k^2 (zApex - z)^2 = 0, k = 1/tan.
+      tanCone_ = T(TanConeAngle());
+      const double zJ = EllipsoidSag(kJunctionRadius);
+      const double zApex = zJ + kJunctionRadius * TanConeAngle();
+      const double k2 = 1.0 / (TanConeAngle() * TanConeAngle());
+      zJunction_ = T(zJ);
+      zConeApex_ = T(zApex);
+      cone_ = {T(-k2), T(2 * k2 * zApex), T(-k2 * zApex * zApex)};
+    }
+    // A sphere that bounds the surface; used to re-originate far rays.
+    center_ = Vec3<T>(0, 0, T(-2));
+    reach_ = T(9);
+  }
+
+  CorneaModel Model() const { return model_; }
+  /// Radius of the rim (half the 15.08 mm chord), mm.
+  T RimRadius() const { return rim_; }
+  /// Radius where the ellipsoid meets the cone (5.01 mm); equals the rim radius for the paraboloid.
+  T JunctionRadius() const { return junction_; }
+
+  /// The piece that owns radius r (mm). Radii past the rim belong to the outermost piece.
+  SurfacePiece PieceAt(T r) const {
+    if (model_ == CorneaModel::Paraboloid) return SurfacePiece::Paraboloid;
+    return r < junction_ ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
+  }
+
+  /// The quadric of a piece, F = x^2 + y^2 + b z^2 + c z + e (mm^2).
+  const RotationalQuadric<T>& Quadric(SurfacePiece piece) const {
+    return piece == SurfacePiece::Cone ? cone_ : primary_;
+  }
+
+  /// Sag f(r), mm (0 at the apex, negative below). Defined for r >= 0; past the rim it extrapolates
+  /// the outer piece.
+  T Sag(T r) const {
+    return PieceAt(r) == SurfacePiece::Cone ? ConeSag(r) : PrimarySag(r);
+  }
+
+  /// Slope df/dr (dimensionless).
+  T Slope(T r) const { return PieceAt(r) == SurfacePiece::Cone ? -tanCone_ : r * SlopeOverRadius(r); }
+
+  /// f'(r) / r, 1/mm; finite at r = 0 (the smooth pieces have f' = r * g(f)).
+  T SlopeOverRadius(T r) const {
+    if (PieceAt(r) == SurfacePiece::Cone) return -tanCone_ / r;
+    // Implicit differentiation of r^2 + b f^2 + c f = 0: f' = -2 r / (2 b f + c).
+    return -2 / (2 * primary_.b * Sag(r) + primary_.c);
+  }
+
+  /// f''(r), 1/mm.
+  T SecondDerivative(T r) const {
+    if (PieceAt(r) == SurfacePiece::Cone) return 0;
+    const T fp = Slope(r);
+    return -(2 + 2 * primary_.b * fp * fp) / (2 * primary_.b * Sag(r) + primary_.c);
+  }
+
+  /// Outward unit normal of the height field at (x, y).
+  Vec3<T> Normal(T x, T y) const {
+    const T g = SlopeOverRadius(std::sqrt(x * x + y * y));
+    return glm::normalize(Vec3<T>(-g * x, -g * y, T(1)));
+  }
+
+  PrincipalCurvatures<T> Curvatures(T r) const {
+    const T fp = Slope(r);
+    const T w = std::sqrt(1 + fp * fp);
+    return {-SecondDerivative(r) / (w * w * w), -SlopeOverRadius(r) / w};
+  }
+
+  /// h(x, y) = f(r) with its gradient and Hessian; smooth at the axis.
+  HeightDerivatives<T> Height(T x, T y) const {
+    const T r2 = x * x + y * y;
+    const T r = std::sqrt(r2);
+    const T g = SlopeOverRadius(r);  // f'/r
+    HeightDerivatives<T> d;
+    d.h = Sag(r);
+    d.hx = g * x;
+    d.hy = g * y;
+    // h_ij = g delta_ij + (f'' - g) x_i x_j / r^2; the second term vanishes at the axis.
+    const T k = r2 > 0 ? (SecondDerivative(r) - g) / r2 : T(0);
+    d.hxx = g + k * x * x;
+    d.hxy = k * x * y;
+    d.hyy = g + k * y * y;
+    return d;
+  }
+
+  /// The radius where f(r) = z, for z in [Sag(rim), 0] (mm); clamps outside that range.
+  T InverseSag(T z) const {
+    if (z >= 0) return 0;
+    if (model_ == CorneaModel::EllipsoidCone && z <= zJunction_)
+      return junction_ + (zJunction_ - z) / tanCone_;
+    return std::sqrt(std::max(T(0), -(primary_.b * z + primary_.c) * z));
+  }
+
+  /// First crossing of the ray with the surface cap (r <= rim) for 0 < t <= tMax. Rays with a
+  /// non-finite or zero direction or origin miss. A ray starting on the surface does not hit its own
+  /// origin.
+  std::optional<SurfaceHit<T>> Intersect(const Ray<T>& ray,
+                                         T tMax = std::numeric_limits<T>::infinity()) const {
+    // Bring |dir| near 1 by a power of two: exact, so the ray is not perturbed the way dividing by
+    // its length would (at 1 km, one rounding of the direction moves the hit by 0.06 mm in float).
+    const T dmax = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
+    if (!(dmax > 0) || !std::isfinite(dmax) || !IsFinite(ray.origin)) return std::nullopt;
+    int exponent = 0;
+    std::frexp(dmax, &exponent);
+    const T scale = std::ldexp(T(1), -exponent);
+    const Vec3<T> d = ray.dir * scale;
+    std::optional<SurfaceHit<T>> best;
+    auto consider = [&](SurfacePiece piece) {
+      const QuadricRoots<T> roots = IntersectQuadric(Quadric(piece), ray.origin, d, center_, reach_);
+      for (int i = 0; i < roots.count; ++i) {
+        const T t = roots.t[i] * scale;
+        if (!(t <= tMax) || (best && t >= best->t)) continue;
+        if (!OnPiece(piece, roots.point[i])) continue;
+        const Vec3<T> n = glm::normalize(Quadric(piece).Gradient(roots.point[i]));
+        best = SurfaceHit<T>{t, roots.point[i], n, piece, glm::dot(n, d) < 0};
+        return;  // roots ascend; the first valid one is this piece's nearest
+      }
+    };
+    if (model_ == CorneaModel::Paraboloid) {
+      consider(SurfacePiece::Paraboloid);
+    } else {
+      consider(SurfacePiece::Ellipsoid);
+      consider(SurfacePiece::Cone);
+    }
+    return best;
+  }
+
+ private:
+  static double EllipsoidSag(double r) {
+    using namespace paper;
+    return -r * r / (kEllipsoidZ1 / 2 + std::sqrt(kEllipsoidZ1 * kEllipsoidZ1 / 4 - kEllipsoidZ2 * r * r));
+  }
+  // For r^2 + b z^2 + c z = 0, the root through the apex, z = -r^2 / (c/2 + sqrt(c^2/4 - b r^2)),
+  // free of cancellation.
+  T PrimarySag(T r) const {
+    return -r * r / (primary_.c / 2 + std::sqrt(std::max(T(0), primary_.c * primary_.c / 4 - primary_.b * r * r)));
+  }
+
+  /// Whether a point of a piece's quadric belongs to the surface cap. Away from the junction the
+  /// radius decides. Near it, where a grazing ray's root can land a few ulps on the wrong side in
+  /// radius, the test is instead whether the point lies below the other piece (within rounding):
+  /// near the junction the surface is the lower of the two pieces, and that test is well conditioned
+  /// because both pieces pass through the junction circle.
+  bool OnPiece(SurfacePiece piece, const Vec3<T>& p) const {
+    const T r2 = RadiusSquared(p);
+    const T rim2 = rim_ * rim_, j2 = junction_ * junction_;
+    const T r = std::sqrt(r2);
+    const T tol = 8 * std::numeric_limits<T>::epsilon() * (1 + r + std::abs(p.z));
+    switch (piece) {
+      case SurfacePiece::Paraboloid: return r2 <= rim2;
+      case SurfacePiece::Ellipsoid:
+        return p.z > zCenter_ && (r2 <= j2 || (r2 <= T(1.01) * j2 && p.z <= ConeSag(r) + tol));
+      case SurfacePiece::Cone:
+        return p.z < zConeApex_ && r2 <= rim2 &&
+               (r2 >= j2 || (r2 >= T(0.99) * j2 && p.z <= PrimarySag(r) + tol));
+    }
+    return false;
+  }
+  T ConeSag(T r) const { return zJunction_ - (r - junction_) * tanCone_; }
+
+  CorneaModel model_;
+  T rim_, junction_;
+  T tanCone_ = 0, zJunction_ = 0, zConeApex_ = 0, zCenter_ = 0;
+  RotationalQuadric<T> primary_;  // ellipsoid or paraboloid
+  RotationalQuadric<T> cone_;
+  Vec3<T> center_;
+  T reach_;
+};
+
+}  // namespace eyelib

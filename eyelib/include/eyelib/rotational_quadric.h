@@ -1,0 +1,127 @@
+#pragma once
+// A quadric of revolution about the gaze axis, F(p) = x^2 + y^2 + b z^2 + c z + e = 0, and its exact,
+// numerically robust intersection with a ray. Every piece of the anterior surface (ellipsoid, offset
+// cone, paraboloid) has this form, so this one routine is the whole intersection kernel.
+//
+// Robustness, designed rather than patched (after pbrt-v4 and Haines et al., Ray Tracing Gems ch. 7):
+//  - far origins are first moved along the ray to its closest approach of the eye with one fma per
+//    component, which keeps the ray exact to half an ulp of the eye's size and removes the
+//    cancellation in the discriminant that a 10 m ray would otherwise suffer;
+//  - the discriminant B^2 - AC is formed with Kahan's fma trick, and the roots with the cancellation-free
+//    pair q / A and C / q (which also covers A = 0: rays parallel to a paraboloid's axis or a cone's
+//    generator);
+//  - an origin lying on the quadric within a rounding-error bound of F is treated as exactly on it: the
+//    root at t = 0 is dropped and the other root is -2B/A, so rays spawned on the surface never see a
+//    phantom self-hit and need no epsilon offset;
+//  - each root is polished by one bounded Newton step along the ray, kept only if it lowers |F|.
+#include "eyelib/vec.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace eyelib {
+
+template <class T> struct RotationalQuadric {
+  T b = 0, c = 0, e = 0;
+
+  /// F(p), mm^2.
+  T Eval(const Vec3<T>& p) const { return p.x * p.x + p.y * p.y + (b * p.z + c) * p.z + e; }
+
+  /// Gradient of F; points away from the eye's interior for the surfaces eyelib builds.
+  Vec3<T> Gradient(const Vec3<T>& p) const { return {2 * p.x, 2 * p.y, 2 * b * p.z + c}; }
+
+  /// A bound on |F(p) - F_exact(p)| covering rounding in Eval and a few ulps of error in p itself.
+  T EvalErrorBound(const Vec3<T>& p) const {
+    constexpr T eps = std::numeric_limits<T>::epsilon();
+    const T magnitude = p.x * p.x + p.y * p.y + std::abs(b) * p.z * p.z + std::abs(c * p.z) + std::abs(e);
+    const Vec3<T> g = Gradient(p);
+    const T pmax = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return 8 * eps * magnitude + 4 * eps * pmax * (std::abs(g.x) + std::abs(g.y) + std::abs(g.z));
+  }
+};
+
+/// Ray parameters (ascending, t > 0) where a ray meets a quadric, with the points computed where
+/// they are accurate (from the re-originated ray).
+template <class T> struct QuadricRoots {
+  int count = 0;
+  T t[2] = {0, 0};
+  Vec3<T> point[2];
+};
+
+namespace detail {
+
+template <class T> inline T DifferenceOfProducts(T a, T b, T c, T d) {
+  // a*b - c*d with one rounding (Kahan).
+  const T cd = c * d;
+  const T err = std::fma(-c, d, cd);
+  return std::fma(a, b, -cd) + err;
+}
+
+}  // namespace detail
+
+/// Intersects the ray origin + t * dir (finite, dir of length near 1: any length works, but keep it
+/// within a few binades of 1 so that dir*dir neither overflows nor underflows) with q for t > 0.
+/// `center` and `reach` describe where the surface lives (a sphere bounding the part of interest):
+/// origins farther than 4 * reach are re-originated near `center` first.
+template <class T>
+QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
+                                 const Vec3<T>& center, T reach) {
+  QuadricRoots<T> out;
+  // Re-originate far rays at their closest approach to `center`; fma keeps the new origin on the ray.
+  T tShift = 0;
+  const Vec3<T> toCenter = center - origin;
+  if (glm::dot(toCenter, toCenter) > 16 * reach * reach) {
+    tShift = glm::dot(toCenter, dir) / glm::dot(dir, dir);
+    origin = {std::fma(tShift, dir.x, origin.x), std::fma(tShift, dir.y, origin.y),
+              std::fma(tShift, dir.z, origin.z)};
+  }
+
+  const T A = dir.x * dir.x + dir.y * dir.y + q.b * dir.z * dir.z;
+  const T B = origin.x * dir.x + origin.y * dir.y + (q.b * origin.z + q.c / 2) * dir.z;  // half of b
+  const T C = q.Eval(origin);
+
+  T roots[2];
+  int n = 0;
+  if (tShift == 0 && std::abs(C) <= q.EvalErrorBound(origin)) {
+    // Origin on the surface: t = 0 is a root; the sum of roots is -2B/A.
+    if (A != 0) roots[n++] = -2 * B / A;
+  } else {
+    const T D = detail::DifferenceOfProducts(B, B, A, C);
+    if (D < 0) return out;
+    const T qv = -(B + std::copysign(std::sqrt(D), B));
+    if (A != 0) roots[n++] = qv / A;
+    if (qv != 0) roots[n++] = C / qv;
+  }
+
+  // The polish may move a root by at most a quarter of the gap to the other one, so near tangency
+  // it can never jump across to its partner.
+  const T maxStep = n == 2 ? std::abs(roots[1] - roots[0]) / 4 : std::abs(roots[0]) / 4;
+  for (int i = 0; i < n; ++i) {
+    T tl = roots[i];
+    if (!std::isfinite(tl)) continue;
+    Vec3<T> p = origin + tl * dir;
+    const T f = q.Eval(p);
+    const T df = glm::dot(q.Gradient(p), dir);
+    if (df != 0 && std::abs(f) <= maxStep * std::abs(df)) {
+      const T t2 = tl - f / df;
+      const Vec3<T> p2 = origin + t2 * dir;
+      if (std::abs(q.Eval(p2)) < std::abs(f)) {
+        tl = t2;
+        p = p2;
+      }
+    }
+    const T t = tl + tShift;
+    if (!(t > 0)) continue;
+    out.t[out.count] = t;
+    out.point[out.count] = p;
+    ++out.count;
+  }
+  if (out.count == 2 && out.t[1] < out.t[0]) {
+    std::swap(out.t[0], out.t[1]);
+    std::swap(out.point[0], out.point[1]);
+  }
+  return out;
+}
+
+}  // namespace eyelib
