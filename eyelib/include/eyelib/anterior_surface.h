@@ -171,9 +171,13 @@ template <class T> class AnteriorSurface {
       for (int i = 0; i < roots.count; ++i) {
         const T t = roots.t[i] * scale;
         if (!(t <= tMax) || (best && t >= best->t)) continue;
-        if (!OnPiece(piece, roots.point[i])) continue;
-        const Vec3<T> n = glm::normalize(Quadric(piece).Gradient(roots.point[i]));
-        best = SurfaceHit<T>{t, roots.point[i], n, piece, glm::dot(n, d) < 0};
+        const Vec3<T>& p = roots.point[i];
+        if (!OnPiece(piece, p)) continue;
+        // Within a few ulps of the junction a root of one piece may be accepted; the radius decides
+        // which piece, and so which normal, the hit reports.
+        const SurfacePiece owner = PieceAt(std::sqrt(RadiusSquared(p)));
+        const Vec3<T> n = glm::normalize(Quadric(owner).Gradient(p));
+        best = SurfaceHit<T>{t, p, n, owner, glm::dot(n, d) < 0};
         return;  // roots ascend; the first valid one is this piece's nearest
       }
     };

@@ -31,13 +31,13 @@ template <class T> struct RotationalQuadric {
   /// Gradient of F; points away from the eye's interior for the surfaces eyelib builds.
   Vec3<T> Gradient(const Vec3<T>& p) const { return {2 * p.x, 2 * p.y, 2 * b * p.z + c}; }
 
-  /// A bound on |F(p) - F_exact(p)| covering rounding in Eval and a few ulps of error in p itself.
-  T EvalErrorBound(const Vec3<T>& p) const {
+  /// A bound on |F(p) - F_exact(p)| covering rounding in Eval and an error of `positionError` (mm,
+  /// per coordinate) in p itself.
+  T EvalErrorBound(const Vec3<T>& p, T positionError) const {
     constexpr T eps = std::numeric_limits<T>::epsilon();
     const T magnitude = p.x * p.x + p.y * p.y + std::abs(b) * p.z * p.z + std::abs(c * p.z) + std::abs(e);
     const Vec3<T> g = Gradient(p);
-    const T pmax = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    return 8 * eps * magnitude + 4 * eps * pmax * (std::abs(g.x) + std::abs(g.y) + std::abs(g.z));
+    return 8 * eps * magnitude + positionError * (std::abs(g.x) + std::abs(g.y) + std::abs(g.z));
   }
 };
 
@@ -63,7 +63,7 @@ template <class T> inline T DifferenceOfProducts(T a, T b, T c, T d) {
 /// Intersects the ray origin + t * dir (finite, dir of length near 1: any length works, but keep it
 /// within a few binades of 1 so that dir*dir neither overflows nor underflows) with q for t > 0.
 /// `center` and `reach` describe where the surface lives (a sphere bounding the part of interest):
-/// origins farther than 4 * reach are re-originated near `center` first.
+/// origins outside it are re-originated near `center` first.
 template <class T>
 QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
                                  const Vec3<T>& center, T reach) {
@@ -71,7 +71,7 @@ QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, 
   // Re-originate far rays at their closest approach to `center`; fma keeps the new origin on the ray.
   T tShift = 0;
   const Vec3<T> toCenter = center - origin;
-  if (glm::dot(toCenter, toCenter) > 16 * reach * reach) {
+  if (glm::dot(toCenter, toCenter) > reach * reach) {
     tShift = glm::dot(toCenter, dir) / glm::dot(dir, dir);
     origin = {std::fma(tShift, dir.x, origin.x), std::fma(tShift, dir.y, origin.y),
               std::fma(tShift, dir.z, origin.z)};
@@ -83,7 +83,11 @@ QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, 
 
   T roots[2];
   int n = 0;
-  if (tShift == 0 && std::abs(C) <= q.EvalErrorBound(origin)) {
+  // Hit points are computed from origins within `reach` of the centre (far origins are moved there
+  // first), so a point handed back as a new origin is off the surface by a few ulps of `reach` at most.
+  const T pmax = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z), reach});
+  constexpr T eps = std::numeric_limits<T>::epsilon();
+  if (tShift == 0 && std::abs(C) <= q.EvalErrorBound(origin, 4 * eps * pmax)) {
     // Origin on the surface: t = 0 is a root; the sum of roots is -2B/A.
     if (A != 0) roots[n++] = -2 * B / A;
   } else {

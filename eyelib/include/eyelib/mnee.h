@@ -1,0 +1,94 @@
+#pragma once
+// Manifold next event estimation through the analytic cornea (Hanika, Droske and Fascione 2015, as
+// Chiang and Burley 2018 use it): given a point x on the iris, inside the anterior chamber, and a
+// point y on a light (or a direction, for distant lights), find the cornea points p where the path
+// x -> p -> y obeys Snell's law, and the irradiance that path carries to x.
+//
+// Formulation (derived in docs/mnee.md). p = (u, v, h(u, v)) on the height field. The optical path
+// length L(u, v) = n |p - x| + |y - p| (or n |p - x| - w.p for a direction w) is stationary exactly
+// where Snell's law holds, so the constraint is its gradient C = J^T (n a - b), with J = dp/d(u, v),
+// a = (p - x)/|p - x| and b = (y - p)/|y - p|. Its Jacobian is the Hessian of L, known in closed form
+// from the surface's second derivatives: Newton's method needs no finite differences, and the angle
+// form stays well conditioned where the half-vector form of Cycles degenerates (eta near 1).
+//
+// All in double precision, in the canonical eye frame (mm).
+#include "eyelib/anterior_chamber.h"
+#include "eyelib/vec.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace eyelib {
+
+using Vec3d = Vec3<double>;
+
+enum class MneeStatus : std::uint8_t {
+  Converged,         ///< |C| below tolerance, the path is a valid refraction within the rim
+  InvalidInput,      ///< NaN/Inf input, or x not below the surface
+  NoConvergence,     ///< the iteration bound was reached
+  Stalled,           ///< the line search could not reduce |C| (no solution near this seed)
+  BeyondRim,         ///< converged to a point of the extended surface outside the 15.08 mm rim
+  WrongSide,         ///< converged, but the light is not in front of the surface there (a light behind the eye)
+  Occluded,          ///< the light is behind the sclera: below the rim plane
+};
+
+const char* ToString(MneeStatus status);
+
+/// The end of the path at the light: a point, or a direction towards a distant light.
+struct LightEnd {
+  bool distant = false;
+  Vec3d position;   ///< mm, for a point on a light
+  Vec3d direction;  ///< unit, from the eye towards a distant light
+};
+
+struct MneeOptions {
+  int maxIterations = 30;
+  /// Converged when max |C_i| is below this (dimensionless: a difference of direction components,
+  /// so roughly the angular error of Snell's law in radians).
+  double tolerance = 1e-11;
+  /// Largest Newton step on the height field, mm (a trust region).
+  double maxStep = 1.0;
+};
+
+struct MneeSolution {
+  MneeStatus status = MneeStatus::InvalidInput;
+  Vec3d p;            ///< cornea point, mm
+  Vec3d normal;       ///< outward unit normal at p
+  int iterations = 0;
+  double residual = 0;  ///< max |C_i| at the end
+  /// Irradiance transfer at x: for a point light, E = I * transfer (I in W/sr, E in W/mm^2), i.e.
+  /// transfer = T * |N.b| * |det d(u,v)/dx| / |y - p|^2 (1/mm^2); for a distant light, E = E_perp * transfer
+  /// (dimensionless). T is the Fresnel transmittance. Zero unless Converged.
+  double transfer = 0;
+  double fresnelT = 0;  ///< Fresnel transmittance at p
+};
+
+/// Newton solve from one seed (u0, v0) on the height field (mm).
+MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
+                                 double u0, double v0, const MneeOptions& options = {});
+
+/// The seed where the straight line from x to the light crosses the surface (what Cycles uses).
+/// Falls back to the apex if that line misses the cap.
+Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light);
+
+/// How to look for solutions.
+struct SeedStrategy {
+  bool allSolutions = false;  ///< false: the straight-line seed only; true: also a polar grid of seeds
+  int rings = 3;              ///< grid rings over the cap (when allSolutions)
+  int segments = 8;           ///< seeds per ring
+  double uniqueDistance = 1e-6;  ///< mm; solutions closer than this are the same
+};
+
+struct MneeResult {
+  std::vector<MneeSolution> solutions;  ///< distinct converged solutions
+  int solves = 0;                       ///< Newton solves run
+  int failures = 0;                     ///< solves that did not converge to a valid path
+  /// Sum of the solutions' transfers (see MneeSolution::transfer).
+  double transfer = 0;
+};
+
+/// All distinct refraction paths from x to the light that the seeds find.
+MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
+                               const SeedStrategy& seeds = {}, const MneeOptions& options = {});
+
+}  // namespace eyelib

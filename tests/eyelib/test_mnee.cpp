@@ -1,0 +1,126 @@
+// Manifold next event estimation through the analytic cornea: Snell's law at the solutions, the
+// generalized geometry term against closed forms and finite differences, and the irradiance against
+// an independent light-tracing reference.
+#include "eyelib/mnee.h"
+#include "eyelib/optics.h"
+#include "mnee_test_helpers.h"
+#include "sampling_helpers.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+using namespace eyelib;
+
+namespace {
+
+Vec3d IrisPoint(const AnteriorChamber<double>& chamber, double r, double phi) {
+  return {r * std::cos(phi), r * std::sin(phi), chamber.IrisZ()};
+}
+
+LightEnd PointEnd(double degrees, double distance = 100) { return {false, test::PointLightAt(degrees, distance).position, {}}; }
+
+}  // namespace
+
+TEST_CASE("with a cornea of index 1 the transfer is the inverse-square law times the iris cosine") {
+  ChamberParams params;
+  params.corneaIor = 1.0;
+  const AnteriorChamber<double> chamber(params);
+  std::mt19937_64 rng(1);
+  for (int i = 0; i < 500; ++i) {
+    const Vec3d x = IrisPoint(chamber, test::Uniform(rng, 2.1, 7.0), test::Uniform(rng, 0, 6.28));
+    const LightEnd light = PointEnd(test::Uniform(rng, 0, 60));
+    const MneeResult r = FindRefractionPaths(chamber, x, light);
+    const Vec3d d = light.position - x;
+    const double expected = (d.z / glm::length(d)) / glm::dot(d, d);
+    INFO("x = (" << x.x << ", " << x.y << ")");
+    REQUIRE(r.solutions.size() == 1);
+    CHECK(r.solutions[0].fresnelT == Approx(1.0).margin(1e-15));
+    CHECK(r.transfer == Approx(expected).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("converged paths obey Snell's law at the cornea, in both models") {
+  for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
+    ChamberParams params;
+    params.model = model;
+    const AnteriorChamber<double> chamber(params);
+    std::mt19937_64 rng(2);
+    double worst = 0;
+    int converged = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3d x = IrisPoint(chamber, test::Uniform(rng, 2.0, chamber.IrisRadius()), test::Uniform(rng, 0, 6.28));
+      const LightEnd light = PointEnd(test::Uniform(rng, 0, 80), test::Uniform(rng, 20, 1000));
+      const MneeResult r = FindRefractionPaths(chamber, x, light);
+      for (const MneeSolution& s : r.solutions) {
+        ++converged;
+        const Vec3d a = glm::normalize(s.p - x), b = glm::normalize(light.position - s.p);
+        // n sin(theta_inside) = sin(theta_outside), and the three directions are coplanar.
+        const double sinIn = glm::length(glm::cross(a, s.normal)), sinOut = glm::length(glm::cross(b, s.normal));
+        worst = std::max(worst, std::abs(chamber.CorneaIor() * sinIn - sinOut));
+        CHECK(std::abs(glm::dot(glm::cross(a, b), s.normal)) < 1e-9);
+        CHECK(std::isfinite(s.transfer));
+        CHECK(s.transfer > 0);
+      }
+    }
+    INFO(ToString(model) << ": " << converged << " paths, worst |n sin_i - sin_t| = " << worst);
+    CHECK(converged > 1500);
+    CHECK(worst < 1e-10);
+  }
+}
+
+TEST_CASE("the generalized geometry term matches a finite-difference Jacobian of the solution") {
+  const AnteriorChamber<double> chamber;
+  std::mt19937_64 rng(3);
+  double worst = 0;
+  for (int i = 0; i < 300; ++i) {
+    const Vec3d x = IrisPoint(chamber, test::Uniform(rng, 2.2, 7.0), test::Uniform(rng, 0, 6.28));
+    const LightEnd light = PointEnd(test::Uniform(rng, 0, 60));
+    const MneeResult r = FindRefractionPaths(chamber, x, light);
+    if (r.solutions.size() != 1) continue;
+    const MneeSolution& s = r.solutions[0];
+    // d(u, v)/dx by central differences of re-solved paths, then the closed-form transfer rebuilt.
+    const double h = 1e-5;
+    auto solveAt = [&](const Vec3d& xx) {
+      return SolveRefractionPath(chamber, xx, light, s.p.x, s.p.y).p;
+    };
+    const Vec3d px1 = solveAt(x + Vec3d(h, 0, 0)), px0 = solveAt(x - Vec3d(h, 0, 0));
+    const Vec3d py1 = solveAt(x + Vec3d(0, h, 0)), py0 = solveAt(x - Vec3d(0, h, 0));
+    const double det = ((px1.x - px0.x) * (py1.y - py0.y) - (px1.y - px0.y) * (py1.x - py0.x)) / (4 * h * h);
+    const Vec3d b = light.position - s.p;
+    const double lb = glm::length(b);
+    const auto d = chamber.Surface().Height(s.p.x, s.p.y);
+    const double fd = s.fresnelT * std::abs(glm::dot(Vec3d(-d.hx, -d.hy, 1), b / lb)) * std::abs(det) / (lb * lb);
+    worst = std::max(worst, std::abs(fd / s.transfer - 1));
+  }
+  INFO("worst relative difference " << worst);
+  CHECK(worst < 1e-5);
+}
+
+TEST_CASE("a distant light equals a far point light of matching intensity") {
+  const AnteriorChamber<double> chamber;
+  for (double deg : {0.0, 30.0, 60.0}) {
+    const double D = 1e7;
+    const LightEnd point = PointEnd(deg, D);
+    const LightEnd distant{true, {}, glm::normalize(point.position)};
+    const Vec3d x = IrisPoint(chamber, 4.0, 2.0);
+    const double ePoint = FindRefractionPaths(chamber, x, point).transfer * D * D;
+    const double eDistant = FindRefractionPaths(chamber, x, distant).transfer;
+    CHECK(ePoint == Approx(eDistant).epsilon(1e-5));
+  }
+}
+
+TEST_CASE("invalid input and lights behind the eye give no path and no NaN") {
+  const AnteriorChamber<double> chamber;
+  const double nan = std::nan("");
+  const Vec3d x = IrisPoint(chamber, 4, 0);
+  CHECK(SolveRefractionPath(chamber, Vec3d(nan, 0, -3), PointEnd(0), 0, 0).status == MneeStatus::InvalidInput);
+  CHECK(SolveRefractionPath(chamber, x, {false, Vec3d(0, nan, 10), {}}, 0, 0).status == MneeStatus::InvalidInput);
+  CHECK(SolveRefractionPath(chamber, x, PointEnd(0), nan, 0).status == MneeStatus::InvalidInput);
+  CHECK(SolveRefractionPath(chamber, Vec3d(0, 0, 1), PointEnd(0), 0, 0).status == MneeStatus::InvalidInput);
+  const MneeResult behind = FindRefractionPaths(chamber, x, PointEnd(150), {true});
+  CHECK(behind.solutions.empty());
+  CHECK(behind.transfer == 0);
+}
