@@ -198,14 +198,23 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   const Vec2<double> seed = StraightLineSeed(chamber, x, light);
   const MneeStatus first = trySeed(seed.x, seed.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
-  if (seeds.allSolutions) {
-    const double rim = chamber.Surface().RimRadius();
-    for (int ring = 1; ring <= seeds.rings; ++ring) {
-      const double r = rim * ring / (seeds.rings + 0.5);
-      for (int k = 0; k < seeds.segments; ++k) {
-        const double phi = 2 * paper::kPi * (k + 0.5 * (ring % 2)) / seeds.segments;
-        trySeed(r * std::cos(phi), r * std::sin(phi));
-      }
+  if (!seeds.allSolutions) return result;
+  const double rim = chamber.Surface().RimRadius();
+  // The light's azimuth as seen from x: the refraction plane of the paths to find.
+  const Vec3d toLight = light.distant ? light.direction : light.position - x;
+  const double az = std::hypot(toLight.x, toLight.y);
+  const Vec2<double> along = az > 1e-12 ? Vec2<double>(toLight.x / az, toLight.y / az) : Vec2<double>(1, 0);
+  const Vec2<double> across(-along.y, along.x);
+  const double offset = x.x * across.x + x.y * across.y;
+  for (int k = 0; k < seeds.meridianSeeds; ++k) {
+    const double s = rim * (-0.95 + 1.9 * (k + 0.5) / seeds.meridianSeeds);
+    trySeed(s * along.x + offset * across.x, s * along.y + offset * across.y);
+  }
+  for (int ring = 1; ring <= seeds.rings; ++ring) {
+    const double r = rim * ring / (seeds.rings + 0.5);
+    for (int k = 0; k < seeds.segments; ++k) {
+      const double phi = 2 * paper::kPi * (k + 0.5 * (ring % 2)) / seeds.segments;
+      trySeed(r * std::cos(phi), r * std::sin(phi));
     }
   }
   return result;

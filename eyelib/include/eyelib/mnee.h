@@ -73,9 +73,12 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 
 /// How to look for solutions.
 struct SeedStrategy {
-  bool allSolutions = false;  ///< false: the straight-line seed only; true: also a polar grid of seeds
-  int rings = 3;              ///< grid rings over the cap (when allSolutions)
-  int segments = 8;           ///< seeds per ring
+  bool allSolutions = false;  ///< false: the straight-line seed only; true: also the seeds below
+  /// Seeds along the light's azimuth through x (where a fold's second solution lies), spread
+  /// across the cap. 0 turns them off.
+  int meridianSeeds = 6;
+  int rings = 0;              ///< optional polar grid over the cap: rings x segments seeds
+  int segments = 8;
   double uniqueDistance = 1e-6;  ///< mm; solutions closer than this are the same
 };
 

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Runs the benchmark programs and redraws their plots in docs/. Usage: run_benchmarks.sh BUILD_DIR
+set -euo pipefail
+build=${1:-build}
+python3 -c "import matplotlib" 2>/dev/null || pip install -q matplotlib
+"$build/bench/bench_intersect" --csv "$build/intersection_benchmark.csv"
+python3 bench/plot_intersect.py "$build/intersection_benchmark.csv"
+"$build/bench/bench_mnee" --csv "$build/mnee_benchmark"
+python3 bench/plot_mnee.py "$build/mnee_benchmark"
