@@ -157,13 +157,17 @@ template <class T> class AnteriorSurface {
   /// origin.
   std::optional<SurfaceHit<T>> Intersect(const Ray<T>& ray,
                                          T tMax = std::numeric_limits<T>::infinity()) const {
-    // Bring |dir| near 1 by a power of two: exact, so the ray is not perturbed the way dividing by
-    // its length would (at 1 km, one rounding of the direction moves the hit by 0.06 mm in float).
+    // Bring |dir| near 1 by a power of two when it is far from it: exact, so the ray is not
+    // perturbed the way dividing by its length would (at 1 km, one rounding of the direction moves
+    // the hit by 0.06 mm in float).
     const T dmax = std::max({std::abs(ray.dir.x), std::abs(ray.dir.y), std::abs(ray.dir.z)});
     if (!(dmax > 0) || !std::isfinite(dmax) || !IsFinite(ray.origin)) return std::nullopt;
-    int exponent = 0;
-    std::frexp(dmax, &exponent);
-    const T scale = std::ldexp(T(1), -exponent);
+    T scale = 1;
+    if (dmax < T(1) / 256 || dmax > T(256)) {
+      int exponent = 0;
+      std::frexp(dmax, &exponent);
+      scale = std::ldexp(T(1), -exponent);
+    }
     const Vec3<T> d = ray.dir * scale;
     std::optional<SurfaceHit<T>> best;
     auto consider = [&](SurfacePiece piece) {
@@ -175,7 +179,9 @@ template <class T> class AnteriorSurface {
         if (!OnPiece(piece, p)) continue;
         // Within a few ulps of the junction a root of one piece may be accepted; the radius decides
         // which piece, and so which normal, the hit reports.
-        const SurfacePiece owner = PieceAt(std::sqrt(RadiusSquared(p)));
+        const SurfacePiece owner =
+            model_ == CorneaModel::Paraboloid ? piece
+            : RadiusSquared(p) < junction_ * junction_ ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
         const Vec3<T> n = glm::normalize(Quadric(owner).Gradient(p));
         best = SurfaceHit<T>{t, p, n, owner, glm::dot(n, d) < 0};
         return;  // roots ascend; the first valid one is this piece's nearest
@@ -183,10 +189,12 @@ template <class T> class AnteriorSurface {
     };
     if (model_ == CorneaModel::Paraboloid) {
       consider(SurfacePiece::Paraboloid);
-    } else {
-      consider(SurfacePiece::Ellipsoid);
-      consider(SurfacePiece::Cone);
+      return best;
     }
+    consider(SurfacePiece::Ellipsoid);
+    // The cap bounds a convex region, which a ray enters at most once: an entering hit on the
+    // ellipsoid is the first crossing, and the cone need not be tried.
+    if (!best || !best->fromOutside) consider(SurfacePiece::Cone);
     return best;
   }
 
@@ -209,15 +217,15 @@ template <class T> class AnteriorSurface {
   bool OnPiece(SurfacePiece piece, const Vec3<T>& p) const {
     const T r2 = RadiusSquared(p);
     const T rim2 = rim_ * rim_, j2 = junction_ * junction_;
-    const T r = std::sqrt(r2);
-    const T tol = 8 * std::numeric_limits<T>::epsilon() * (1 + r + std::abs(p.z));
+    // Height tolerance for the near-junction test (sqrt only on that rare path).
+    auto tol = [&] { return 8 * std::numeric_limits<T>::epsilon() * (1 + std::sqrt(r2) + std::abs(p.z)); };
     switch (piece) {
       case SurfacePiece::Paraboloid: return r2 <= rim2;
       case SurfacePiece::Ellipsoid:
-        return p.z > zCenter_ && (r2 <= j2 || (r2 <= T(1.01) * j2 && p.z <= ConeSag(r) + tol));
+        return p.z > zCenter_ && (r2 <= j2 || (r2 <= T(1.01) * j2 && p.z <= ConeSag(std::sqrt(r2)) + tol()));
       case SurfacePiece::Cone:
         return p.z < zConeApex_ && r2 <= rim2 &&
-               (r2 >= j2 || (r2 >= T(0.99) * j2 && p.z <= PrimarySag(r) + tol));
+               (r2 >= j2 || (r2 >= T(0.99) * j2 && p.z <= PrimarySag(std::sqrt(r2)) + tol()));
     }
     return false;
   }
