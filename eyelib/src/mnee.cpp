@@ -185,6 +185,8 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   auto trySeed = [&](double u, double v) {
     ++result.solves;
     const MneeSolution sol = SolveRefractionPath(chamber, x, light, u, v, options);
+    result.iterations += sol.iterations;
+    result.maxIterations = std::max(result.maxIterations, sol.iterations);
     if (sol.status != MneeStatus::Converged) {
       ++result.failures;
       return sol.status;

@@ -86,6 +86,8 @@ struct MneeResult {
   std::vector<MneeSolution> solutions;  ///< distinct converged solutions
   int solves = 0;                       ///< Newton solves run
   int failures = 0;                     ///< solves that did not converge to a valid path
+  int iterations = 0;                   ///< Newton iterations over all solves
+  int maxIterations = 0;                ///< the most any one solve took
   /// Sum of the solutions' transfers (see MneeSolution::transfer).
   double transfer = 0;
 };
