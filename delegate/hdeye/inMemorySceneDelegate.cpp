@@ -1,0 +1,70 @@
+#include "hdeye/inMemorySceneDelegate.h"
+
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderIndex.h"
+
+namespace hdeye {
+
+void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+                                    const Matrix4d& transform, const PrimId& materialId) {
+  meshes_[id] = MeshData{topology, points, {}, materialId, true};
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kMesh, this, id);
+}
+
+void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
+  cameras_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertSprim(primTypes::kCamera, this, id);
+}
+
+void InMemorySceneDelegate::AddLight(const PrimId& id, const std::string& type, const LightParams& params,
+                                     const Matrix4d& transform) {
+  lights_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertSprim(type, this, id);
+}
+
+void InMemorySceneDelegate::AddMaterial(const PrimId& id, const MaterialParams& params) {
+  materials_[id] = params;
+  index_->InsertSprim(primTypes::kMaterial, this, id);
+}
+
+void InMemorySceneDelegate::AddRenderBuffer(const PrimId& id, int width, int height, int components) {
+  index_->InsertBprim(primTypes::kRenderBuffer, this, id);
+  static_cast<RenderBuffer*>(index_->GetBprim(id))->Allocate(width, height, components);
+}
+
+void InMemorySceneDelegate::SetPoints(const PrimId& id, const std::vector<Vec3f>& points) {
+  meshes_.at(id).points = points;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPoints);
+}
+
+void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points) {
+  meshes_.at(id).topology = topology;
+  meshes_.at(id).points = points;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
+}
+
+void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
+  transforms_.at(id) = transform;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
+}
+
+void InMemorySceneDelegate::SetVisible(const PrimId& id, bool visible) {
+  meshes_.at(id).visible = visible;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyVisibility);
+}
+
+void InMemorySceneDelegate::SetDisplayColor(const PrimId& id, const std::vector<Vec3f>& colors) {
+  meshes_.at(id).displayColor = colors;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPrimvar);
+}
+
+void InMemorySceneDelegate::SetLightParams(const PrimId& id, const LightParams& params) {
+  lights_.at(id) = params;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyParams);
+}
+
+}  // namespace hdeye

@@ -1,0 +1,59 @@
+#pragma once
+// A scene delegate that holds its scene in memory (Hd_UnitTestDelegate's role): C++ programs and
+// tests build a scene with it, change it between frames with the Set* calls, which mark exactly the
+// matching dirty bits, and render it through the render index.
+#include "hdeye/sceneDelegate.h"
+
+#include <map>
+#include <string>
+
+namespace hdeye {
+
+class RenderIndex;
+
+class InMemorySceneDelegate final : public SceneDelegate {
+ public:
+  explicit InMemorySceneDelegate(RenderIndex* renderIndex) : index_(renderIndex) {}
+
+  void AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+  void AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform);
+  /// type: one of the light prim types (sphereLight, distantLight, rectLight, diskLight, domeLight).
+  void AddLight(const PrimId& id, const std::string& type, const LightParams& params,
+                const Matrix4d& transform = Matrix4d(1.0));
+  void AddMaterial(const PrimId& id, const MaterialParams& params);
+  void AddRenderBuffer(const PrimId& id, int width, int height, int components);
+
+  void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
+  void SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points);
+  void SetTransform(const PrimId& id, const Matrix4d& transform);
+  void SetVisible(const PrimId& id, bool visible);
+  void SetDisplayColor(const PrimId& id, const std::vector<Vec3f>& colors);
+  void SetLightParams(const PrimId& id, const LightParams& params);
+
+  MeshTopology GetMeshTopology(const PrimId& id) override { return meshes_.at(id).topology; }
+  std::vector<Vec3f> GetPoints(const PrimId& id) override { return meshes_.at(id).points; }
+  Matrix4d GetTransform(const PrimId& id) override { return transforms_.at(id); }
+  bool GetVisible(const PrimId& id) override { return meshes_.at(id).visible; }
+  std::vector<Vec3f> GetDisplayColor(const PrimId& id) override { return meshes_.at(id).displayColor; }
+  PrimId GetMaterialId(const PrimId& id) override { return meshes_.at(id).materialId; }
+  CameraParams GetCameraParams(const PrimId& id) override { return cameras_.at(id); }
+  LightParams GetLightParams(const PrimId& id) override { return lights_.at(id); }
+  MaterialParams GetMaterialParams(const PrimId& id) override { return materials_.at(id); }
+
+ private:
+  struct MeshData {
+    MeshTopology topology;
+    std::vector<Vec3f> points, displayColor;
+    PrimId materialId;
+    bool visible = true;
+  };
+  RenderIndex* index_;
+  std::map<PrimId, MeshData> meshes_;
+  std::map<PrimId, Matrix4d> transforms_;
+  std::map<PrimId, CameraParams> cameras_;
+  std::map<PrimId, LightParams> lights_;
+  std::map<PrimId, MaterialParams> materials_;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,22 @@
+#pragma once
+// A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
+// transform; the render pass turns lights into the renderer's world-space light list.
+#include "hdeye/prim.h"
+
+namespace hdeye {
+
+class Light final : public Sprim {
+ public:
+  using Sprim::Sprim;
+  DirtyBits GetInitialDirtyBitsMask() const override { return dirty::DirtyTransform | dirty::DirtyParams; }
+  void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
+
+  const LightParams& Params() const { return params_; }
+  const Matrix4d& Transform() const { return transform_; }
+
+ private:
+  LightParams params_;
+  Matrix4d transform_{1.0};
+};
+
+}  // namespace hdeye

@@ -1,0 +1,66 @@
+#pragma once
+// A polygon mesh rprim (HdMesh's role): triangles, quads and n-gons, optionally Catmull-Clark refined
+// through OpenSubdiv, held in Embree as a prototype scene under one instance in the root scene.
+// Topology is refined once; when only points change, the stencils re-evaluate them and the Embree
+// vertex buffer is updated in place; a transform change only touches the instance.
+#include "hdeye/prim.h"
+#include "hdeye/renderContext.h"
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <vector>
+
+namespace hdeye {
+
+class SubdivRefiner;
+
+/// What Sync did, counted, so tests can check that dirty bits drive exactly the work they should.
+struct MeshSyncStats {
+  int topologyBuilds = 0;      ///< Embree geometry (re)created
+  int refinements = 0;         ///< OpenSubdiv topology refinements
+  int stencilEvaluations = 0;  ///< refined points re-evaluated from control points
+  int pointUploads = 0;        ///< Embree vertex buffer updates
+  int transformUpdates = 0;
+};
+
+class Mesh final : public Rprim {
+ public:
+  explicit Mesh(PrimId id);
+  ~Mesh() override;
+
+  DirtyBits GetInitialDirtyBitsMask() const override;
+  void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
+  void Finalize(RenderParam* renderParam) override;
+
+  const MeshSyncStats& Stats() const { return stats_; }
+  const PrimId& MaterialId() const { return materialId_; }
+  /// The renderer's view of this mesh; the render pass fills in the resolved material.
+  GeometryContext& Context() { return context_; }
+  int TriangleCount() const { return int(triangles_.size() / 3); }
+
+ private:
+  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam);
+  void SyncPoints(SceneDelegate* sceneDelegate);
+  void SyncDisplayColor(SceneDelegate* sceneDelegate);
+  void UploadPoints();
+  void ReleaseGeometry(RenderParam* renderParam);
+
+  MeshTopology topology_;
+  int controlPointCount_ = 0;
+  std::unique_ptr<SubdivRefiner> refiner_;
+  std::vector<Vec3f> points_;        ///< the rendered (refined) points, object space
+  std::vector<int> triangles_;       ///< 3 indices per rendered triangle
+  std::vector<Vec3f> displayColor_;  ///< per rendered point, or empty
+  Matrix4d transform_{1.0};
+  PrimId materialId_;
+
+  RTCScene prototype_ = nullptr;
+  RTCGeometry triangleGeometry_ = nullptr;
+  RTCGeometry instance_ = nullptr;
+  unsigned instanceId_ = RTC_INVALID_GEOMETRY_ID;
+  GeometryContext context_;
+  MeshSyncStats stats_;
+};
+
+}  // namespace hdeye

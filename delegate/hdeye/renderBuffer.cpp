@@ -1,0 +1,49 @@
+#include "hdeye/renderBuffer.h"
+
+#include <stdexcept>
+
+namespace hdeye {
+
+RenderBuffer::RenderBuffer(PrimId id, int width, int height, int components) : Bprim(std::move(id)) {
+  Allocate(width, height, components);
+}
+
+void RenderBuffer::Allocate(int width, int height, int components) {
+  if (width < 0 || height < 0 || !(components == 1 || components == 3 || components == 4))
+    throw std::invalid_argument("render buffer " + Id() + ": bad size or component count");
+  width_ = width, height_ = height, components_ = components;
+  Clear();
+}
+
+void RenderBuffer::Clear() {
+  sums_.assign(std::size_t(width_) * height_ * components_, 0.0);
+  counts_.assign(std::size_t(width_) * height_, 0.0);
+}
+
+void RenderBuffer::AddSample(int x, int y, const float* value) {
+  const std::size_t p = std::size_t(y) * width_ + x;
+  for (int c = 0; c < components_; ++c) sums_[p * components_ + c] += value[c];
+  counts_[p] += 1;
+}
+
+void RenderBuffer::Merge(const RenderBuffer& other) {
+  if (other.width_ != width_ || other.height_ != height_ || other.components_ != components_)
+    throw std::invalid_argument("render buffer " + Id() + ": cannot merge a buffer of another size");
+  for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i] += other.sums_[i];
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+}
+
+float RenderBuffer::Resolved(int x, int y, int c) const {
+  const std::size_t p = std::size_t(y) * width_ + x;
+  return counts_[p] > 0 ? float(sums_[p * components_ + c] / counts_[p]) : 0.0f;
+}
+
+std::vector<std::vector<float>> RenderBuffer::ResolvedPlanes() const {
+  std::vector<std::vector<float>> planes(std::size_t(components_), std::vector<float>(std::size_t(width_) * height_));
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x)
+      for (int c = 0; c < components_; ++c) planes[c][std::size_t(y) * width_ + x] = Resolved(x, y, c);
+  return planes;
+}
+
+}  // namespace hdeye

@@ -1,0 +1,41 @@
+#pragma once
+// A render buffer bprim (HdRenderBuffer's role) that accumulates sums and sample counts per pixel,
+// so partial renders of disjoint sample ranges merge exactly (in any order, up to float summation).
+#include "hdeye/prim.h"
+
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+class RenderBuffer final : public Bprim {
+ public:
+  RenderBuffer(PrimId id = "", int width = 0, int height = 0, int components = 4);
+  DirtyBits GetInitialDirtyBitsMask() const override { return dirty::Clean; }
+  void Sync(SceneDelegate*, RenderParam*, DirtyBits* dirtyBits) override { *dirtyBits = dirty::Clean; }
+
+  /// Resizes and clears. components: 1 (depth, primId), 3 (normal, albedo) or 4 (color).
+  void Allocate(int width, int height, int components);
+  void Clear();
+  int Width() const { return width_; }
+  int Height() const { return height_; }
+  int Components() const { return components_; }
+
+  /// Adds one sample's value (Components() floats) to pixel (x, y). Not thread-safe per pixel:
+  /// the renderer gives each pixel to one thread.
+  void AddSample(int x, int y, const float* value);
+  /// Adds another buffer's sums and counts (same size and components).
+  void Merge(const RenderBuffer& other);
+  /// The mean of pixel (x, y)'s samples, component c (0 if it has none).
+  float Resolved(int x, int y, int c) const;
+  /// Every pixel's mean as one plane per component, row-major, top row first.
+  std::vector<std::vector<float>> ResolvedPlanes() const;
+  double SampleCount(int x, int y) const { return counts_[std::size_t(y) * width_ + x]; }
+
+ private:
+  int width_ = 0, height_ = 0, components_ = 4;
+  std::vector<double> sums_;    ///< double: merged sums of many samples stay exact to float precision
+  std::vector<double> counts_;
+};
+
+}  // namespace hdeye

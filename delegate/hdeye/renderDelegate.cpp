@@ -1,0 +1,72 @@
+#include "hdeye/renderDelegate.h"
+
+#include "hdeye/camera.h"
+#include "hdeye/light.h"
+#include "hdeye/material.h"
+#include "hdeye/mesh.h"
+#include "hdeye/renderBuffer.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+void ReportEmbreeError(void*, RTCError code, const char* message) {
+  std::fprintf(stderr, "hdeye: Embree error %d: %s\n", int(code), message ? message : "");
+}
+bool Contains(const std::vector<std::string>& list, const std::string& s) {
+  return std::find(list.begin(), list.end(), s) != list.end();
+}
+}  // namespace
+
+RenderDelegate::RenderDelegate() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("hdeye: could not create an Embree device");
+  rtcSetDeviceErrorFunction(device_, ReportEmbreeError, nullptr);
+  scene_ = rtcNewScene(device_);
+  // Dynamic: meshes move per frame; robust: watertight traversal for grazing eye rays.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_LOW);
+  renderParam_ = std::make_unique<RenderParam>(device_, scene_);
+}
+
+RenderDelegate::~RenderDelegate() {
+  rtcReleaseScene(scene_);
+  rtcReleaseDevice(device_);
+}
+
+const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
+  static const std::vector<std::string> types = {primTypes::kMesh};
+  return types;
+}
+const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
+  static const std::vector<std::string> types = {primTypes::kCamera,    primTypes::kSphereLight, primTypes::kDistantLight,
+                                                 primTypes::kRectLight, primTypes::kDiskLight,   primTypes::kDomeLight,
+                                                 primTypes::kMaterial};
+  return types;
+}
+const std::vector<std::string>& RenderDelegate::SupportedBprimTypes() {
+  static const std::vector<std::string> types = {primTypes::kRenderBuffer};
+  return types;
+}
+
+std::unique_ptr<Rprim> RenderDelegate::CreateRprim(const std::string& type, const PrimId& id) {
+  if (type == primTypes::kMesh) return std::make_unique<Mesh>(id);
+  return nullptr;
+}
+
+std::unique_ptr<Sprim> RenderDelegate::CreateSprim(const std::string& type, const PrimId& id) {
+  if (type == primTypes::kCamera) return std::make_unique<Camera>(id);
+  if (type == primTypes::kMaterial) return std::make_unique<Material>(id);
+  if (Contains(SupportedSprimTypes(), type)) return std::make_unique<Light>(id);
+  return nullptr;
+}
+
+std::unique_ptr<Bprim> RenderDelegate::CreateBprim(const std::string& type, const PrimId& id) {
+  if (type == primTypes::kRenderBuffer) return std::make_unique<RenderBuffer>(id);
+  return nullptr;
+}
+
+}  // namespace hdeye

@@ -1,0 +1,64 @@
+#include "hdeye/renderPass.h"
+
+#include "hdeye/camera.h"
+#include "hdeye/light.h"
+#include "hdeye/material.h"
+#include "hdeye/mesh.h"
+#include "hdeye/renderIndex.h"
+
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+
+AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& bindings) {
+  AovBuffers aovs;
+  for (const AovBinding& b : bindings) {
+    auto* buffer = dynamic_cast<RenderBuffer*>(index.GetBprim(b.renderBufferId));
+    if (!buffer) throw std::runtime_error("render pass: render buffer " + b.renderBufferId + " not found");
+    RenderBuffer** slot = b.aovName == "color"    ? &aovs.color
+                          : b.aovName == "albedo" ? &aovs.albedo
+                          : b.aovName == "normal" ? &aovs.normal
+                          : b.aovName == "depth"  ? &aovs.depth
+                          : b.aovName == "primId" ? &aovs.primId
+                                                  : nullptr;
+    if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
+    *slot = buffer;
+  }
+  return aovs;
+}
+
+}  // namespace
+
+RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
+  index_->SyncAll();
+  RenderDelegate* delegate = index_->GetRenderDelegate();
+  if (delegate->GetRenderParam()->SceneVersion() != committedVersion_) {
+    rtcCommitScene(delegate->RootScene());
+    committedVersion_ = delegate->GetRenderParam()->SceneVersion();
+  }
+
+  const auto* camera = dynamic_cast<const Camera*>(index_->GetSprim(cameraId));
+  if (!camera) throw std::runtime_error("render pass: camera " + cameraId + " not found");
+
+  std::vector<RenderLight> lights;
+  for (const auto& [id, entry] : index_->Sprims())
+    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform()));
+
+  // Resolve each mesh's material and primId for the renderer.
+  int primIndex = 0;
+  for (const auto& [id, entry] : index_->Rprims()) {
+    auto* mesh = dynamic_cast<Mesh*>(entry.prim.get());
+    if (!mesh) continue;
+    GeometryContext& context = mesh->Context();
+    context.primIndex = primIndex++;
+    const auto* material = dynamic_cast<const Material*>(index_->GetSprim(mesh->MaterialId()));
+    context.material = material ? material->Params() : MaterialParams{};
+  }
+  return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
+                          BindBuffers(*index_, bindings));
+}
+
+}  // namespace hdeye

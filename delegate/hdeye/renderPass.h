@@ -1,0 +1,35 @@
+#pragma once
+// The render pass (HdRenderPass's role): a thin controller. Execute syncs the render index, commits
+// the Embree scene if any prim edited it, hands the renderer the camera view, the light list and
+// the bound AOV buffers, and returns what the renderer did.
+#include "hdeye/renderer.h"
+
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+class RenderIndex;
+
+/// One AOV bound to a render buffer (HdRenderPassAovBinding's role). aovName: color, albedo,
+/// normal, depth or primId.
+struct AovBinding {
+  std::string aovName;
+  PrimId renderBufferId;
+};
+
+class RenderPass {
+ public:
+  explicit RenderPass(RenderIndex* renderIndex) : index_(renderIndex) {}
+
+  /// Throws std::runtime_error with a one-line message for a missing camera or buffer, an unknown
+  /// AOV name, or a prim whose data is bad.
+  RenderStats Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings);
+
+ private:
+  RenderIndex* index_;
+  Renderer renderer_;
+  std::uint64_t committedVersion_ = ~0ull;
+};
+
+}  // namespace hdeye

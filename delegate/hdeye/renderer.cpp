@@ -1,0 +1,248 @@
+#include "hdeye/renderer.h"
+
+#include "hdeye/renderContext.h"
+
+#include <eyelib/random.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kTile = 16;
+constexpr std::uint64_t kDimsPerSample = 1024;
+
+/// The random numbers of one pixel sample: dimension d of sample s of pixel p.
+class SampleStream {
+ public:
+  SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
+      : seed_(seed), pixel_(pixel), base_(sample * kDimsPerSample) {}
+  double Next() { return eyelib::UniformAt(seed_, pixel_, base_ + dim_++ % kDimsPerSample); }
+
+ private:
+  std::uint64_t seed_, pixel_, base_, dim_ = 0;
+};
+
+double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+
+glm::dvec3 CosineHemisphere(const glm::dvec3& n, double u1, double u2) {
+  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+  const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 t = glm::normalize(glm::cross(n, a)), b = glm::cross(n, t);
+  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n);
+}
+
+struct SurfaceHit {
+  double t;
+  glm::dvec3 p, n;  // n faces the incoming ray
+  glm::dvec3 albedo, emission;
+  int primIndex;
+};
+
+class Tracer {
+ public:
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
+      : scene_(scene), lights_(lights), settings_(settings) {}
+
+  /// Closest hit of the scene's geometry along the ray, if any.
+  bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+    rh.ray.tnear = float(tNear);
+    rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
+    rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
+    rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    ++rays_;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const auto* ctx = static_cast<const GeometryContext*>(
+        rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.instID[0])));
+    hit->t = rh.ray.tfar;
+    hit->p = o + hit->t * d;
+    glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    if (glm::dot(n, d) > 0) n = -n;
+    hit->n = n;
+    hit->albedo = glm::dvec3(ctx->material.diffuseColor);
+    if (ctx->displayColor && ctx->triangleVertices) {
+      const int* tri = &(*ctx->triangleVertices)[3 * std::size_t(rh.hit.primID)];
+      const auto& c = *ctx->displayColor;
+      hit->albedo = glm::dvec3((1 - rh.hit.u - rh.hit.v) * c[tri[0]] + rh.hit.u * c[tri[1]] + rh.hit.v * c[tri[2]]);
+    }
+    hit->emission = glm::dvec3(ctx->material.emissiveColor);
+    hit->primIndex = ctx->primIndex;
+    return true;
+  }
+
+  bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    ray.org_x = float(o.x), ray.org_y = float(o.y), ray.org_z = float(o.z);
+    ray.dir_x = float(d.x), ray.dir_y = float(d.y), ray.dir_z = float(d.z);
+    ray.tnear = 0;
+    ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
+    ray.mask = ~0u, ray.flags = 0, ray.time = 0;
+    rtcOccluded1(scene_, &context, &ray);
+    ++rays_;
+    return ray.tfar < 0;
+  }
+
+  /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
+  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf) const {
+    double best = kInf;
+    bool found = false;
+    for (const RenderLight& l : lights_) {
+      glm::dvec3 le(0);
+      double lpdf = 0, dist = kInf;
+      if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
+        best = dist, *radiance = le, *pdf = lpdf, found = true;
+      }
+    }
+    return found;
+  }
+
+  /// Radiance along a camera ray; fills the first hit for the data AOVs.
+  glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, SampleStream& rng, SurfaceHit* first,
+                bool* hitAny) const {
+    glm::dvec3 L(0), beta(1);
+    double bsdfPdf = 0;  // pdf of the direction that led here (0: camera ray, no MIS)
+    const double lightSelect = lights_.empty() ? 0 : 1.0 / double(lights_.size());
+    for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
+      SurfaceHit hit;
+      const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
+      if (depth == 0) {
+        *hitAny = hitGeometry;
+        if (hitGeometry) *first = hit;
+      }
+      // Emitters met along the ray: the lights (with MIS against light sampling), then the surface.
+      glm::dvec3 le(0);
+      double lpdf = 0;
+      if (HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf)) {
+        if (depth == 0) L += beta * le;
+        else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
+      }
+      if (!hitGeometry) break;
+      L += beta * hit.emission;
+      const glm::dvec3 f = hit.albedo / kPi;
+      // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
+      const glm::dvec3 origin = hit.p + hit.n * (1e-5 * (1 + glm::length(hit.p)));
+
+      // Next event estimation: one light chosen uniformly.
+      const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
+      if (!lights_.empty()) {
+        const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+        const LightSample ls = SampleLight(light, origin, u1, u2);
+        const double cosS = glm::dot(ls.dir, hit.n);
+        if (ls.pdf > 0 && cosS > 0 && !Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) {
+          const double pl = ls.pdf * lightSelect;
+          const double w = settings_.mis ? PowerHeuristic(pl, cosS / kPi) : 1.0;
+          L += beta * f * ls.radiance * (cosS * w / pl);
+        }
+      }
+
+      // Continue with a cosine-weighted direction: f cos / pdf = albedo.
+      d = CosineHemisphere(hit.n, rng.Next(), rng.Next());
+      bsdfPdf = glm::dot(d, hit.n) / kPi;
+      beta *= hit.albedo;
+      o = origin;
+      tNear = 0;
+      tFar = kInf;
+      // Russian roulette after three bounces.
+      if (depth >= 3) {
+        const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
+        if (rng.Next() >= q) break;
+        beta /= q;
+      }
+    }
+    return L;
+  }
+
+  std::int64_t Rays() const { return rays_; }
+
+ private:
+  RTCScene scene_;
+  const std::vector<RenderLight>& lights_;
+  const RenderSettings& settings_;
+  mutable std::int64_t rays_ = 0;
+};
+
+}  // namespace
+
+RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                             const RenderSettings& settings, const AovBuffers& aovs) const {
+  if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
+  const int width = aovs.color->Width(), height = aovs.color->Height();
+  for (RenderBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId})
+    if (b && (b->Width() != width || b->Height() != height))
+      throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
+                                  std::to_string(height));
+  RenderStats stats;
+  if (width == 0 || height == 0) return stats;
+  const auto start = std::chrono::steady_clock::now();
+  const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
+  const double aspect = double(width) / height;
+  std::atomic<std::int64_t> rays{0};
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+
+  // One pass per sample index, so a time limit stops between whole passes and every pixel has
+  // the same samples.
+  for (int pass = 0; pass < settings.samplesPerPixel; ++pass) {
+    const int s = settings.firstSample + pass;
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
+        Tracer tracer(scene, lights, settings);
+        for (int tile = range.begin(); tile != range.end(); ++tile) {
+          const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+          for (int y = y0; y < std::min(height, y0 + kTile); ++y)
+            for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
+              SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
+              const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
+              const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+              SurfaceHit first{};
+              bool hitAny = false;
+              glm::dvec3 L = tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny);
+              if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) L = glm::dvec3(0);
+              const float color[4] = {float(L.x), float(L.y), float(L.z), hitAny ? 1.0f : 0.0f};
+              aovs.color->AddSample(x, y, color);
+              if (s != 0) continue;
+              const glm::dvec3 albedo = hitAny ? first.albedo : glm::dvec3(0), n = hitAny ? first.n : glm::dvec3(0);
+              const float a[3] = {float(albedo.x), float(albedo.y), float(albedo.z)};
+              const float nn[3] = {float(n.x), float(n.y), float(n.z)};
+              const float depth = hitAny ? float(first.t) : 0.0f, id = hitAny ? float(first.primIndex) : -1.0f;
+              if (aovs.albedo) aovs.albedo->AddSample(x, y, a);
+              if (aovs.normal) aovs.normal->AddSample(x, y, nn);
+              if (aovs.depth) aovs.depth->AddSample(x, y, &depth);
+              if (aovs.primId) aovs.primId->AddSample(x, y, &id);
+            }
+        }
+        rays += tracer.Rays();
+      });
+    });
+    ++stats.passes;
+    stats.samples += std::int64_t(width) * height;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (settings.timeLimitSeconds > 0 && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+      stats.timeLimitReached = true;
+      break;
+    }
+  }
+  stats.rays = rays;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace hdeye

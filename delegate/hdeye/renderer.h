@@ -1,0 +1,48 @@
+#pragma once
+// The path tracer proper (HdEmbreeRenderer's role). It sees the Embree scene, a camera view, a light
+// list and AOV buffers; never prim classes. Unidirectional path tracing with next event estimation
+// and multiple importance sampling (power heuristic), Russian roulette, Lambertian materials with
+// emission for now. Random numbers are a pure function of (seed, pixel, sample index, dimension), and
+// each pixel's samples are added in sample order, so an image is bit-identical for any thread count,
+// and disjoint sample ranges merge exactly.
+#include "hdeye/camera.h"
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderLight.h"
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace hdeye {
+
+/// The AOVs a render pass can bind; null ones are not written. "color" has 4 components (RGB,
+/// alpha = camera ray hit geometry), albedo and normal 3, depth (distance along the camera ray, 0
+/// where nothing was hit) and primId (-1 where nothing was hit) 1. The data AOVs (albedo, normal,
+/// depth, primId) come from sample index 0 only, so they are never averaged across edges.
+struct AovBuffers {
+  RenderBuffer* color = nullptr;
+  RenderBuffer* albedo = nullptr;
+  RenderBuffer* normal = nullptr;
+  RenderBuffer* depth = nullptr;
+  RenderBuffer* primId = nullptr;
+};
+
+struct RenderStats {
+  std::int64_t samples = 0;  ///< pixel samples traced
+  std::int64_t rays = 0;     ///< rays cast (closest-hit and shadow)
+  double seconds = 0;
+  int passes = 0;            ///< samples per pixel completed
+  bool timeLimitReached = false;
+};
+
+class Renderer {
+ public:
+  /// Renders settings.samplesPerPixel samples per pixel, starting at settings.firstSample, into the
+  /// bound buffers (which must all have the colour buffer's size). `scene` must be committed.
+  RenderStats Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                     const RenderSettings& settings, const AovBuffers& aovs) const;
+};
+
+}  // namespace hdeye

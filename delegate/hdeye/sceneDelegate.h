@@ -1,0 +1,58 @@
+#pragma once
+// The scene side (HdSceneDelegate's role): prims pull their data from it during Sync. The Python USD
+// scene delegate implements it through the bindings; InMemorySceneDelegate implements it for C++
+// programs and tests.
+#include "hdeye/types.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+/// Camera parameters, in the units USD uses for them.
+struct CameraParams {
+  bool orthographic = false;
+  double focalLength = 50;          ///< mm (perspective)
+  double horizontalAperture = 36;   ///< mm, or scene units of width (orthographic)
+  double verticalAperture = 24;     ///< mm, or scene units of height (orthographic)
+  double nearClip = 1e-3, farClip = 1e7;  ///< scene units
+};
+
+/// The light kinds the delegate renders.
+enum class LightType { Sphere, Distant, Rect, Disk, Dome };
+
+/// Light parameters (UsdLux subset). Radiance of an area light = color * intensity * 2^exposure.
+struct LightParams {
+  LightType type = LightType::Sphere;
+  glm::vec3 color{1, 1, 1};
+  float intensity = 1, exposure = 0;
+  float radius = 0.5f;      ///< sphere, disk (scene units)
+  float width = 1, height = 1;  ///< rect (scene units)
+  float angle = 0.53f;      ///< distant: angular diameter, degrees
+  std::string textureFile;  ///< dome: lat-long texture (empty: constant colour)
+};
+
+/// Material parameters (UsdPreviewSurface subset).
+struct MaterialParams {
+  glm::vec3 diffuseColor{0.18f, 0.18f, 0.18f};
+  glm::vec3 emissiveColor{0, 0, 0};
+  float roughness = 0.5f, metallic = 0, opacity = 1, ior = 1.5f;
+};
+
+class SceneDelegate {
+ public:
+  virtual ~SceneDelegate() = default;
+  virtual MeshTopology GetMeshTopology(const PrimId& id) = 0;
+  virtual std::vector<Vec3f> GetPoints(const PrimId& id) = 0;
+  virtual Matrix4d GetTransform(const PrimId& id) = 0;
+  virtual bool GetVisible(const PrimId& id) = 0;
+  /// Vertex-interpolated display colour, if authored (one per point), else empty.
+  virtual std::vector<Vec3f> GetDisplayColor(const PrimId& id) = 0;
+  virtual PrimId GetMaterialId(const PrimId& id) = 0;
+  virtual CameraParams GetCameraParams(const PrimId& id) = 0;
+  virtual LightParams GetLightParams(const PrimId& id) = 0;
+  virtual MaterialParams GetMaterialParams(const PrimId& id) = 0;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,136 @@
+// Radiometry of the path tracer against closed forms, and its determinism: the same image for any
+// thread count, and sample ranges that merge into the single render.
+#include "hdeye/inMemorySceneDelegate.h"
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderIndex.h"
+#include "hdeye/renderPass.h"
+#include "scene_helpers.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace hdeye;
+
+namespace {
+
+struct Scene {
+  RenderDelegate delegate;
+  RenderIndex index{&delegate};
+  InMemorySceneDelegate scene{&index};
+  RenderPass pass{&index};
+
+  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
+  RenderStats Render(const PrimId& buffer = "/color") { return pass.Execute("/cam", {{"color", buffer}}); }
+};
+
+/// A diffuse sphere of the given albedo in a constant dome of radiance 1, filling most of the view.
+void FurnaceScene(Scene& s, float albedo, int size) {
+  MeshTopology topology;
+  std::vector<Vec3f> points;
+  test::UvSphere(1, 24, 48, &topology, &points);
+  MaterialParams m;
+  m.diffuseColor = glm::vec3(albedo);
+  s.scene.AddMaterial("/mat", m);
+  s.scene.AddMesh("/ball", topology, points, Matrix4d(1.0), "/mat");
+  LightParams dome;
+  dome.type = LightType::Dome;
+  s.scene.AddLight("/dome", primTypes::kDomeLight, dome);
+  s.scene.AddCamera("/cam", CameraParams{}, test::LookDownZ(4));
+  s.scene.AddRenderBuffer("/color", size, size, 4);
+}
+
+/// Mean red channel over pixels whose alpha is exactly `alpha` (1: wholly on geometry).
+double MeanWhereAlpha(const RenderBuffer& b, float alpha, int* count) {
+  double sum = 0;
+  *count = 0;
+  for (int y = 0; y < b.Height(); ++y)
+    for (int x = 0; x < b.Width(); ++x)
+      if (b.Resolved(x, y, 3) == alpha) sum += b.Resolved(x, y, 0), ++*count;
+  return *count ? sum / *count : 0;
+}
+
+}  // namespace
+
+TEST_CASE("furnace: a convex diffuse object in a uniform dome returns albedo times the dome ", "[render]") {
+  for (float albedo : {0.5f, 1.0f}) {
+    Scene s;
+    FurnaceScene(s, albedo, 24);
+    s.delegate.Settings().samplesPerPixel = 64;
+    s.Render();
+    int onObject = 0, onDome = 0;
+    const double object = MeanWhereAlpha(s.Buffer("/color"), 1, &onObject);
+    const double dome = MeanWhereAlpha(s.Buffer("/color"), 0, &onDome);
+    std::printf("furnace albedo %.2f: object %.6f over %d pixels, dome %.4f over %d pixels\n", albedo, object, onObject,
+                dome, onDome);
+    REQUIRE(onObject > 50);
+    REQUIRE(onDome > 50);
+    CHECK(object == Approx(albedo).epsilon(0.02));
+    CHECK(dome == Approx(1.0).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("a diffuse plane under a sphere light matches the analytic irradiance, MIS on and off ", "[render]") {
+  // E = pi L (R / d)^2 below the centre of a sphere of radius R at distance d; outgoing radiance rho E / pi.
+  const double R = 1, d = 5, rho = 0.5, expected = rho * (R / d) * (R / d);
+  double results[2];
+  for (int mis = 0; mis < 2; ++mis) {
+    Scene s;
+    MeshTopology plane;
+    std::vector<Vec3f> points;
+    test::Quad(10, &plane, &points);
+    MaterialParams m;
+    m.diffuseColor = glm::vec3(float(rho));
+    s.scene.AddMaterial("/mat", m);
+    s.scene.AddMesh("/floor", plane, points, Matrix4d(1.0), "/mat");
+    LightParams light;
+    light.type = LightType::Sphere;
+    light.radius = float(R);
+    s.scene.AddLight("/key", primTypes::kSphereLight, light, test::LookDownZ(d));
+    CameraParams ortho;
+    ortho.orthographic = true;
+    ortho.horizontalAperture = ortho.verticalAperture = 0.2;  // a 0.2-unit patch below the light
+    s.scene.AddCamera("/cam", ortho, test::LookDownZ(2));
+    s.scene.AddRenderBuffer("/color", 8, 8, 4);
+    s.delegate.Settings().samplesPerPixel = 256;
+    s.delegate.Settings().mis = mis == 1;
+    s.Render();
+    int n = 0;
+    results[mis] = MeanWhereAlpha(s.Buffer("/color"), 1, &n);
+    std::printf("plane under sphere light, MIS %s: %.6f (analytic %.6f)\n", mis ? "on" : "off", results[mis], expected);
+    CHECK(n == 64);
+    CHECK(results[mis] == Approx(expected).epsilon(0.01));
+  }
+  CHECK(results[0] == Approx(results[1]).epsilon(0.015));
+}
+
+TEST_CASE("the image is the same for any thread count, and sample ranges merge into the whole ", "[render]") {
+  Scene s;
+  FurnaceScene(s, 0.7f, 16);
+  s.scene.AddRenderBuffer("/two", 16, 16, 4);
+  s.scene.AddRenderBuffer("/firstHalf", 16, 16, 4);
+  s.scene.AddRenderBuffer("/secondHalf", 16, 16, 4);
+  RenderSettings& settings = s.delegate.Settings();
+  settings.samplesPerPixel = 8;
+  settings.threads = 1;
+  s.Render("/color");
+  settings.threads = 2;
+  s.Render("/two");
+  settings.samplesPerPixel = 4;
+  s.Render("/firstHalf");
+  settings.firstSample = 4;
+  s.Render("/secondHalf");
+  s.Buffer("/firstHalf").Merge(s.Buffer("/secondHalf"));
+  int identical = 0, close = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const float whole = s.Buffer("/color").Resolved(x, y, c);
+        identical += whole == s.Buffer("/two").Resolved(x, y, c);
+        close += std::abs(whole - s.Buffer("/firstHalf").Resolved(x, y, c)) <= 1e-6f * (1 + std::abs(whole));
+      }
+  CHECK(identical == 16 * 16 * 4);
+  CHECK(close == 16 * 16 * 4);
+}
