@@ -8,7 +8,7 @@ namespace hdeye {
 
 void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
                                     const Matrix4d& transform, const PrimId& materialId) {
-  meshes_[id] = MeshData{topology, points, {}, materialId, true};
+  meshes_[id] = MeshData{topology, points, {}, materialId};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kMesh, this, id);
 }
@@ -29,6 +29,12 @@ void InMemorySceneDelegate::AddLight(const PrimId& id, const std::string& type, 
 void InMemorySceneDelegate::AddMaterial(const PrimId& id, const MaterialParams& params) {
   materials_[id] = params;
   index_->InsertSprim(primTypes::kMaterial, this, id);
+}
+
+void InMemorySceneDelegate::AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform) {
+  eyes_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kAnalyticEye, this, id);
 }
 
 void InMemorySceneDelegate::AddRenderBuffer(const PrimId& id, int width, int height, int components) {
@@ -53,7 +59,8 @@ void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& trans
 }
 
 void InMemorySceneDelegate::SetVisible(const PrimId& id, bool visible) {
-  meshes_.at(id).visible = visible;
+  if (visible) hidden_.erase(id);
+  else hidden_.insert(id);
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyVisibility);
 }
 

@@ -5,6 +5,7 @@
 #include "hdeye/sceneDelegate.h"
 
 #include <map>
+#include <set>
 #include <string>
 
 namespace hdeye {
@@ -22,6 +23,8 @@ class InMemorySceneDelegate final : public SceneDelegate {
   void AddLight(const PrimId& id, const std::string& type, const LightParams& params,
                 const Matrix4d& transform = Matrix4d(1.0));
   void AddMaterial(const PrimId& id, const MaterialParams& params);
+  /// An analytic eye (the anterior segment alone, no mesh).
+  void AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform = Matrix4d(1.0));
   void AddRenderBuffer(const PrimId& id, int width, int height, int components);
 
   void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
@@ -34,19 +37,19 @@ class InMemorySceneDelegate final : public SceneDelegate {
   MeshTopology GetMeshTopology(const PrimId& id) override { return meshes_.at(id).topology; }
   std::vector<Vec3f> GetPoints(const PrimId& id) override { return meshes_.at(id).points; }
   Matrix4d GetTransform(const PrimId& id) override { return transforms_.at(id); }
-  bool GetVisible(const PrimId& id) override { return meshes_.at(id).visible; }
+  bool GetVisible(const PrimId& id) override { return !hidden_.count(id); }
   std::vector<Vec3f> GetDisplayColor(const PrimId& id) override { return meshes_.at(id).displayColor; }
   PrimId GetMaterialId(const PrimId& id) override { return meshes_.at(id).materialId; }
   CameraParams GetCameraParams(const PrimId& id) override { return cameras_.at(id); }
   LightParams GetLightParams(const PrimId& id) override { return lights_.at(id); }
   MaterialParams GetMaterialParams(const PrimId& id) override { return materials_.at(id); }
+  EyeParams GetEyeParams(const PrimId& id) override { return eyes_.at(id); }
 
  private:
   struct MeshData {
     MeshTopology topology;
     std::vector<Vec3f> points, displayColor;
     PrimId materialId;
-    bool visible = true;
   };
   RenderIndex* index_;
   std::map<PrimId, MeshData> meshes_;
@@ -54,6 +57,8 @@ class InMemorySceneDelegate final : public SceneDelegate {
   std::map<PrimId, CameraParams> cameras_;
   std::map<PrimId, LightParams> lights_;
   std::map<PrimId, MaterialParams> materials_;
+  std::map<PrimId, EyeParams> eyes_;
+  std::set<PrimId> hidden_;
 };
 
 }  // namespace hdeye

@@ -34,9 +34,8 @@ class Mesh final : public Rprim {
   void Finalize(RenderParam* renderParam) override;
 
   const MeshSyncStats& Stats() const { return stats_; }
-  const PrimId& MaterialId() const { return materialId_; }
-  /// The renderer's view of this mesh; the render pass fills in the resolved material.
-  GeometryContext& Context() { return context_; }
+  PrimId MaterialId() const override { return materialId_; }
+  GeometryContext* Context() override { return &context_; }
   int TriangleCount() const { return int(triangles_.size() / 3); }
 
  private:

@@ -29,7 +29,16 @@ class Prim {
   PrimId id_;
 };
 
-class Rprim : public Prim { using Prim::Prim; };
+struct GeometryContext;
+
+class Rprim : public Prim {
+ public:
+  using Prim::Prim;
+  /// The renderer's view of this prim (Embree user data), which the render pass completes.
+  virtual GeometryContext* Context() { return nullptr; }
+  /// The bound material's id, or empty.
+  virtual PrimId MaterialId() const { return {}; }
+};
 class Sprim : public Prim { using Prim::Prim; };
 class Bprim : public Prim { using Prim::Prim; };
 

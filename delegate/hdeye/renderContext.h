@@ -7,12 +7,15 @@
 
 namespace hdeye {
 
+struct EyeGeometry;
+
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
   glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
   MaterialParams material;            ///< resolved from the bound material (or the fallback)
   const std::vector<Vec3f>* displayColor = nullptr;  ///< per vertex of the rendered triangles, or null
   const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle, for interpolating displayColor
+  const EyeGeometry* eye = nullptr;   ///< set for eyes: the renderer shades them through the analytic model
 };
 
 }  // namespace hdeye

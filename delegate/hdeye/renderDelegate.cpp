@@ -1,5 +1,6 @@
 #include "hdeye/renderDelegate.h"
 
+#include "hdeye/analyticEye.h"
 #include "hdeye/camera.h"
 #include "hdeye/light.h"
 #include "hdeye/material.h"
@@ -38,7 +39,7 @@ RenderDelegate::~RenderDelegate() {
 }
 
 const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
-  static const std::vector<std::string> types = {primTypes::kMesh};
+  static const std::vector<std::string> types = {primTypes::kMesh, primTypes::kAnalyticEye};
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
@@ -54,6 +55,7 @@ const std::vector<std::string>& RenderDelegate::SupportedBprimTypes() {
 
 std::unique_ptr<Rprim> RenderDelegate::CreateRprim(const std::string& type, const PrimId& id) {
   if (type == primTypes::kMesh) return std::make_unique<Mesh>(id);
+  if (type == primTypes::kAnalyticEye) return std::make_unique<AnalyticEye>(id);
   return nullptr;
 }
 

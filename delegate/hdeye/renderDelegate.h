@@ -15,6 +15,7 @@ namespace hdeye {
 /// Type names, as Hydra's tokens.
 namespace primTypes {
 inline const std::string kMesh = "mesh";
+inline const std::string kAnalyticEye = "analyticEye";  ///< the anterior segment alone, no mesh
 inline const std::string kCamera = "camera";
 inline const std::string kSphereLight = "sphereLight";
 inline const std::string kDistantLight = "distantLight";
@@ -34,6 +35,7 @@ struct RenderSettings {
   int maxDepth = 8;             ///< path vertices after the camera
   int firstSample = 0;          ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
   bool mis = true;              ///< combine light and BSDF sampling (off: light sampling only, for tests)
+  bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
 };
 
 class RenderDelegate {

@@ -3,7 +3,7 @@
 #include "hdeye/camera.h"
 #include "hdeye/light.h"
 #include "hdeye/material.h"
-#include "hdeye/mesh.h"
+#include "hdeye/renderContext.h"
 #include "hdeye/renderIndex.h"
 
 #include <stdexcept>
@@ -22,6 +22,7 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
                           : b.aovName == "normal" ? &aovs.normal
                           : b.aovName == "depth"  ? &aovs.depth
                           : b.aovName == "primId" ? &aovs.primId
+                          : b.aovName == "irisMnee" ? &aovs.irisMnee
                                                   : nullptr;
     if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
     *slot = buffer;
@@ -47,15 +48,14 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
       lights.push_back(RenderLight::FromParams(light->Params(), light->Transform()));
 
-  // Resolve each mesh's material and primId for the renderer.
+  // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
   for (const auto& [id, entry] : index_->Rprims()) {
-    auto* mesh = dynamic_cast<Mesh*>(entry.prim.get());
-    if (!mesh) continue;
-    GeometryContext& context = mesh->Context();
-    context.primIndex = primIndex++;
-    const auto* material = dynamic_cast<const Material*>(index_->GetSprim(mesh->MaterialId()));
-    context.material = material ? material->Params() : MaterialParams{};
+    GeometryContext* context = entry.prim->Context();
+    if (!context) continue;
+    context->primIndex = primIndex++;
+    const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
+    context->material = material ? material->Params() : MaterialParams{};
   }
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));

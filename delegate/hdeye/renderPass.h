@@ -12,7 +12,7 @@ namespace hdeye {
 class RenderIndex;
 
 /// One AOV bound to a render buffer (HdRenderPassAovBinding's role). aovName: color, albedo,
-/// normal, depth or primId.
+/// normal, depth, primId or irisMnee.
 struct AovBinding {
   std::string aovName;
   PrimId renderBufferId;

@@ -1,5 +1,6 @@
 #include "hdeye/renderer.h"
 
+#include "hdeye/eyeShading.h"
 #include "hdeye/renderContext.h"
 
 #include <eyelib/random.h>
@@ -11,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -48,6 +50,8 @@ struct SurfaceHit {
   glm::dvec3 p, n;  // n faces the incoming ray
   glm::dvec3 albedo, emission;
   int primIndex;
+  const GeometryContext* context;
+  unsigned part;    // the primitive; for eyes, EyeGeometry::Part
 };
 
 class Tracer {
@@ -69,8 +73,9 @@ class Tracer {
     rtcIntersect1(scene_, &context, &rh);
     ++rays_;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    const auto* ctx = static_cast<const GeometryContext*>(
-        rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.instID[0])));
+    // Meshes sit under instances; eyes are user geometry in the root scene.
+    const unsigned id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+    const auto* ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, id)));
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
     glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
@@ -82,8 +87,10 @@ class Tracer {
       const auto& c = *ctx->displayColor;
       hit->albedo = glm::dvec3((1 - rh.hit.u - rh.hit.v) * c[tri[0]] + rh.hit.u * c[tri[1]] + rh.hit.v * c[tri[2]]);
     }
-    hit->emission = glm::dvec3(ctx->material.emissiveColor);
+    hit->emission = ctx->eye ? glm::dvec3(0) : glm::dvec3(ctx->material.emissiveColor);
     hit->primIndex = ctx->primIndex;
+    hit->context = ctx;
+    hit->part = rh.hit.primID;
     return true;
   }
 
@@ -117,10 +124,18 @@ class Tracer {
 
   /// Radiance along a camera ray; fills the first hit for the data AOVs.
   glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, SampleStream& rng, SurfaceHit* first,
-                bool* hitAny) const {
+                bool* hitAny, glm::dvec3* irisMnee) const {
     glm::dvec3 L(0), beta(1);
-    double bsdfPdf = 0;  // pdf of the direction that led here (0: camera ray, no MIS)
+    // How the current ray was chosen, for weighting the lights it meets: after a specular event
+    // (the camera, the cornea) a light counts in full; after a diffuse bounce, by MIS against light
+    // sampling (or not at all without MIS); straight out of an iris, not at all (MNEE counted it).
+    bool specular = true, skipLights = false;
+    double bsdfPdf = 0;
     const double lightSelect = lights_.empty() ? 0 : 1.0 / double(lights_.size());
+    const std::function<double()> random = [&rng] { return rng.Next(); };
+    EyeLighting eyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
+                              return Occluded(po, pd, t);
+                            }, settings_.mneeAllSolutions};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
@@ -128,15 +143,29 @@ class Tracer {
         *hitAny = hitGeometry;
         if (hitGeometry) *first = hit;
       }
-      // Emitters met along the ray: the lights (with MIS against light sampling), then the surface.
       glm::dvec3 le(0);
       double lpdf = 0;
-      if (HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf)) {
-        if (depth == 0) L += beta * le;
+      if (!skipLights && HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf)) {
+        if (specular) L += beta * le;
         else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
       }
       if (!hitGeometry) break;
       L += beta * hit.emission;
+
+      if (hit.context->eye) {
+        const EyeEvent ev = ScatterAtEye(*hit.context->eye, o, d, EyeGeometry::Part(hit.part), eyeLighting, random);
+        L += beta * ev.radiance;
+        *irisMnee += beta * ev.radiance;
+        if (ev.kind == EyeEvent::Continue) {
+          beta *= ev.weight;
+          o = ev.origin, d = ev.dir, tNear = 0, tFar = kInf;
+          specular = true, skipLights = ev.skipLightHits;
+          continue;
+        }
+        if (ev.kind == EyeEvent::Absorbed) break;
+        hit.albedo = ev.scleraAlbedo;  // sclera: shade below as a diffuse surface
+        hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+      }
       const glm::dvec3 f = hit.albedo / kPi;
       // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
       const glm::dvec3 origin = hit.p + hit.n * (1e-5 * (1 + glm::length(hit.p)));
@@ -157,6 +186,7 @@ class Tracer {
       // Continue with a cosine-weighted direction: f cos / pdf = albedo.
       d = CosineHemisphere(hit.n, rng.Next(), rng.Next());
       bsdfPdf = glm::dot(d, hit.n) / kPi;
+      specular = false, skipLights = !settings_.mis;
       beta *= hit.albedo;
       o = origin;
       tNear = 0;
@@ -186,7 +216,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
                              const RenderSettings& settings, const AovBuffers& aovs) const {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
-  for (RenderBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId})
+  for (RenderBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
@@ -195,7 +225,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   const auto start = std::chrono::steady_clock::now();
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  std::atomic<std::int64_t> rays{0};
+  std::atomic<std::int64_t> rays{0}, nonFinite{0};
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
@@ -214,10 +244,18 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
               const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
               SurfaceHit first{};
               bool hitAny = false;
-              glm::dvec3 L = tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny);
-              if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) L = glm::dvec3(0);
+              glm::dvec3 irisMnee(0);
+              glm::dvec3 L = tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny, &irisMnee);
+              if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
+                L = irisMnee = glm::dvec3(0);  // never let it into the image; count it so tests can fail on it
+                ++nonFinite;
+              }
               const float color[4] = {float(L.x), float(L.y), float(L.z), hitAny ? 1.0f : 0.0f};
               aovs.color->AddSample(x, y, color);
+              if (aovs.irisMnee) {
+                const float iris[3] = {float(irisMnee.x), float(irisMnee.y), float(irisMnee.z)};
+                aovs.irisMnee->AddSample(x, y, iris);
+              }
               if (s != 0) continue;
               const glm::dvec3 albedo = hitAny ? first.albedo : glm::dvec3(0), n = hitAny ? first.n : glm::dvec3(0);
               const float a[3] = {float(albedo.x), float(albedo.y), float(albedo.z)};
@@ -241,6 +279,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     }
   }
   stats.rays = rays;
+  stats.nonFiniteSamples = nonFinite;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

@@ -20,13 +20,15 @@ namespace hdeye {
 /// The AOVs a render pass can bind; null ones are not written. "color" has 4 components (RGB,
 /// alpha = camera ray hit geometry), albedo and normal 3, depth (distance along the camera ray, 0
 /// where nothing was hit) and primId (-1 where nothing was hit) 1. The data AOVs (albedo, normal,
-/// depth, primId) come from sample index 0 only, so they are never averaged across edges.
+/// depth, primId) come from sample index 0 only, so they are never averaged across edges. irisMnee
+/// (3 components) is the part of color that came to an iris through MNEE.
 struct AovBuffers {
   RenderBuffer* color = nullptr;
   RenderBuffer* albedo = nullptr;
   RenderBuffer* normal = nullptr;
   RenderBuffer* depth = nullptr;
   RenderBuffer* primId = nullptr;
+  RenderBuffer* irisMnee = nullptr;  ///< 3: the light that reached irises through MNEE, as the camera sees it
 };
 
 struct RenderStats {
@@ -34,6 +36,7 @@ struct RenderStats {
   std::int64_t rays = 0;     ///< rays cast (closest-hit and shadow)
   double seconds = 0;
   int passes = 0;            ///< samples per pixel completed
+  std::int64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped (a bug if ever non-zero)
   bool timeLimitReached = false;
 };
 

@@ -4,6 +4,8 @@
 // programs and tests.
 #include "hdeye/types.h"
 
+#include <eyelib/anterior_chamber.h>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +42,16 @@ struct MaterialParams {
   float roughness = 0.5f, metallic = 0, opacity = 1, ior = 1.5f;
 };
 
+/// An eye's parameters (the EyeAPI schema's attributes). Lengths in the canonical frame are mm.
+struct EyeParams {
+  eyelib::ChamberParams chamber;          ///< model, iris depth, pupil, limbus ratios, cornea ior
+  glm::vec3 irisColor{0.35f, 0.2f, 0.1f};  ///< diffuse albedo of the iris
+  glm::vec3 scleraColor{0.8f, 0.78f, 0.75f};
+  /// Canonical frame (mm, apex at the origin, gaze +z) to the prim's local space. A similarity
+  /// (rotation, uniform scale, translation); e.g. scale 0.1 for a scene in centimetres.
+  Matrix4d modelTransform{1.0};
+};
+
 class SceneDelegate {
  public:
   virtual ~SceneDelegate() = default;
@@ -53,6 +65,7 @@ class SceneDelegate {
   virtual CameraParams GetCameraParams(const PrimId& id) = 0;
   virtual LightParams GetLightParams(const PrimId& id) = 0;
   virtual MaterialParams GetMaterialParams(const PrimId& id) = 0;
+  virtual EyeParams GetEyeParams(const PrimId& id) = 0;
 };
 
 }  // namespace hdeye

@@ -101,7 +101,7 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
     return out;
   // The sclera hides everything below the rim plane from the cornea (lights behind the eye).
   const double zRim = surface.Sag(surface.RimRadius());
-  if (light.distant ? light.direction.z <= 0 : light.position.z <= zRim) {
+  if (options.scleraOccludes && (light.distant ? light.direction.z <= 0 : light.position.z <= zRim)) {
     out.status = MneeStatus::Occluded;
     return out;
   }
@@ -200,7 +200,10 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   const Vec2<double> seed = StraightLineSeed(chamber, x, light);
   const MneeStatus first = trySeed(seed.x, seed.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
-  if (!seeds.allSolutions) return result;
+  // One solution wanted: stop at the first, but if the straight line failed (it often misses the
+  // cap for light from below the rim plane), walk the meridian seeds until one converges.
+  const bool stopAtFirst = !seeds.allSolutions;
+  if (stopAtFirst && (first == MneeStatus::Converged || !seeds.fallback)) return result;
   const double rim = chamber.Surface().RimRadius();
   // The light's azimuth as seen from x: the refraction plane of the paths to find.
   const Vec3d toLight = light.distant ? light.direction : light.position - x;
@@ -210,8 +213,10 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   const double offset = x.x * across.x + x.y * across.y;
   for (int k = 0; k < seeds.meridianSeeds; ++k) {
     const double s = rim * (-0.95 + 1.9 * (k + 0.5) / seeds.meridianSeeds);
-    trySeed(s * along.x + offset * across.x, s * along.y + offset * across.y);
+    const MneeStatus status = trySeed(s * along.x + offset * across.x, s * along.y + offset * across.y);
+    if (stopAtFirst && status == MneeStatus::Converged) return result;
   }
+  if (stopAtFirst) return result;
   for (int ring = 1; ring <= seeds.rings; ++ring) {
     const double r = rim * ring / (seeds.rings + 0.5);
     for (int k = 0; k < seeds.segments; ++k) {

@@ -48,6 +48,9 @@ struct MneeOptions {
   double tolerance = 1e-11;
   /// Largest Newton step on the height field, mm (a trust region).
   double maxStep = 1.0;
+  /// Treat lights below the rim plane as hidden by the sclera (the analytic eye on its own, as the
+  /// light-tracing reference models it). A renderer with its own shadow rays turns this off.
+  bool scleraOccludes = true;
 };
 
 struct MneeSolution {
@@ -73,7 +76,12 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 
 /// How to look for solutions.
 struct SeedStrategy {
-  bool allSolutions = false;  ///< false: the straight-line seed only; true: also the seeds below
+  /// false: one solution: the straight-line seed, then (if it fails and `fallback` is on) the
+  /// meridian seeds until one converges; true: every seed below, keeping all distinct solutions.
+  bool allSolutions = false;
+  /// With allSolutions off: retry a failed straight-line seed from the meridian seeds. Off gives the
+  /// straight-line seed alone, as Cycles' MNEE does (kept for comparison).
+  bool fallback = true;
   /// Seeds along the light's azimuth through x (where a fold's second solution lies), spread
   /// across the cap. 0 turns them off.
   int meridianSeeds = 6;
