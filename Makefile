@@ -18,11 +18,11 @@ build: configure
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-# Until the USD front end (eyerecord) lands, the default render is the delegate's C++ example scene.
+# Until the USD front end (eyerecord) lands, the default render is the delegate's C++ example: an
+# analytic eye under a side light, written to out/eye.exr (all AOVs) and out/eye.png.
 render: build
 	@mkdir -p out
-	@$(BUILD_DIR)/delegate/hdeye_render_scene out/example --spp 64
-	@echo "make render: the USD default sample and eyerecord come with the USD front end; eyes are not yet shaded by the delegate."
+	@$(BUILD_DIR)/delegate/hdeye_render_scene out/eye --spp 32 --size 256x256 --light-angle 75 --exposure 2
 
 bench: build
 	@bash scripts/run_benchmarks.sh $(BUILD_DIR)

@@ -1,8 +1,10 @@
-// hdeye_render_scene: builds a small scene in code (a subdivided ball on a floor under a sphere light
-// and a dim dome) and renders it through the Hydra-style flow: scene delegate -> render index ->
-// render pass -> render buffers -> EXR (all AOVs) and a PNG preview.
+// hdeye_render_scene: builds a small scene in code and renders it through the Hydra-style flow:
+// scene delegate -> render index -> render pass -> render buffers -> EXR (all AOVs) and a PNG preview.
+// The default scene is an analytic eye (the paper's ellipsoid-cone anterior segment) under a side
+// light, framed on the iris; --ball renders a subdivided ball on a floor instead.
 //
-//   hdeye_render_scene OUTPUT_PREFIX [--spp N] [--size WxH] [--threads N]
+//   hdeye_render_scene OUTPUT_PREFIX [--ball] [--light-angle DEG] [--exposure STOPS] [--spp N] [--size WxH]
+//                      [--threads N]
 //
 // Writes OUTPUT_PREFIX.exr and OUTPUT_PREFIX.png atomically; exits 1 with a one-line message on error.
 #include "hdeye/imageWriter.h"
@@ -12,6 +14,7 @@
 #include "hdeye/renderIndex.h"
 #include "hdeye/renderPass.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -24,6 +27,9 @@ namespace {
 
 struct Options {
   std::string prefix;
+  bool ball = false;
+  double lightAngle = 60;  ///< degrees off the eye's gaze
+  float exposure = 0;      ///< stops, for the PNG preview only
   int spp = 64, width = 320, height = 240, threads = 0;
 };
 
@@ -36,6 +42,9 @@ Options Parse(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--spp") o.spp = std::stoi(next());
+    else if (a == "--ball") o.ball = true;
+    else if (a == "--light-angle") o.lightAngle = std::stod(next());
+    else if (a == "--exposure") o.exposure = std::stof(next());
     else if (a == "--threads") o.threads = std::stoi(next());
     else if (a == "--size") {
       const std::string s = next();
@@ -45,7 +54,8 @@ Options Parse(int argc, char** argv) {
     } else if (!a.empty() && a[0] == '-') throw std::runtime_error("unknown option " + a);
     else o.prefix = a;
   }
-  if (o.prefix.empty()) throw std::runtime_error("usage: hdeye_render_scene OUTPUT_PREFIX [--spp N] [--size WxH] [--threads N]");
+  if (o.prefix.empty())
+    throw std::runtime_error("usage: hdeye_render_scene OUTPUT_PREFIX [--ball] [--light-angle DEG] [--exposure STOPS] [--spp N] [--size WxH] [--threads N]");
   if (o.spp < 1 || o.width < 1 || o.height < 1) throw std::runtime_error("--spp and --size must be positive");
   return o;
 }
@@ -56,7 +66,35 @@ Matrix4d Translate(double x, double y, double z) {
   return m;
 }
 
-void BuildScene(InMemorySceneDelegate& scene, const Options& o) {
+void AddBuffers(InMemorySceneDelegate& scene, const Options& o) {
+  for (const auto& [id, components] : {std::pair{"/Render/color", 4}, {"/Render/albedo", 3}, {"/Render/normal", 3},
+                                       {"/Render/depth", 1}, {"/Render/primId", 1}, {"/Render/irisMnee", 3}})
+    scene.AddRenderBuffer(id, o.width, o.height, components);
+}
+
+/// An analytic eye in millimetres, gazing at the camera, with a small key light `lightAngle` off its
+/// gaze towards +x and a dim dome.
+void BuildEyeScene(InMemorySceneDelegate& scene, const Options& o) {
+  EyeParams eye;
+  eye.irisColor = {0.35f, 0.22f, 0.12f};
+  scene.AddAnalyticEye("/World/eye", eye);
+  LightParams key;
+  key.type = LightType::Sphere;
+  key.radius = 3;
+  key.intensity = 300;
+  const double a = o.lightAngle * 3.14159265358979323846 / 180;
+  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(150 * std::sin(a), 0, 150 * std::cos(a)));
+  LightParams sky;
+  sky.type = LightType::Dome;
+  sky.intensity = 0.05f;
+  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
+  CameraParams lens;
+  lens.focalLength = 100;
+  scene.AddCamera("/World/cam", lens, Translate(0, 0, 45));
+  AddBuffers(scene, o);
+}
+
+void BuildBallScene(InMemorySceneDelegate& scene, const Options& o) {
   // A cube refined twice by OpenSubdiv: a rounded ball.
   MeshTopology cube{{4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
   const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
@@ -90,24 +128,22 @@ void BuildScene(InMemorySceneDelegate& scene, const Options& o) {
   cam[2] = glm::dvec4(back, 0);
   cam[3] = glm::dvec4(eye, 1);
   scene.AddCamera("/World/cam", CameraParams{}, cam);
-
-  for (const auto& [id, components] : {std::pair{"/Render/color", 4}, {"/Render/albedo", 3}, {"/Render/normal", 3},
-                                       {"/Render/depth", 1}, {"/Render/primId", 1}})
-    scene.AddRenderBuffer(id, o.width, o.height, components);
+  AddBuffers(scene, o);
 }
 
 void WriteOutputs(const RenderIndex& index, const Options& o) {
   auto buffer = [&](const char* id) { return static_cast<const RenderBuffer*>(index.GetBprim(id))->ResolvedPlanes(); };
   const auto color = buffer("/Render/color"), albedo = buffer("/Render/albedo"), normal = buffer("/Render/normal");
-  const auto depth = buffer("/Render/depth"), primId = buffer("/Render/primId");
+  const auto depth = buffer("/Render/depth"), primId = buffer("/Render/primId"), iris = buffer("/Render/irisMnee");
   WriteExr(o.prefix + ".exr", o.width, o.height,
            {{"R", color[0]}, {"G", color[1]}, {"B", color[2]}, {"A", color[3]}, {"albedo.R", albedo[0]},
             {"albedo.G", albedo[1]}, {"albedo.B", albedo[2]}, {"N.X", normal[0]}, {"N.Y", normal[1]},
-            {"N.Z", normal[2]}, {"depth.Z", depth[0]}, {"primId", primId[0]}});
+            {"N.Z", normal[2]}, {"depth.Z", depth[0]}, {"primId", primId[0]}, {"irisMnee.R", iris[0]},
+            {"irisMnee.G", iris[1]}, {"irisMnee.B", iris[2]}});
   std::vector<float> rgb(std::size_t(o.width) * o.height * 3);
   for (std::size_t p = 0; p < rgb.size() / 3; ++p)
     for (int c = 0; c < 3; ++c) rgb[3 * p + c] = color[c][p];
-  WritePngPreview(o.prefix + ".png", o.width, o.height, rgb);
+  WritePngPreview(o.prefix + ".png", o.width, o.height, rgb, o.exposure);
 }
 
 }  // namespace
@@ -118,13 +154,14 @@ int main(int argc, char** argv) {
     RenderDelegate delegate;
     RenderIndex index(&delegate);
     InMemorySceneDelegate scene(&index);
-    BuildScene(scene, o);
+    if (o.ball) BuildBallScene(scene, o);
+    else BuildEyeScene(scene, o);
     delegate.Settings().samplesPerPixel = o.spp;
     delegate.Settings().threads = o.threads;
     RenderPass pass(&index);
     const RenderStats stats = pass.Execute("/World/cam", {{"color", "/Render/color"}, {"albedo", "/Render/albedo"},
                                                           {"normal", "/Render/normal"}, {"depth", "/Render/depth"},
-                                                          {"primId", "/Render/primId"}});
+                                                          {"primId", "/Render/primId"}, {"irisMnee", "/Render/irisMnee"}});
     WriteOutputs(index, o);
     std::printf("rendered %dx%d at %d spp in %.2f s (%.2f Mrays/s); wrote %s.exr and %s.png\n", o.width, o.height,
                 stats.passes, stats.seconds, stats.rays / stats.seconds * 1e-6, o.prefix.c_str(), o.prefix.c_str());
