@@ -102,7 +102,7 @@ TEST_CASE("MNEE irradiance agrees with light tracing for point lights, both mode
     params.model = model;
     const AnteriorChamber<double> chamber(params);
     for (double deg : {0.0, 30.0, 60.0, 85.0}) {
-      // Near grazing, a caustic fold gives some iris points two paths: search for all of them there.
+      // Near grazing: search for every path (and integrate the cells finely: the fold's 1/sqrt peak).
       const bool all = deg > 80;
       const EyeLight light = test::PointLightAt(deg);
       const Agreement a = Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000), {all}, all ? 16 : 8);
@@ -137,8 +137,8 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
                                                      {"rect 16 x 12 mm at 45 deg", rect},
                                                      {"distant, 0.1 rad, 45 deg", sun}};
   for (const auto& [label, light] : lights) {
-    // A near-parallel beam at 45 deg already has a fold at the far side's periphery, where the
-    // straight-line seed alone misses half the light of some cells: search for all paths.
+    // A near-parallel beam at 45 deg: at the far side's periphery the straight-line seed alone misses
+    // half the light of some cells (see the last test); search for every path.
     const bool all = light.shape == LightShape::Distant;
     const Agreement a = Compare(chamber, light, Reference(chamber, light, 8'000'000), {all}, 8, 4);
     PrintRow("ellipsoidCone", label, all ? "all" : "straight line", a);
