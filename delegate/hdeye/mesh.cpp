@@ -30,6 +30,31 @@ std::vector<int> Triangulate(const std::vector<int>& counts, const std::vector<i
   return tris;
 }
 
+/// Smooth vertex normals of a polygon mesh (Hd_SmoothNormals' formula): each face corner adds the cross
+/// product of its two edges (next - corner) x (previous - corner), a normal weighted by the corner's
+/// parallelogram area, to its point; the sums are normalised. Over the authored polygons, not the fan
+/// triangles, so the triangulation cannot tilt them (fan-triangle areas tilt a UV sphere's normals by 1.3
+/// degrees; corner weights are radial there). Counter-clockwise faces get outward normals; a point no face
+/// spans (or whose corners cancel) gets a zero normal, which the renderer treats as "use the flat normal".
+std::vector<Vec3f> SmoothNormals(const MeshTopology& topology, const std::vector<Vec3f>& points) {
+  std::vector<glm::dvec3> sum(points.size(), glm::dvec3(0));
+  std::size_t base = 0;
+  for (int n : topology.faceVertexCounts) {
+    const int* face = &topology.faceVertexIndices[base];
+    for (int k = 0; k < n; ++k) {
+      const glm::dvec3 p(points[face[k]]), next(points[face[(k + 1) % n]]), prev(points[face[(k + n - 1) % n]]);
+      sum[face[k]] += glm::cross(next - p, prev - p);
+    }
+    base += std::size_t(n);
+  }
+  std::vector<Vec3f> normals(points.size(), Vec3f(0));
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    const double length = glm::length(sum[i]);
+    if (length > 0) normals[i] = Vec3f(sum[i] / length);
+  }
+  return normals;
+}
+
 }  // namespace
 
 Mesh::Mesh(PrimId id) : Rprim(std::move(id)) {}
@@ -128,12 +153,18 @@ void Mesh::SyncPoints(SceneDelegate* sceneDelegate) {
   for (std::size_t i = 0; i < control.size(); ++i)
     if (!std::isfinite(control[i].x) || !std::isfinite(control[i].y) || !std::isfinite(control[i].z))
       Fail(Id(), "point " + std::to_string(i) + " is not finite");
+  // Points and normals change together (this runs only when points or topology are dirty): the renderer
+  // interpolates normals_ over the triangles whose vertices are points_.
   if (refiner_) {
-    refiner_->EvaluatePoints(control, &points_);
+    // Limit positions, not the refined points: see the header (the geometry must match the normals).
+    refiner_->EvaluateLimit(control, &points_, &normals_);
     ++stats_.stencilEvaluations;
   } else {
     points_ = control;
+    normals_ = SmoothNormals(topology_, points_);
   }
+  ++stats_.normalEvaluations;
+  context_.vertexNormals = &normals_;
 }
 
 void Mesh::UploadPoints() {

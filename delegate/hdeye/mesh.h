@@ -3,6 +3,13 @@
 // through OpenSubdiv, held in Embree as a prototype scene under one instance in the root scene.
 // Topology is refined once; when only points change, the stencils re-evaluate them and the Embree
 // vertex buffer is updated in place; a transform change only touches the instance.
+//
+// Smooth shading: every points change also recomputes per-vertex normals for the renderer
+// (GeometryContext::vertexNormals). Refined meshes render the limit surface: the vertices are the limit
+// positions of the refined points and the normals the limit normals there, so the Embree triangles are
+// inscribed in the surface the normals describe (the refined points lie off it, inside a convex hull, and
+// pairing them with limit normals would shade one surface and silhouette another). Polygon meshes get
+// Hd_SmoothNormals' normals: per face corner, the cross product of its two edges, summed per point.
 #include "hdeye/prim.h"
 #include "hdeye/renderContext.h"
 
@@ -21,6 +28,7 @@ struct MeshSyncStats {
   int refinements = 0;         ///< OpenSubdiv topology refinements
   int stencilEvaluations = 0;  ///< refined points re-evaluated from control points
   int pointUploads = 0;        ///< Embree vertex buffer updates
+  int normalEvaluations = 0;   ///< per-vertex shading normals recomputed (limit or smooth normals)
   int transformUpdates = 0;
 };
 
@@ -34,6 +42,9 @@ class Mesh final : public Rprim {
   void Finalize(RenderParam* renderParam) override;
 
   const MeshSyncStats& Stats() const { return stats_; }
+  /// The rendered points and their shading normals, object space (for tests and debugging).
+  const std::vector<Vec3f>& Points() const { return points_; }
+  const std::vector<Vec3f>& Normals() const { return normals_; }
   PrimId MaterialId() const override { return materialId_; }
   GeometryContext* Context() override { return &context_; }
   int TriangleCount() const { return int(triangles_.size() / 3); }
@@ -48,7 +59,8 @@ class Mesh final : public Rprim {
   MeshTopology topology_;
   int controlPointCount_ = 0;
   std::unique_ptr<SubdivRefiner> refiner_;
-  std::vector<Vec3f> points_;        ///< the rendered (refined) points, object space
+  std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
+  std::vector<Vec3f> normals_;       ///< unit shading normal per rendered point, object space
   std::vector<int> triangles_;       ///< 3 indices per rendered triangle
   std::vector<Vec3f> displayColor_;  ///< per rendered point, or empty
   Matrix4d transform_{1.0};

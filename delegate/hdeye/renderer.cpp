@@ -80,6 +80,18 @@ class Tracer {
     hit->p = o + hit->t * d;
     glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
+    // Smooth shading: the per-vertex normals interpolated with the hit's barycentrics (the same weights as
+    // displayColor below). The flat geometric normal still decides the side: the shading normal is flipped
+    // onto the side the ray came from, so the renderer's cosines (taken against hit->n and clamped at 0)
+    // stay on the lit side. Eyes, meshes without normals and degenerate (zero) normals keep the flat one.
+    if (ctx->vertexNormals && ctx->triangleVertices && !ctx->eye) {
+      const int* tri = &(*ctx->triangleVertices)[3 * std::size_t(rh.hit.primID)];
+      const auto& vn = *ctx->vertexNormals;
+      const glm::dvec3 local((1 - rh.hit.u - rh.hit.v) * vn[tri[0]] + rh.hit.u * vn[tri[1]] + rh.hit.v * vn[tri[2]]);
+      const glm::dvec3 shading = ctx->normalToWorld * local;
+      const double length = glm::length(shading);
+      if (length > 1e-12 && std::isfinite(length)) n = glm::dot(shading, n) < 0 ? -shading / length : shading / length;
+    }
     hit->n = n;
     hit->albedo = glm::dvec3(ctx->material.diffuseColor);
     if (ctx->displayColor && ctx->triangleVertices) {
