@@ -2,6 +2,7 @@
 
 #include <eyelib/mnee.h>
 #include <eyelib/optics.h>
+#include <eyelib/sampling.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,11 +15,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kMaxInternalEvents = 64;
-
-glm::dvec3 CosineAroundZ(double u1, double u2) {
-  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1))};
-}
 
 /// World offset for spawning a ray off the eye's surface along world normal n.
 glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& n) {
@@ -123,7 +119,7 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
       if (std::hypot(x.x, x.y) < eye.chamber.PupilRadius()) return ev;  // into the lens: absorbed
       ev.radiance += beta * (eye.irisColor / kPi) * IrisIrradianceMnee(eye, x, lighting, random);
       const double u1 = random(), u2 = random();
-      d = CosineAroundZ(u1, u2);
+      d = eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
       beta *= eye.irisColor;
       p = x;
       straightFromIris = true;

@@ -1,5 +1,7 @@
 #include "hdeye/renderLight.h"
 
+#include <eyelib/sampling.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,22 +12,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-void Frame(const glm::dvec3& w, glm::dvec3* t, glm::dvec3* b) {
-  const glm::dvec3 a = std::abs(w.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  *t = glm::normalize(glm::cross(w, a));
-  *b = glm::cross(w, *t);
-}
-
-/// Uniform direction in the cone around w with cos(half angle) cosMax.
-glm::dvec3 SampleCone(const glm::dvec3& w, double cosMax, double u1, double u2) {
-  const double cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
-  const double phi = 2 * kPi * u2;
-  glm::dvec3 t, b;
-  Frame(w, &t, &b);
-  return glm::normalize(cosT * w + sinT * (std::cos(phi) * t + std::sin(phi) * b));
-}
-
-double ConePdf(double cosMax) { return 1 / (2 * kPi * (1 - cosMax)); }
+using eyelib::SampleUniformCone;
+using eyelib::UniformConePdf;
 
 /// Area pdf to solid angle pdf.
 double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
@@ -78,19 +66,19 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       const double d = glm::length(toC);
       if (!(d > l.radius)) return s;  // inside the light: not sampled
       const double sinMax = l.radius / d, cosMax = std::sqrt(std::max(0.0, 1 - sinMax * sinMax));
-      s.dir = SampleCone(toC / d, cosMax, u1, u2);
+      s.dir = SampleUniformCone(toC / d, cosMax, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
       s.radiance = l.radiance;
-      s.pdf = ConePdf(cosMax);
+      s.pdf = UniformConePdf(cosMax);
       return s;
     }
     case LightType::Distant:
-      s.dir = SampleCone(l.direction, l.cosHalfAngle, u1, u2);
+      s.dir = SampleUniformCone(l.direction, l.cosHalfAngle, u1, u2);
       s.distance = kInf;
       s.radiance = l.radiance;
-      s.pdf = ConePdf(l.cosHalfAngle);
+      s.pdf = UniformConePdf(l.cosHalfAngle);
       return s;
     case LightType::Dome: {
       // Uniform sphere (a constant dome gains nothing from importance sampling).
@@ -135,14 +123,14 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       if (!(t > 0) || t >= maxDistance) return false;
       const double sinMax2 = l.radius * l.radius / d2;
       *radiance = l.radiance;
-      *pdf = ConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
+      *pdf = UniformConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
       *distance = t;
       return true;
     }
     case LightType::Distant:
       if (maxDistance < kInf || glm::dot(dir, l.direction) < l.cosHalfAngle) return false;
       *radiance = l.radiance;
-      *pdf = ConePdf(l.cosHalfAngle);
+      *pdf = UniformConePdf(l.cosHalfAngle);
       *distance = kInf;
       return true;
     case LightType::Dome:

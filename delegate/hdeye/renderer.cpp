@@ -4,6 +4,7 @@
 #include "hdeye/renderContext.h"
 
 #include <eyelib/random.h>
+#include <eyelib/sampling.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -38,12 +39,6 @@ class SampleStream {
 
 double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 
-glm::dvec3 CosineHemisphere(const glm::dvec3& n, double u1, double u2) {
-  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  const glm::dvec3 a = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  const glm::dvec3 t = glm::normalize(glm::cross(n, a)), b = glm::cross(n, t);
-  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n);
-}
 
 struct SurfaceHit {
   double t;
@@ -196,7 +191,7 @@ class Tracer {
       }
 
       // Continue with a cosine-weighted direction: f cos / pdf = albedo.
-      d = CosineHemisphere(hit.n, rng.Next(), rng.Next());
+      d = eyelib::SampleCosineHemisphere(hit.n, rng.Next(), rng.Next());
       bsdfPdf = glm::dot(d, hit.n) / kPi;
       specular = false, skipLights = !settings_.mis;
       beta *= hit.albedo;

@@ -1,16 +1,10 @@
 #include "eyelib/eye_light.h"
 
+#include "eyelib/sampling.h"
+
 #include <cmath>
 
 namespace eyelib {
-
-namespace {
-void Frame(const Vec3d& w, Vec3d* t, Vec3d* b) {
-  const Vec3d a = std::abs(w.x) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
-  *t = glm::normalize(glm::cross(w, a));
-  *b = glm::cross(w, *t);
-}
-}  // namespace
 
 double LightArea(const EyeLight& light) {
   switch (light.shape) {
@@ -39,7 +33,7 @@ LightSample SampleLight(const EyeLight& light, double u1, double u2) {
     }
     case LightShape::Disk: {
       Vec3d t, b;
-      Frame(light.normal, &t, &b);
+      OrthonormalBasis(light.normal, &t, &b);
       const double r = light.radius * std::sqrt(u1);
       s.end.position = light.position + r * (std::cos(phi) * t + std::sin(phi) * b);
       s.emitterNormal = light.normal;
@@ -62,11 +56,8 @@ LightSample SampleLight(const EyeLight& light, double u1, double u2) {
       }
       // Uniform in the cone; radiance L = E / (pi sin^2 alpha), pdf = 1 / (2 pi (1 - cos alpha)).
       const double cosMax = std::cos(light.angularRadius), sinA = std::sin(light.angularRadius);
-      const double cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
-      Vec3d t, b;
-      Frame(light.direction, &t, &b);
-      s.end.direction = glm::normalize(cosT * light.direction + sinT * (std::cos(phi) * t + std::sin(phi) * b));
-      s.weight = light.power / (paper::kPi * sinA * sinA) * 2 * paper::kPi * (1 - cosMax);
+      s.end.direction = SampleUniformCone(light.direction, cosMax, u1, u2);
+      s.weight = light.power / (paper::kPi * sinA * sinA) / UniformConePdf(cosMax);
       break;
     }
   }

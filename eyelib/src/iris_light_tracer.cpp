@@ -3,6 +3,7 @@
 #include "eyelib/eye_light.h"
 #include "eyelib/optics.h"
 #include "eyelib/random.h"
+#include "eyelib/sampling.h"
 
 #include <cmath>
 
@@ -14,13 +15,6 @@ namespace {
 const Vec3d kCapCenter(0, 0, -2);
 const double kCapRadius = 7.82;
 
-/// An orthonormal frame around unit w.
-void Frame(const Vec3d& w, Vec3d* t, Vec3d* b) {
-  const Vec3d a = std::abs(w.x) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
-  *t = glm::normalize(glm::cross(w, a));
-  *b = glm::cross(w, *t);
-}
-
 /// One ray from the light towards the cap: origin, direction, and the flux it carries (W).
 struct EmittedRay {
   Vec3d origin, dir;
@@ -31,11 +25,11 @@ struct EmittedRay {
 /// bounding sphere subtends from there: no ray is wasted on directions that cannot reach the eye.
 EmittedRay Emit(const EyeLight& light, double zRim, const double u[4]) {
   const LightSample s = SampleLight(light, u[0], u[1]);
-  const double phi = 2 * paper::kPi * u[3];
-  Vec3d t, b;
   if (s.end.distant) {
     if (s.end.direction.z <= 0) return {Vec3d(0), Vec3d(0, 0, 1), 0};
-    Frame(s.end.direction, &t, &b);
+    Vec3d t, b;
+    OrthonormalBasis(s.end.direction, &t, &b);
+    const double phi = 2 * paper::kPi * u[3];
     const double r = kCapRadius * std::sqrt(u[2]);
     const Vec3d o = kCapCenter + r * (std::cos(phi) * t + std::sin(phi) * b) + 4 * kCapRadius * s.end.direction;
     return {o, -s.end.direction, s.weight * paper::kPi * kCapRadius * kCapRadius};
@@ -44,13 +38,10 @@ EmittedRay Emit(const EyeLight& light, double zRim, const double u[4]) {
   if (y.z <= zRim) return {y, Vec3d(0, 0, 1), 0};  // behind the sclera
   const Vec3d toCap = kCapCenter - y;
   const double dist = glm::length(toCap);
-  const Vec3d axis = toCap / dist;
-  Frame(axis, &t, &b);
   const double cosMax = dist > kCapRadius ? std::sqrt(1 - (kCapRadius / dist) * (kCapRadius / dist)) : -1;
-  const double cosT = 1 - u[2] * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
-  const Vec3d d = cosT * axis + sinT * (std::cos(phi) * t + std::sin(phi) * b);
+  const Vec3d d = SampleUniformCone(toCap / dist, cosMax, u[2], u[3]);
   const double cosEmit = s.area ? std::max(0.0, glm::dot(s.emitterNormal, d)) : 1.0;
-  return {y, d, s.weight * cosEmit * 2 * paper::kPi * (1 - cosMax)};
+  return {y, d, s.weight * cosEmit / UniformConePdf(cosMax)};
 }
 
 }  // namespace

@@ -1,0 +1,37 @@
+#pragma once
+// Direction sampling shared by eyelib and the renderer, each routine with its pdf beside it
+// (solid angle measure).
+#include "eyelib/eye_constants.h"
+#include "eyelib/vec.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace eyelib {
+
+/// Two unit vectors completing unit w to a right-handed orthonormal frame (t, b, w).
+template <class T> inline void OrthonormalBasis(const Vec3<T>& w, Vec3<T>* t, Vec3<T>* b) {
+  const Vec3<T> a = std::abs(w.x) < T(0.9) ? Vec3<T>(1, 0, 0) : Vec3<T>(0, 1, 0);
+  *t = glm::normalize(glm::cross(w, a));
+  *b = glm::cross(w, *t);
+}
+
+/// A direction uniform in solid angle within the cone around unit w whose half-angle has cosine cosMax.
+template <class T> inline Vec3<T> SampleUniformCone(const Vec3<T>& w, T cosMax, T u1, T u2) {
+  const T cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(T(0), 1 - cosT * cosT));
+  const T phi = T(2 * paper::kPi) * u2;
+  Vec3<T> t, b;
+  OrthonormalBasis(w, &t, &b);
+  return glm::normalize(cosT * w + sinT * (std::cos(phi) * t + std::sin(phi) * b));
+}
+template <class T> inline T UniformConePdf(T cosMax) { return 1 / (T(2 * paper::kPi) * (1 - cosMax)); }
+
+/// A cosine-weighted direction in the hemisphere around unit n; pdf = cos / pi.
+template <class T> inline Vec3<T> SampleCosineHemisphere(const Vec3<T>& n, T u1, T u2) {
+  const T r = std::sqrt(u1), phi = T(2 * paper::kPi) * u2;
+  Vec3<T> t, b;
+  OrthonormalBasis(n, &t, &b);
+  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(T(0), 1 - u1)) * n);
+}
+
+}  // namespace eyelib
