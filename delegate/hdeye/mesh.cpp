@@ -68,9 +68,11 @@ DirtyBits Mesh::GetInitialDirtyBitsMask() const {
 void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   const DirtyBits bits = *dirtyBits;
   const bool topologyDirty = bits & (dirty::DirtyTopology | dirty::InitRepr);
-  if (topologyDirty) SyncTopology(sceneDelegate, renderParam);
   if (topologyDirty || (bits & dirty::DirtyPoints)) {
-    SyncPoints(sceneDelegate);
+    // Fetched once: the topology is checked against their count, then they are evaluated.
+    const std::vector<Vec3f> control = sceneDelegate->GetPoints(Id());
+    if (topologyDirty) SyncTopology(sceneDelegate, renderParam, int(control.size()));
+    SyncPoints(control);
     renderParam->AcquireSceneForEdit();
     UploadPoints();
   }
@@ -94,9 +96,9 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
   *dirtyBits = dirty::Clean;
 }
 
-void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam) {
+void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount) {
   topology_ = sceneDelegate->GetMeshTopology(Id());
-  controlPointCount_ = int(sceneDelegate->GetPoints(Id()).size());
+  controlPointCount_ = controlPointCount;
   std::size_t expected = 0;
   for (std::size_t f = 0; f < topology_.faceVertexCounts.size(); ++f) {
     const int n = topology_.faceVertexCounts[f];
@@ -129,12 +131,16 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam) 
   const RTCDevice device = renderParam->Device();
   const int pointCount = refiner_ ? refiner_->RefinedPointCount() : controlPointCount_;
   triangleGeometry_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Points move every frame while the connectivity stays: refit the BVH instead of rebuilding it.
+  rtcSetGeometryBuildQuality(triangleGeometry_, RTC_BUILD_QUALITY_REFIT);
   rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
                           std::size_t(pointCount));
   auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       triangleGeometry_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, triangles_.size() / 3));
   for (std::size_t i = 0; i < triangles_.size(); ++i) index[i] = unsigned(triangles_[i]);
   prototype_ = rtcNewScene(device);
+  rtcSetSceneFlags(prototype_, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(prototype_, RTC_BUILD_QUALITY_LOW);
   rtcAttachGeometry(prototype_, triangleGeometry_);
 
   instance_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -145,8 +151,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam) 
   ++stats_.topologyBuilds;
 }
 
-void Mesh::SyncPoints(SceneDelegate* sceneDelegate) {
-  const std::vector<Vec3f> control = sceneDelegate->GetPoints(Id());
+void Mesh::SyncPoints(const std::vector<Vec3f>& control) {
   if (int(control.size()) != controlPointCount_)
     Fail(Id(), std::to_string(control.size()) + " points but the topology was built for " +
                    std::to_string(controlPointCount_) + " (mark the topology dirty too)");

@@ -50,8 +50,8 @@ class Mesh final : public Rprim {
   int TriangleCount() const { return int(triangles_.size() / 3); }
 
  private:
-  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam);
-  void SyncPoints(SceneDelegate* sceneDelegate);
+  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount);
+  void SyncPoints(const std::vector<Vec3f>& control);
   void SyncDisplayColor(SceneDelegate* sceneDelegate);
   void UploadPoints();
   void ReleaseGeometry(RenderParam* renderParam);
