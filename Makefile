@@ -15,8 +15,13 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# Catch2 (CTest), then pytest (the USD schema for now). Each runs even if the other fails; the target fails if either does.
 test: build
-	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	@rc=0; \
+	(cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)) || rc=1; \
+	py=python3; [ -x .venv/bin/python ] && py=.venv/bin/python; \
+	$$py -m pytest -q tests/python || rc=1; \
+	exit $$rc
 
 # Until the USD front end (eyerecord) lands, the default render is the delegate's C++ example: an
 # analytic eye under a side light, written to out/eye.exr (all AOVs) and out/eye.png.

@@ -20,3 +20,24 @@ if ((${#missing[@]})); then
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+# Python side (schema tests, later the eyerender package). Where python3 is pyenv's (this project's
+# machines), packages go there; where it is Debian's externally managed /usr/bin/python3, into a
+# project venv, .venv/, which `make test` then uses.
+PYTHON=${PYTHON:-python3}
+if [[ $(command -v "$PYTHON") == /usr/bin/* ]]; then
+  if [[ ! -x .venv/bin/python ]]; then
+    dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q "install ok installed" ||
+      { apt-get update -qq && apt-get install -y -qq --no-install-recommends python3-venv >/dev/null; }
+    "$PYTHON" -m venv .venv
+  fi
+  PYTHON=.venv/bin/python
+fi
+pip_missing=()
+"$PYTHON" -c "import pxr.Usd" 2>/dev/null || pip_missing+=(usd-core)
+"$PYTHON" -c "import pytest" 2>/dev/null || pip_missing+=(pytest)
+"$PYTHON" -c "import jinja2" 2>/dev/null || pip_missing+=(jinja2)  # usdGenSchema, for the schema consistency test
+if ((${#pip_missing[@]})); then
+  echo "install_deps: pip installing ${pip_missing[*]}"
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"
+fi
