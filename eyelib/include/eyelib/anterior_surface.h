@@ -127,17 +127,27 @@ template <class T> class AnteriorSurface {
     return {-SecondDerivative(r) / (w * w * w), -SlopeOverRadius(r) / w};
   }
 
-  /// h(x, y) = f(r) with its gradient and Hessian; smooth at the axis.
+  /// h(x, y) = f(r) with its gradient and Hessian; smooth at the axis. MNEE's inner loop: f, f'/r and
+  /// f'' come from one evaluation of the sag.
   HeightDerivatives<T> Height(T x, T y) const {
     const T r2 = x * x + y * y;
     const T r = std::sqrt(r2);
-    const T g = SlopeOverRadius(r);  // f'/r
+    T f, g, fpp;  // f, f'/r, f''
+    if (PieceAt(r) == SurfacePiece::Cone) {
+      f = ConeSag(r), g = -tanCone_ / r, fpp = 0;
+    } else {
+      f = PrimarySag(r);
+      const T denom = 2 * primary_.b * f + primary_.c;  // f' = -2 r / denom
+      g = -2 / denom;
+      const T fp = r * g;
+      fpp = -(2 + 2 * primary_.b * fp * fp) / denom;
+    }
     HeightDerivatives<T> d;
-    d.h = Sag(r);
+    d.h = f;
     d.hx = g * x;
     d.hy = g * y;
     // h_ij = g delta_ij + (f'' - g) x_i x_j / r^2; the second term vanishes at the axis.
-    const T k = r2 > 0 ? (SecondDerivative(r) - g) / r2 : T(0);
+    const T k = r2 > 0 ? (fpp - g) / r2 : T(0);
     d.hxx = g + k * x * x;
     d.hxy = k * x * y;
     d.hyy = g + k * y * y;
