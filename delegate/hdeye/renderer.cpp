@@ -24,7 +24,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kTile = 16;
-constexpr std::uint64_t kDimsPerSample = 1024;
+// Dimensions per pixel sample: room for the deepest path (world bounces times chamber walks) with no reuse.
+constexpr std::uint64_t kDimsPerSample = std::uint64_t(1) << 16;
 
 /// The random numbers of one pixel sample: dimension d of sample s of pixel p.
 class SampleStream {
