@@ -40,6 +40,9 @@
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
 #include "hdeye/renderPass.h"
+#include "hdeye/sampleScenes.h"
+
+#include <eyelib/sampling.h>
 #include "hdeye/subdivRefiner.h"
 
 #include <embree3/rtcore.h>
@@ -218,76 +221,16 @@ struct Stage {
 };
 
 const char* const kColor = "/Render/color";
-const char* const kCamera = "/World/cam";
+const PrimId& kCamera = sampleScenes::kCamera;
 
-Matrix4d Translate(double x, double y, double z) {
-  Matrix4d m(1.0);
-  m[3] = glm::dvec4(x, y, z, 1);
-  return m;
-}
-
-/// Camera-to-world for a camera at `eye` looking at `target`, z up (the camera looks down its -z).
-Matrix4d LookAt(const glm::dvec3& eye, const glm::dvec3& target) {
-  const glm::dvec3 up(0, 0, 1);
-  const glm::dvec3 back = glm::normalize(eye - target), right = glm::normalize(glm::cross(up, back));
-  Matrix4d cam(1.0);
-  cam[0] = glm::dvec4(right, 0);
-  cam[1] = glm::dvec4(glm::cross(back, right), 0);
-  cam[2] = glm::dvec4(back, 0);
-  cam[3] = glm::dvec4(eye, 1);
-  return cam;
-}
-
-const glm::dvec3 kBallKeyLight(2, -2, 4);
-constexpr float kBallKeyRadius = 0.5f;
-
-/// The ball scene of delegate/examples/renderScene.cpp: a cube refined twice into a ball on a floor.
+/// The sample scenes (hdeye/sampleScenes.h) with a colour buffer.
 void BuildBallScene(InMemorySceneDelegate& scene, int width, int height) {
-  MeshTopology cube{{4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
-  const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  MaterialParams red, grey;
-  red.diffuseColor = {0.7f, 0.15f, 0.1f};
-  grey.diffuseColor = {0.5f, 0.5f, 0.5f};
-  scene.AddMaterial("/Looks/red", red);
-  scene.AddMaterial("/Looks/grey", grey);
-  scene.AddMesh("/World/ball", cube, corners, Translate(0, 0, 1), "/Looks/red");
-  scene.AddMesh("/World/floor", MeshTopology{{4}, {0, 1, 2, 3}, 0},
-                {{-8, -8, 0}, {8, -8, 0}, {8, 8, 0}, {-8, 8, 0}}, Matrix4d(1.0), "/Looks/grey");
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = kBallKeyRadius;
-  key.intensity = 30;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key,
-                 Translate(kBallKeyLight.x, kBallKeyLight.y, kBallKeyLight.z));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.color = {0.6f, 0.7f, 0.9f};
-  sky.intensity = 0.3f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-  scene.AddCamera(kCamera, CameraParams{}, LookAt({0, -7, 3}, {0, 0, 1}));
+  sampleScenes::AddBallOnFloor(scene);
   scene.AddRenderBuffer(kColor, width, height, 4);
 }
 
-/// The example's eye scene: an analytic eye (mm) gazing at the camera, a small sphere light 75 deg
-/// off its gaze towards +x, a dim dome, a 100 mm lens framing the iris.
 void BuildEyeScene(InMemorySceneDelegate& scene, int width, int height) {
-  EyeParams eye;
-  eye.irisColor = {0.35f, 0.22f, 0.12f};
-  scene.AddAnalyticEye("/World/eye", eye);
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 3;
-  key.intensity = 300;
-  const double a = 75 * kPi / 180;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(150 * std::sin(a), 0, 150 * std::cos(a)));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.intensity = 0.05f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-  CameraParams lens;
-  lens.focalLength = 100;
-  scene.AddCamera(kCamera, lens, Translate(0, 0, 45));
+  sampleScenes::AddSideLitEye(scene);
   scene.AddRenderBuffer(kColor, width, height, 4);
 }
 
@@ -361,13 +304,6 @@ struct SurfacePoint {
   glm::dvec3 p, n;  ///< offset origin (as the renderer offsets it) and the normal facing the camera ray
 };
 
-glm::dvec3 CosineHemisphere(const glm::dvec3& n, double u1, double u2) {
-  const glm::dvec3 a = std::abs(n.x) > 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
-  const glm::dvec3 t = glm::normalize(glm::cross(a, n)), b = glm::cross(n, t);
-  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n);
-}
-
 glm::dvec3 UniformSphere(double u1, double u2) {
   const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
   return {r * std::cos(phi), r * std::sin(phi), z};
@@ -418,7 +354,7 @@ std::vector<BareRay> ClosestHitBatch(std::size_t count, std::size_t cameraRays, 
     }
     const SurfacePoint& s = surface[rng() % surface.size()];
     const double u1 = Uniform01(rng);
-    rays.push_back(MakeRay(s.p, CosineHemisphere(s.n, u1, Uniform01(rng)), std::numeric_limits<double>::infinity()));
+    rays.push_back(MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, Uniform01(rng)), std::numeric_limits<double>::infinity()));
   }
   std::shuffle(rays.begin(), rays.end(), rng);  // incoherent: camera and bounce rays interleaved
   return rays;
@@ -433,13 +369,13 @@ std::vector<BareRay> ShadowBatch(std::size_t count, const std::vector<SurfacePoi
     const SurfacePoint& s = surface[rng() % surface.size()];
     const double pick = Uniform01(rng), u1 = Uniform01(rng), u2 = Uniform01(rng);
     if (pick < 0.5) {
-      const glm::dvec3 target = kBallKeyLight + double(kBallKeyRadius) * UniformSphere(u1, u2);
+      const glm::dvec3 target = sampleScenes::kBallKeyPosition + double(sampleScenes::kBallKeyRadius) * UniformSphere(u1, u2);
       const glm::dvec3 d = target - s.p;
       const double distance = glm::length(d);
       if (glm::dot(d, s.n) <= 0) continue;
       rays.push_back(MakeRay(s.p, d / distance, distance * (1 - 1e-6)));
     } else {
-      rays.push_back(MakeRay(s.p, CosineHemisphere(s.n, u1, u2), std::numeric_limits<double>::infinity()));
+      rays.push_back(MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, u2), std::numeric_limits<double>::infinity()));
     }
   }
   return rays;

@@ -13,8 +13,8 @@
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
 #include "hdeye/renderPass.h"
+#include "hdeye/sampleScenes.h"
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -60,75 +60,10 @@ Options Parse(int argc, char** argv) {
   return o;
 }
 
-Matrix4d Translate(double x, double y, double z) {
-  Matrix4d m(1.0);
-  m[3] = glm::dvec4(x, y, z, 1);
-  return m;
-}
-
 void AddBuffers(InMemorySceneDelegate& scene, const Options& o) {
   for (const auto& [id, components] : {std::pair{"/Render/color", 4}, {"/Render/albedo", 3}, {"/Render/normal", 3},
                                        {"/Render/depth", 1}, {"/Render/primId", 1}, {"/Render/irisMnee", 3}})
     scene.AddRenderBuffer(id, o.width, o.height, components);
-}
-
-/// An analytic eye in millimetres, gazing at the camera, with a small key light `lightAngle` off its
-/// gaze towards +x and a dim dome.
-void BuildEyeScene(InMemorySceneDelegate& scene, const Options& o) {
-  EyeParams eye;
-  eye.irisColor = {0.35f, 0.22f, 0.12f};
-  scene.AddAnalyticEye("/World/eye", eye);
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 3;
-  key.intensity = 300;
-  const double a = o.lightAngle * 3.14159265358979323846 / 180;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(150 * std::sin(a), 0, 150 * std::cos(a)));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.intensity = 0.05f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-  CameraParams lens;
-  lens.focalLength = 100;
-  scene.AddCamera("/World/cam", lens, Translate(0, 0, 45));
-  AddBuffers(scene, o);
-}
-
-void BuildBallScene(InMemorySceneDelegate& scene, const Options& o) {
-  // A cube refined twice by OpenSubdiv: a rounded ball.
-  MeshTopology cube{{4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
-  const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  MaterialParams red, grey;
-  red.diffuseColor = {0.7f, 0.15f, 0.1f};
-  grey.diffuseColor = {0.5f, 0.5f, 0.5f};
-  scene.AddMaterial("/Looks/red", red);
-  scene.AddMaterial("/Looks/grey", grey);
-  scene.AddMesh("/World/ball", cube, corners, Translate(0, 0, 1), "/Looks/red");
-  MeshTopology floor{{4}, {0, 1, 2, 3}, 0};
-  scene.AddMesh("/World/floor", floor, {{-8, -8, 0}, {8, -8, 0}, {8, 8, 0}, {-8, 8, 0}}, Matrix4d(1.0), "/Looks/grey");
-
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 0.5f;
-  key.intensity = 30;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(2, -2, 4));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.color = {0.6f, 0.7f, 0.9f};
-  sky.intensity = 0.3f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-
-  // Camera at (0, -7, 3) looking at (0, 0, 1): rotate the default -z view down onto the scene.
-  const glm::dvec3 eye(0, -7, 3), target(0, 0, 1), up(0, 0, 1);
-  const glm::dvec3 back = glm::normalize(eye - target), right = glm::normalize(glm::cross(up, back));
-  Matrix4d cam(1.0);
-  cam[0] = glm::dvec4(right, 0);
-  cam[1] = glm::dvec4(glm::cross(back, right), 0);
-  cam[2] = glm::dvec4(back, 0);
-  cam[3] = glm::dvec4(eye, 1);
-  scene.AddCamera("/World/cam", CameraParams{}, cam);
-  AddBuffers(scene, o);
 }
 
 void WriteOutputs(const RenderIndex& index, const Options& o) {
@@ -154,12 +89,13 @@ int main(int argc, char** argv) {
     RenderDelegate delegate;
     RenderIndex index(&delegate);
     InMemorySceneDelegate scene(&index);
-    if (o.ball) BuildBallScene(scene, o);
-    else BuildEyeScene(scene, o);
+    if (o.ball) sampleScenes::AddBallOnFloor(scene);
+    else sampleScenes::AddSideLitEye(scene, o.lightAngle);
+    AddBuffers(scene, o);
     delegate.Settings().samplesPerPixel = o.spp;
     delegate.Settings().threads = o.threads;
     RenderPass pass(&index);
-    const RenderStats stats = pass.Execute("/World/cam", {{"color", "/Render/color"}, {"albedo", "/Render/albedo"},
+    const RenderStats stats = pass.Execute(sampleScenes::kCamera, {{"color", "/Render/color"}, {"albedo", "/Render/albedo"},
                                                           {"normal", "/Render/normal"}, {"depth", "/Render/depth"},
                                                           {"primId", "/Render/primId"}, {"irisMnee", "/Render/irisMnee"}});
     WriteOutputs(index, o);

@@ -40,6 +40,7 @@
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
 #include "hdeye/renderPass.h"
+#include "hdeye/sampleScenes.h"
 
 #include <catch2/catch.hpp>
 
@@ -70,12 +71,6 @@ struct Tolerance {
   double rmse, bias, block;
 };
 
-Matrix4d Translate(double x, double y, double z) {
-  Matrix4d m(1.0);
-  m[3] = glm::dvec4(x, y, z, 1);
-  return m;
-}
-
 /// One render's AOV planes by EXR channel name, and its stats.
 struct Image {
   int width = 0, height = 0;
@@ -105,7 +100,7 @@ Image Render(InMemorySceneDelegate& scene, RenderDelegate& delegate, RenderIndex
   RenderPass pass(&index);
   Image image;
   image.width = spec.width, image.height = spec.height;
-  image.stats = pass.Execute("/World/cam", bindings);
+  image.stats = pass.Execute(sampleScenes::kCamera, bindings);
   static const std::map<std::string, std::vector<std::string>> names = {
       {"color", {"R", "G", "B", "A"}},
       {"normal", {"N.X", "N.Y", "N.Z"}},
@@ -140,67 +135,22 @@ const SceneSpec kBall{"ball_on_floor", 64, 48, 256,
                       {{"R", {0.13, 0.003, 0.014}}, {"G", {0.10, 0.0025, 0.012}}, {"B", {0.09, 0.002, 0.011}},
                        {"A", {0.015, 0.0003, 0.0013}}}};
 
-/// The analytic eye in mm gazing at the camera (z = 45, focal length 100), a sphere light (radius 3,
-/// intensity 300) 150 mm away at 75 deg off the gaze towards +x, a dim dome (0.05).
-/// AOVs: color, irisMnee, and primId for the coverage mask.
+/// The side-lit eye sample scene (hdeye/sampleScenes.h). AOVs: color, irisMnee, and primId for the
+/// coverage mask.
 Image RenderEye(unsigned seed, float keyScale = 1) {
   RenderDelegate delegate;
   RenderIndex index(&delegate);
   InMemorySceneDelegate scene(&index);
-  EyeParams eye;
-  eye.irisColor = {0.35f, 0.22f, 0.12f};
-  scene.AddAnalyticEye("/World/eye", eye);
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 3;
-  key.intensity = 300 * keyScale;
-  const double a = 75 * 3.14159265358979323846 / 180;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(150 * std::sin(a), 0, 150 * std::cos(a)));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.intensity = 0.05f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-  CameraParams lens;
-  lens.focalLength = 100;
-  scene.AddCamera("/World/cam", lens, Translate(0, 0, 45));
+  sampleScenes::AddSideLitEye(scene, 75, keyScale);
   return Render(scene, delegate, index, kEye, seed, {{"color", 4}, {"irisMnee", 3}, {"primId", 1}});
 }
 
-/// A cube refined twice by Catmull-Clark (a rounded red ball) on a grey floor, a sphere light and a
-/// blue-ish dome. AOVs: color, normal, primId.
+/// The ball-on-a-floor sample scene. AOVs: color, normal, primId.
 Image RenderBall(unsigned seed, float keyScale = 1) {
   RenderDelegate delegate;
   RenderIndex index(&delegate);
   InMemorySceneDelegate scene(&index);
-  MeshTopology cube{{4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
-  const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  MaterialParams red, grey;
-  red.diffuseColor = {0.7f, 0.15f, 0.1f};
-  grey.diffuseColor = {0.5f, 0.5f, 0.5f};
-  scene.AddMaterial("/Looks/red", red);
-  scene.AddMaterial("/Looks/grey", grey);
-  scene.AddMesh("/World/ball", cube, corners, Translate(0, 0, 1), "/Looks/red");
-  MeshTopology floor{{4}, {0, 1, 2, 3}, 0};
-  scene.AddMesh("/World/floor", floor, {{-8, -8, 0}, {8, -8, 0}, {8, 8, 0}, {-8, 8, 0}}, Matrix4d(1.0), "/Looks/grey");
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 0.5f;
-  key.intensity = 30 * keyScale;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(2, -2, 4));
-  LightParams sky;
-  sky.type = LightType::Dome;
-  sky.color = {0.6f, 0.7f, 0.9f};
-  sky.intensity = 0.3f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
-  const glm::dvec3 eye(0, -7, 3), target(0, 0, 1), up(0, 0, 1);
-  const glm::dvec3 back = glm::normalize(eye - target), right = glm::normalize(glm::cross(up, back));
-  Matrix4d cam(1.0);
-  cam[0] = glm::dvec4(right, 0);
-  cam[1] = glm::dvec4(glm::cross(back, right), 0);
-  cam[2] = glm::dvec4(back, 0);
-  cam[3] = glm::dvec4(eye, 1);
-  scene.AddCamera("/World/cam", CameraParams{}, cam);
+  sampleScenes::AddBallOnFloor(scene, keyScale);
   return Render(scene, delegate, index, kBall, seed, {{"color", 4}, {"normal", 3}, {"primId", 1}});
 }
 
