@@ -108,7 +108,7 @@ TEST_CASE("MNEE irradiance agrees with light tracing for point lights, both mode
       const Agreement a = Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000), {all}, all ? 16 : 8);
       char label[32];
       std::snprintf(label, sizeof label, "point %g deg", deg);
-      PrintRow(ToString(model), label, all ? "all" : "straight line", a);
+      PrintRow(ToString(model), label, all ? "all" : "one path", a);
       INFO(ToString(model) << " " << label);
       CheckAgreement(a, deg > 0, true);
     }
@@ -141,7 +141,7 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
     // half the light of some cells (see the last test); search for every path.
     const bool all = light.shape == LightShape::Distant;
     const Agreement a = Compare(chamber, light, Reference(chamber, light, 8'000'000), {all}, 8, 4);
-    PrintRow("ellipsoidCone", label, all ? "all" : "straight line", a);
+    PrintRow("ellipsoidCone", label, all ? "all" : "one path", a);
     INFO(label);
     CheckAgreement(a, true, false);
   }
