@@ -35,11 +35,30 @@ struct LightParams {
   std::string textureFile;  ///< dome: lat-long texture (empty: constant colour)
 };
 
-/// Material parameters (UsdPreviewSurface subset).
+/// Material parameters (UsdPreviewSurface subset). Colours are linear; opacity below 1 makes the
+/// surface a dielectric of index `ior` (glass) rather than a cut-out.
 struct MaterialParams {
   glm::vec3 diffuseColor{0.18f, 0.18f, 0.18f};
+  /// Image (PNG: sRGB, EXR: linear) looked up by the mesh's `st` primvar; replaces diffuseColor where set.
+  std::string diffuseTexture;
   glm::vec3 emissiveColor{0, 0, 0};
-  float roughness = 0.5f, metallic = 0, opacity = 1, ior = 1.5f;
+  float roughness = 0.5f;  ///< GGX, perceptual (alpha = roughness^2), [0, 1]
+  float metallic = 0;      ///< [0, 1]
+  float opacity = 1;       ///< [0, 1]
+  float ior = 1.5f;        ///< dielectric index of refraction (>= 1)
+};
+
+/// How a primvar's values map onto a mesh (UsdGeom's interpolation names).
+enum class Interpolation { Constant, Uniform, Vertex, Varying, FaceVarying };
+
+/// A primvar's values, flattened: `components` floats per element (one element for Constant, one per
+/// face for Uniform, one per point for Vertex and Varying, one per face corner for FaceVarying, after
+/// any authored indices have been expanded). Empty values: not authored.
+struct Primvar {
+  Interpolation interpolation = Interpolation::Vertex;
+  int components = 0;
+  std::vector<float> values;
+  bool Empty() const { return values.empty() || components <= 0; }
 };
 
 /// An eye's parameters (the EyeAPI schema's attributes). Lengths in the canonical frame are mm.
@@ -47,6 +66,9 @@ struct EyeParams {
   eyelib::ChamberParams chamber;          ///< model, iris depth, pupil, limbus ratios, cornea ior
   glm::vec3 irisColor{0.35f, 0.2f, 0.1f};  ///< diffuse albedo of the iris
   glm::vec3 scleraColor{0.8f, 0.78f, 0.75f};
+  /// Image over the iris disk in the canonical frame (u along +x, v along +y, the disk of diameter
+  /// ChamberParams' iris diameter filling [0, 1]^2); replaces irisColor where set.
+  std::string irisTexture;
   /// Canonical frame (mm, apex at the origin, gaze +z) to the prim's local space. A similarity
   /// (rotation, uniform scale, translation); e.g. scale 0.1 for a scene in centimetres.
   Matrix4d modelTransform{1.0};
@@ -61,6 +83,8 @@ class SceneDelegate {
   virtual bool GetVisible(const PrimId& id) = 0;
   /// Vertex-interpolated display colour, if authored (one per point), else empty.
   virtual std::vector<Vec3f> GetDisplayColor(const PrimId& id) = 0;
+  /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); empty when not authored.
+  virtual Primvar GetPrimvar(const PrimId& /*id*/, const std::string& /*name*/) { return {}; }
   virtual PrimId GetMaterialId(const PrimId& id) = 0;
   virtual CameraParams GetCameraParams(const PrimId& id) = 0;
   virtual LightParams GetLightParams(const PrimId& id) = 0;
