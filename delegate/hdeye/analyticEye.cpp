@@ -103,9 +103,15 @@ void AnalyticEye::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, D
     params_ = sceneDelegate->GetEyeParams(Id());
     const std::string problem = eyelib::ValidateChamberParams(params_.chamber);
     if (!problem.empty()) throw std::runtime_error("eye " + Id() + ": " + problem);
+    try {
+      irisTexture_ = params_.irisTexture.empty() ? nullptr : renderParam->Textures().Get(params_.irisTexture);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("eye " + Id() + ": iris texture: " + e.what());
+    }
   }
   if (bits & (dirty::DirtyTransform | dirty::InitRepr)) transform_ = sceneDelegate->GetTransform(Id());
   eye_ = EyeGeometry(params_, transform_);
+  eye_.irisTexture = irisTexture_;
   if (!(eye_.worldPerMm > 0) || !std::isfinite(eye_.worldPerMm))
     throw std::runtime_error("eye " + Id() + ": its transform is degenerate");
   context_.eye = &eye_;

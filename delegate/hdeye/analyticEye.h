@@ -22,6 +22,7 @@ class AnalyticEye final : public Rprim {
 
  private:
   EyeParams params_;
+  std::shared_ptr<const Texture> irisTexture_;  ///< EyeParams::irisTexture, loaded under DirtyParams
   Matrix4d transform_{1.0};
   EyeGeometry eye_;
   GeometryContext context_;

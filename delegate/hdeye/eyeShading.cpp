@@ -21,6 +21,14 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
+/// Rotates v by the minimal rotation taking unit a onto unit b (Rodrigues with k = a x b, |k| = sin):
+/// R v = cos v + k x v + (k . v) k / (1 + cos). Callers keep a and b within 90 degrees.
+glm::dvec3 RotateMinimal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& v) {
+  const glm::dvec3 k = glm::cross(a, b);
+  const double c = glm::dot(a, b);
+  return c * v + glm::cross(k, v) + (glm::dot(k, v) / (1 + c)) * k;
+}
+
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
@@ -76,14 +84,74 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
 
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
                       EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random) {
+  if (part == EyeGeometry::kBack) return EyeEvent{};  // the back of the eye: dark
+  const glm::dvec3 d = eye.DirToCanonical(worldDir);
+  const auto entry = eye.chamber.Surface().Intersect({eye.ToCanonical(worldOrigin), d});
+  if (!entry || !entry->fromOutside) return EyeEvent{};  // Embree's float hit was a graze the exact test rejects
+  return ScatterFromCornea(eye, CorneaEntry{entry->point, entry->normal, d}, lighting, random);
+}
+
+EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
+                          const EyeLighting& lighting, const std::function<double()>& random) {
   EyeEvent ev;
-  if (part == EyeGeometry::kBack) return ev;  // the back of the eye: dark
+  if (!hit.fromOutside) {
+    // The inside of an eye mesh belongs to the analytic model; the Embree filter already skips these
+    // hits, this only guards a disagreement in the last bit. Step past the surface, unchanged.
+    ev.kind = EyeEvent::Continue;
+    ev.passThrough = true;
+    ev.dir = worldDir;
+    ev.origin = hit.worldPoint + worldDir * (1e-5 * (1 + glm::length(hit.worldPoint)));
+    return ev;
+  }
+  const glm::dvec3& pc = hit.canonicalPoint;
+  const double r = std::hypot(pc.x, pc.y);
+  // Past the outer limbus edge, and anywhere below the iris plane (the back of the eyeball, whatever its
+  // radius), the mesh is sclera: no analytic point needed.
+  if (r >= eye.chamber.LimbusOuterRadius() || pc.z < eye.chamber.IrisZ()) {
+    ev.kind = EyeEvent::Sclera;
+    ev.scleraAlbedo = eye.scleraColor;
+    ev.scleraOnSurface = true;
+    return ev;
+  }
+  const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();
+  // The analytic cornea point at the same radius and azimuth (the surface is a height field over (x, y)).
+  const glm::dvec3 pa(pc.x, pc.y, surface.Sag(r)), na = surface.Normal(pc.x, pc.y);
+  // Turn the direction with the surface: the minimal rotation from the mesh normal to the analytic one
+  // keeps the angle of incidence (what Fresnel and Snell see). A mesh normal more than 90 degrees off
+  // does not describe a cornea; the direction is then taken as it is.
+  const glm::dvec3 nm = hit.canonicalNormal;
+  const bool turn = glm::dot(nm, na) > 0;
+  glm::dvec3 d = eye.DirToCanonical(worldDir);
+  if (turn) d = glm::normalize(RotateMinimal(nm, na, d));
+  // A ray that met the mesh at grazing incidence against its shading normal may leave the rotation
+  // tangent or outgoing: bend it just under the tangent plane (a grazing entry, where Fresnel reflects
+  // nearly all of it anyway).
+  constexpr double kMinCos = 1e-4;
+  const double cosIn = glm::dot(d, na);
+  if (cosIn > -kMinCos) d = glm::normalize(d - (cosIn + kMinCos) * na);
+
+  ev = ScatterFromCornea(eye, CorneaEntry{pa, na, d}, lighting, random);
+  if (ev.kind == EyeEvent::Sclera) {
+    ev.scleraOnSurface = true;  // the limbus blend chose sclera: shade the mesh surface there
+  } else if (ev.kind == EyeEvent::Continue && ev.reflectedAtEntry) {
+    // Back through the inverse rotation, from the mesh point: the reflection leaves the surface the ray met.
+    glm::dvec3 out = eye.DirToCanonical(ev.dir);
+    if (turn) out = glm::normalize(RotateMinimal(na, nm, out));
+    ev.dir = eye.DirToWorld(out);
+    // The reflection must leave on the outside: a shading normal can tilt it under the triangle.
+    const double cosOut = glm::dot(ev.dir, hit.worldNormal);
+    if (cosOut < kMinCos) ev.dir = glm::normalize(ev.dir + (kMinCos - cosOut) * hit.worldNormal);
+    ev.origin = hit.worldPoint + hit.worldNormal * (1e-5 * (1 + glm::length(hit.worldPoint)));
+  }
+  return ev;
+}
+
+EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
+                           const std::function<double()>& random) {
+  EyeEvent ev;
   const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();
   const double ior = eye.chamber.CorneaIor();
-  glm::dvec3 d = eye.DirToCanonical(worldDir);
-  const auto entry = surface.Intersect({eye.ToCanonical(worldOrigin), d});
-  if (!entry || !entry->fromOutside) return ev;  // Embree's float hit was a graze the exact test rejects
-  glm::dvec3 p = entry->point, n = entry->normal;
+  glm::dvec3 p = entry.point, n = entry.normal, d = entry.dir;
   const glm::dvec3 worldPoint = eye.ToWorld(p);
 
   // Limbus: the sclera's share of this point is its probability of being shaded as sclera.
@@ -96,6 +164,7 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
   const double F = eyelib::FresnelDielectric(glm::dot(-d, n), ior);
   if (random() < F) {  // specular reflection off the cornea
     ev.kind = EyeEvent::Continue;
+    ev.reflectedAtEntry = true;
     ev.dir = eye.DirToWorld(eyelib::Reflect(-d, n));
     ev.origin = Offset(eye, worldPoint, eye.DirToWorld(n));
     return ev;
@@ -117,10 +186,11 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
       glm::dvec3 x = p + tPlane * d;
       x.z = eye.chamber.IrisZ();
       if (std::hypot(x.x, x.y) < eye.chamber.PupilRadius()) return ev;  // into the lens: absorbed
-      ev.radiance += beta * (eye.irisColor / kPi) * IrisIrradianceMnee(eye, x, lighting, random);
+      const glm::dvec3 albedo = eye.IrisAlbedo(x);
+      if (lighting.mnee) ev.radiance += beta * (albedo / kPi) * IrisIrradianceMnee(eye, x, lighting, random);
       const double u1 = random(), u2 = random();
       d = eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
-      beta *= eye.irisColor;
+      beta *= albedo;
       p = x;
       straightFromIris = true;
       continue;
@@ -139,7 +209,7 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
     ev.weight = beta * (ior * ior);
     ev.dir = eye.DirToWorld(wt);
     ev.origin = Offset(eye, eye.ToWorld(p), eye.DirToWorld(n));
-    ev.skipLightHits = straightFromIris;
+    ev.skipLightHits = straightFromIris && lighting.mnee;
     return ev;
   }
   ev.walkCapReached = true;

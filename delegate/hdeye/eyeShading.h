@@ -5,7 +5,13 @@
 // direct light from every light through MNEE and scatters diffusely, the cornea's inside reflects
 // (total internal reflection included) or lets the path out, the pupil absorbs. Light that bounces
 // inside the chamber is kept: the walk continues until the path leaves or is absorbed.
+//
+// Two doors lead to one walk: ScatterAtEye (an analytic eye: the hit found again in double precision)
+// and ScatterAtEyeMesh (an eye mesh: the hit mapped onto the analytic cornea) both end in
+// ScatterFromCornea, which owns everything from "a point on the analytic cornea and an incoming
+// canonical direction" onward.
 #include "hdeye/eyeGeometry.h"
+#include "hdeye/eyeMeshMapping.h"
 #include "hdeye/renderLight.h"
 
 #include <functional>
@@ -18,6 +24,9 @@ struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
   std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> occluded;
   bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
+  /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
+  /// path tracing, for A/B comparisons); MNEE is not run.
+  bool mnee = true;
 };
 
 struct EyeEvent {
@@ -30,16 +39,47 @@ struct EyeEvent {
   /// The path left the eye straight from an iris bounce through one refraction: the lights it may hit
   /// next are MNEE's to count (it already did), so the renderer skips them.
   bool skipLightHits = false;
+  /// Continue: the ray did not interact (an eye mesh seen from inside); the renderer keeps the path's
+  /// light-weighting state as it was.
+  bool passThrough = false;
+  /// Continue: reflected off the cornea at the entry point (never entered the chamber).
+  bool reflectedAtEntry = false;
   glm::dvec3 scleraAlbedo{0}, normal{0};  ///< Sclera: shade as a diffuse surface (world normal)
+  /// Sclera on an eye mesh: shade the mesh surface itself (its shading normal; `normal` is unset) with
+  /// scleraAlbedo, or with its bound material when EyeGeometry::scleraUsesMaterial.
+  bool scleraOnSurface = false;
   int internalEvents = 0;        ///< events inside the chamber
   bool walkCapReached = false;   ///< the walk hit its event bound (reported, the path is dropped)
 };
 
-/// Scatters a world ray (origin, unit direction) that hit `part` of the eye. The hit is found again
-/// in the canonical frame in double precision: Embree reports a user geometry's distance in float,
-/// which puts the point microns off the cornea, on either side.
+/// A path arriving at the analytic cornea from outside, in the canonical frame.
+struct CorneaEntry {
+  glm::dvec3 point;   ///< mm, on the analytic anterior surface
+  glm::dvec3 normal;  ///< unit, outward, the analytic surface's normal at point
+  glm::dvec3 dir;     ///< unit, incoming: dot(dir, normal) < 0
+};
+
+/// Scatters a world ray (origin, unit direction) that hit `part` of an analytic eye. The hit is found
+/// again in the canonical frame in double precision: Embree reports a user geometry's distance in
+/// float, which puts the point microns off the cornea, on either side.
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
                       EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random);
+
+/// Scatters a world ray (unit direction) that hit an eye mesh, mapped by EyeMeshHitToCanonical.
+/// Outside the outer limbus radius it is sclera (the mesh surface's). Inside, the path continues
+/// against the analytic model from the analytic cornea point at the hit's (x, y), its direction
+/// turned by the minimal rotation that takes the mesh normal onto the analytic normal, so it keeps
+/// its angle to the surface it met. A reflection at entry leaves from the mesh point, turned back by
+/// the inverse rotation; paths that exit elsewhere leave from the analytic exit point (the mesh is
+/// transparent from inside, so a start inside it is harmless). A hit from inside passes through.
+EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
+                          const EyeLighting& lighting, const std::function<double()>& random);
+
+/// Everything from a point on the analytic cornea onward: the limbus (sclera with its weight's
+/// probability), Fresnel reflection or refraction, the chamber walk, the exit. World rays of Continue
+/// events come from the analytic geometry through eye.canonicalToWorld.
+EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
+                           const std::function<double()>& random);
 
 /// Irradiance (world units) at iris point x (canonical, mm) from one light chosen uniformly, through
 /// the cornea by MNEE: a one-sample estimate.

@@ -1,17 +1,28 @@
 #include "hdeye/light.h"
 
+#include "hdeye/renderParam.h"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace hdeye {
 
-void Light::Sync(SceneDelegate* sceneDelegate, RenderParam*, DirtyBits* dirtyBits) {
+void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   if (*dirtyBits & dirty::DirtyTransform) transform_ = sceneDelegate->GetTransform(Id());
   if (*dirtyBits & dirty::DirtyParams) {
     const LightParams p = sceneDelegate->GetLightParams(Id());
     if (!std::isfinite(p.intensity) || p.intensity < 0) throw std::runtime_error("light " + Id() + ": intensity must be >= 0");
     if (p.type == LightType::Sphere && !(p.radius >= 0)) throw std::runtime_error("light " + Id() + ": radius must be >= 0");
+    std::shared_ptr<const DomeTexture> dome;
+    if (p.type == LightType::Dome && !p.textureFile.empty()) {
+      try {
+        dome = DomeTexture::Build(renderParam ? renderParam->Textures().Get(p.textureFile) : Texture::Load(p.textureFile));
+      } catch (const std::exception& e) {
+        throw std::runtime_error("light " + Id() + ": textureFile: " + e.what());
+      }
+    }
     params_ = p;
+    dome_ = std::move(dome);
   }
   *dirtyBits = dirty::Clean;
 }

@@ -2,6 +2,9 @@
 // A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
 // transform; the render pass turns lights into the renderer's world-space light list.
 #include "hdeye/prim.h"
+#include "hdeye/renderLight.h"
+
+#include <memory>
 
 namespace hdeye {
 
@@ -13,9 +16,13 @@ class Light final : public Sprim {
 
   const LightParams& Params() const { return params_; }
   const Matrix4d& Transform() const { return transform_; }
+  /// A dome's texture with its sampling distribution, loaded through RenderParam::Textures() when
+  /// the params change; null for other lights and a constant dome.
+  std::shared_ptr<const DomeTexture> Dome() const { return dome_; }
 
  private:
   LightParams params_;
+  std::shared_ptr<const DomeTexture> dome_;
   Matrix4d transform_{1.0};
 };
 

@@ -3,6 +3,7 @@
 #include "hdeye/renderParam.h"
 #include "hdeye/subdivRefiner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -15,19 +16,20 @@ namespace {
   throw std::runtime_error("mesh " + id + ": " + what);
 }
 
-/// Fan-triangulates polygons (any count >= 3) into 3 indices per triangle.
-std::vector<int> Triangulate(const std::vector<int>& counts, const std::vector<int>& indices) {
-  std::vector<int> tris;
-  std::size_t base = 0;
-  for (int n : counts) {
-    for (int k = 1; k + 1 < n; ++k) {
-      tris.push_back(indices[base]);
-      tris.push_back(indices[base + k]);
-      tris.push_back(indices[base + k + 1]);
-    }
-    base += std::size_t(n);
+/// Copies `width`-float elements into a vector of glm vectors of that width.
+template <class V> std::vector<V> ToVectors(const std::vector<float>& values) {
+  static_assert(sizeof(V) == sizeof(float) * V::length(), "packed glm vector");
+  std::vector<V> out(values.size() / V::length());
+  std::copy(values.begin(), values.end(), &out.data()->x);
+  return out;
+}
+
+/// Unit vectors (zero stays zero: the renderer then falls back to the flat normal).
+void Normalize(std::vector<Vec3f>* normals) {
+  for (Vec3f& n : *normals) {
+    const float length = glm::length(n);
+    n = length > 0 && std::isfinite(length) ? n / length : Vec3f(0);
   }
-  return tris;
 }
 
 /// Smooth vertex normals of a polygon mesh (Hd_SmoothNormals' formula): each face corner adds the cross
@@ -76,7 +78,8 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
     renderParam->AcquireSceneForEdit();
     UploadPoints();
   }
-  if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncDisplayColor(sceneDelegate);
+  // Primvars after points: "rest" is refined through the same refiner the topology just built.
+  if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncPrimvars(sceneDelegate);
   if (topologyDirty || (bits & dirty::DirtyTransform)) {
     transform_ = sceneDelegate->GetTransform(Id());
     const glm::mat4 m(transform_);
@@ -120,11 +123,12 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
     refiner_ = std::make_unique<SubdivRefiner>(topology_, controlPointCount_, topology_.refineLevel);
     ++stats_.refinements;
     const std::vector<int>& quads = refiner_->RefinedQuadIndices();
-    triangles_ = Triangulate(std::vector<int>(quads.size() / 4, 4), quads);
+    layout_ = TriangulateFaces(std::vector<int>(quads.size() / 4, 4), quads, refiner_->RefinedFaceParents());
   } else {
     refiner_.reset();
-    triangles_ = Triangulate(topology_.faceVertexCounts, topology_.faceVertexIndices);
+    layout_ = TriangulateFaces(topology_.faceVertexCounts, topology_.faceVertexIndices, {});
   }
+  triangles_ = layout_.vertices;
 
   // New connectivity: a new Embree geometry (its buffers have new sizes), a new prototype scene.
   ReleaseGeometry(renderParam);
@@ -133,6 +137,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   triangleGeometry_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Points move every frame while the connectivity stays: refit the BVH instead of rebuilding it.
   rtcSetGeometryBuildQuality(triangleGeometry_, RTC_BUILD_QUALITY_REFIT);
+  ConfigureTriangles(triangleGeometry_);
   rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
                           std::size_t(pointCount));
   auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
@@ -168,8 +173,12 @@ void Mesh::SyncPoints(const std::vector<Vec3f>& control) {
     points_ = control;
     normals_ = SmoothNormals(topology_, points_);
   }
+  // Both normal formulas follow the winding, which a left-handed mesh reverses.
+  if (topology_.leftHanded)
+    for (Vec3f& n : normals_) n = -n;
   ++stats_.normalEvaluations;
   context_.vertexNormals = &normals_;
+  context_.points = &points_;
 }
 
 void Mesh::UploadPoints() {
@@ -186,18 +195,48 @@ void Mesh::UploadPoints() {
   ++stats_.pointUploads;
 }
 
-void Mesh::SyncDisplayColor(SceneDelegate* sceneDelegate) {
-  const std::vector<Vec3f> control = sceneDelegate->GetDisplayColor(Id());
-  displayColor_.clear();
-  if (int(control.size()) == controlPointCount_) {
+void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate) {
+  ++stats_.primvarSyncs;
+  // Each primvar: read, checked against the topology (a bad one is an error naming the mesh and the
+  // primvar), expanded to triangle corners. Nothing is kept from a primvar that fails.
+  auto read = [&](const std::string& name, int components) {
+    Primvar primvar = sceneDelegate->GetPrimvar(Id(), name);
+    if (primvar.Empty()) return Primvar{};
+    try {
+      ValidatePrimvar(primvar, name, components, topology_, controlPointCount_);
+    } catch (const std::runtime_error& e) {
+      Fail(Id(), e.what());
+    }
+    if (refiner_ && primvar.interpolation == Interpolation::FaceVarying) ++stats_.faceVaryingRefinements;
+    return primvar;
+  };
+  const Primvar st = read("st", 2), color = read("displayColor", 3), normals = read("normals", 3),
+                rest = read("rest", 3);
+  if (!rest.Empty() && rest.interpolation != Interpolation::Vertex && rest.interpolation != Interpolation::Varying)
+    Fail(Id(), "primvar rest: must be vertex-interpolated (a position per point)");
+
+  st_ = st.Empty() ? std::vector<Vec2f>{} : ToVectors<Vec2f>(PrimvarAtCorners(st, layout_, refiner_.get()));
+  displayColor_ = color.Empty() ? std::vector<Vec3f>{} : ToVectors<Vec3f>(PrimvarAtCorners(color, layout_, refiner_.get()));
+  // Authored normals shade polygon meshes only: a subdivided mesh's limit normals describe the surface
+  // it renders, which the authored (control-cage) normals do not (Hydra ignores them there too).
+  cornerNormals_.clear();
+  if (!normals.Empty() && !refiner_) {
+    cornerNormals_ = ToVectors<Vec3f>(PrimvarAtCorners(normals, layout_, nullptr));
+    Normalize(&cornerNormals_);
+  }
+  rest_.clear();
+  if (!rest.Empty()) {
+    rest_ = ToVectors<Vec3f>(rest.values);
+    // Pushed to the limit like the points, so an undeformed mesh's rest positions equal its points.
     if (refiner_) {
-      displayColor_.resize(std::size_t(refiner_->RefinedPointCount()));
-      refiner_->EvaluatePrimvar(&control[0].x, 3, &displayColor_[0].x);
-    } else {
-      displayColor_ = control;
+      std::vector<Vec3f> unusedNormals;
+      refiner_->EvaluateLimit(std::vector<Vec3f>(rest_), &rest_, &unusedNormals);
     }
   }
+  context_.st = st_.empty() ? nullptr : &st_;
   context_.displayColor = displayColor_.empty() ? nullptr : &displayColor_;
+  context_.cornerNormals = cornerNormals_.empty() ? nullptr : &cornerNormals_;
+  context_.restPoints = rest_.empty() ? nullptr : &rest_;
 }
 
 void Mesh::ReleaseGeometry(RenderParam* renderParam) {

@@ -10,6 +10,12 @@
 // inscribed in the surface the normals describe (the refined points lie off it, inside a convex hull, and
 // pairing them with limit normals would shade one surface and silhouette another). Polygon meshes get
 // Hd_SmoothNormals' normals: per face corner, the cross product of its two edges, summed per point.
+// Left-handed meshes get them flipped. Authored "normals" replace them on polygon meshes only
+// (subdivided meshes keep their limit normals, as Hydra does).
+//
+// Primvars (DirtyPrimvar): "st", "displayColor" and "normals" are expanded to rendered triangle corners
+// (meshPrimvars.h); "rest" (vertex) is refined to the limit like the points, for eyes on meshes.
+#include "hdeye/meshPrimvars.h"
 #include "hdeye/prim.h"
 #include "hdeye/renderContext.h"
 
@@ -30,9 +36,12 @@ struct MeshSyncStats {
   int pointUploads = 0;        ///< Embree vertex buffer updates
   int normalEvaluations = 0;   ///< per-vertex shading normals recomputed (limit or smooth normals)
   int transformUpdates = 0;
+  int primvarSyncs = 0;            ///< primvars re-read and re-expanded (DirtyPrimvar or new topology)
+  int faceVaryingRefinements = 0;  ///< face-varying channels refined (subdivided meshes)
 };
 
-class Mesh final : public Rprim {
+/// Not final: EyeMesh is a Mesh that also carries an eye.
+class Mesh : public Rprim {
  public:
   explicit Mesh(PrimId id);
   ~Mesh() override;
@@ -48,11 +57,24 @@ class Mesh final : public Rprim {
   PrimId MaterialId() const override { return materialId_; }
   GeometryContext* Context() override { return &context_; }
   int TriangleCount() const { return int(triangles_.size() / 3); }
+  /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
+  const std::vector<Vec2f>& St() const { return st_; }
+  const std::vector<Vec3f>& DisplayColor() const { return displayColor_; }
+  const std::vector<Vec3f>& AuthoredNormals() const { return cornerNormals_; }
+  /// Rest positions per rendered point, object space (empty when not authored).
+  const std::vector<Vec3f>& RestPoints() const { return rest_; }
+  const TriangleLayout& Layout() const { return layout_; }
+
+ protected:
+  const Matrix4d& Transform() const { return transform_; }
+  /// Called when a new Embree triangle geometry is made (new topology), before it is committed:
+  /// subclasses install what they need on it (EyeMesh: its inside-hit filters).
+  virtual void ConfigureTriangles(RTCGeometry /*triangles*/) {}
 
  private:
   void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount);
   void SyncPoints(const std::vector<Vec3f>& control);
-  void SyncDisplayColor(SceneDelegate* sceneDelegate);
+  void SyncPrimvars(SceneDelegate* sceneDelegate);
   void UploadPoints();
   void ReleaseGeometry(RenderParam* renderParam);
 
@@ -61,8 +83,12 @@ class Mesh final : public Rprim {
   std::unique_ptr<SubdivRefiner> refiner_;
   std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
   std::vector<Vec3f> normals_;       ///< unit shading normal per rendered point, object space
-  std::vector<int> triangles_;       ///< 3 indices per rendered triangle
-  std::vector<Vec3f> displayColor_;  ///< per rendered point, or empty
+  std::vector<int> triangles_;       ///< 3 indices per rendered triangle (layout_.vertices)
+  TriangleLayout layout_;
+  std::vector<Vec3f> displayColor_;  ///< per rendered triangle corner, or empty
+  std::vector<Vec2f> st_;            ///< per rendered triangle corner, or empty
+  std::vector<Vec3f> cornerNormals_; ///< authored normals per rendered triangle corner (polygon meshes), or empty
+  std::vector<Vec3f> rest_;          ///< rest positions per rendered point (limit, if refined), or empty
   Matrix4d transform_{1.0};
   PrimId materialId_;
 

@@ -33,6 +33,13 @@ void RenderBuffer::Merge(const RenderBuffer& other) {
   for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
 }
 
+void RenderBuffer::AddState(const std::vector<double>& sums, const std::vector<double>& counts) {
+  if (sums.size() != sums_.size() || counts.size() != counts_.size())
+    throw std::invalid_argument("render buffer " + Id() + ": cannot add the state of a buffer of another size");
+  for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i] += sums[i];
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += counts[i];
+}
+
 float RenderBuffer::Resolved(int x, int y, int c) const {
   const std::size_t p = std::size_t(y) * width_ + x;
   return counts_[p] > 0 ? float(sums_[p * components_ + c] / counts_[p]) : 0.0f;

@@ -26,6 +26,12 @@ class RenderBuffer final : public Bprim {
   void AddSample(int x, int y, const float* value);
   /// Adds another buffer's sums and counts (same size and components).
   void Merge(const RenderBuffer& other);
+  /// The raw accumulation state, for shipping a partial render to another process: per pixel (row-major,
+  /// top row first) Components() sums, and one sample count.
+  const std::vector<double>& Sums() const { return sums_; }
+  const std::vector<double>& Counts() const { return counts_; }
+  /// Adds a shipped state (Sums()/Counts() of a buffer of this size): Merge across processes.
+  void AddState(const std::vector<double>& sums, const std::vector<double>& counts);
   /// The mean of pixel (x, y)'s samples, component c (0 if it has none).
   float Resolved(int x, int y, int c) const;
   /// Every pixel's mean as one plane per component, row-major, top row first.

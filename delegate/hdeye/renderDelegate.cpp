@@ -2,6 +2,7 @@
 
 #include "hdeye/analyticEye.h"
 #include "hdeye/camera.h"
+#include "hdeye/eyeMesh.h"
 #include "hdeye/light.h"
 #include "hdeye/material.h"
 #include "hdeye/mesh.h"
@@ -39,7 +40,7 @@ RenderDelegate::~RenderDelegate() {
 }
 
 const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
-  static const std::vector<std::string> types = {primTypes::kMesh, primTypes::kAnalyticEye};
+  static const std::vector<std::string> types = {primTypes::kMesh, primTypes::kAnalyticEye, primTypes::kEyeMesh};
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
@@ -56,6 +57,7 @@ const std::vector<std::string>& RenderDelegate::SupportedBprimTypes() {
 std::unique_ptr<Rprim> RenderDelegate::CreateRprim(const std::string& type, const PrimId& id) {
   if (type == primTypes::kMesh) return std::make_unique<Mesh>(id);
   if (type == primTypes::kAnalyticEye) return std::make_unique<AnalyticEye>(id);
+  if (type == primTypes::kEyeMesh) return std::make_unique<EyeMesh>(id);
   return nullptr;
 }
 

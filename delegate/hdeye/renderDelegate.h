@@ -16,6 +16,7 @@ namespace hdeye {
 namespace primTypes {
 inline const std::string kMesh = "mesh";
 inline const std::string kAnalyticEye = "analyticEye";  ///< the anterior segment alone, no mesh
+inline const std::string kEyeMesh = "eyeMesh";  ///< a mesh eyeball whose cornea continues against the analytic model
 inline const std::string kCamera = "camera";
 inline const std::string kSphereLight = "sphereLight";
 inline const std::string kDistantLight = "distantLight";
@@ -35,6 +36,9 @@ struct RenderSettings {
   int maxDepth = 8;             ///< path vertices after the camera
   int firstSample = 0;          ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
   bool mis = true;              ///< combine light and BSDF sampling (off: light sampling only, for tests)
+  /// Eyes: the iris's direct light through MNEE (off: only by paths that refract out of the cornea and
+  /// happen to hit a light: plain path tracing, for A/B comparisons).
+  bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
 };
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace hdeye {
 
@@ -23,9 +24,78 @@ double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
 double PlanarArea(const RenderLight& l) {
   return l.type == LightType::Rect ? 4 * glm::length(glm::cross(l.axisU, l.axisV)) : kPi * l.radius * l.radius;
 }
+
+double Luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+/// The rotation part of m's upper 3x3 (Gram-Schmidt on its columns, keeping the handedness of a
+/// right-handed frame); identity if degenerate.
+glm::dmat3 RotationOf(const glm::dmat4& m) {
+  glm::dvec3 x(m[0]), y(m[1]);
+  const double lx = glm::length(x);
+  if (!(lx > 0) || !std::isfinite(lx)) return glm::dmat3(1.0);
+  x /= lx;
+  y -= glm::dot(y, x) * x;
+  const double ly = glm::length(y);
+  if (!(ly > 0) || !std::isfinite(ly)) return glm::dmat3(1.0);
+  y /= ly;
+  return glm::dmat3(x, y, glm::cross(x, y));
+}
+
+// The dome's lat-long parameterisation (see DomeTexture in renderLight.h).
+glm::dvec3 LatLongToDirection(const glm::dvec2& uv) {
+  const double lat = kPi * (uv.y - 0.5), lon = kPi * (1 - 2 * uv.x);
+  return {std::cos(lat) * std::sin(lon), std::sin(lat), std::cos(lat) * std::cos(lon)};
+}
+/// (u, v) in [0, 1]^2 of a unit local direction; *cosLat = sin(theta) = the lat-long Jacobian factor.
+glm::dvec2 DirectionToLatLong(const glm::dvec3& d, double* cosLat) {
+  *cosLat = std::sqrt(d.x * d.x + d.z * d.z);
+  const double lat = std::asin(std::clamp(d.y, -1.0, 1.0)), lon = std::atan2(d.x, d.z);
+  double u = 0.5 - lon / (2 * kPi);
+  if (u >= 1) u -= 1;
+  if (u < 0) u = 0;
+  return {u, std::clamp(0.5 + lat / kPi, 0.0, 1.0)};
+}
+/// Solid-angle pdf from the (u, v) density: d omega = 2 pi^2 sin(theta) du dv.
+double UvToSolidAngle(double pdfUv, double cosLat) {
+  return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0;
+}
+/// Radiance of the textured dome at (u, v): clamped at the poles (repeat would blend the two poles).
+glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
+  const Texture& image = *l.dome->image;
+  const double halfTexel = 0.5 / image.Height();
+  uv.y = std::clamp(uv.y, halfTexel, 1 - halfTexel);
+  return l.radiance * glm::dvec3(image.Lookup(glm::vec2(uv)));
+}
 }  // namespace
 
-RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m) {
+std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
+  if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
+  const int w = image->Width(), h = image->Height();
+  std::vector<double> luminance(std::size_t(w) * std::size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(image->Texel(x, y)));
+  // Distribution row r is image row h-1-r (v = 0 at the bottom).
+  std::vector<double> weights(luminance.size());
+  for (int r = 0; r < h; ++r) {
+    const int y = h - 1 - r;
+    const double sinTheta = std::cos(kPi * ((r + 0.5) / h - 0.5));
+    for (int x = 0; x < w; ++x) {
+      double m = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int yy = std::clamp(y + dy, 0, h - 1), xx = (x + dx + w) % w;
+          m = std::max(m, luminance[std::size_t(yy) * w + xx]);
+        }
+      weights[std::size_t(r) * w + x] = m * sinTheta;
+    }
+  }
+  auto dome = std::make_shared<DomeTexture>();
+  dome->image = std::move(image);
+  dome->distribution = Distribution2D(w, h, weights);
+  return dome;
+}
+
+RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome) {
   RenderLight l;
   l.type = p.type;
   l.radiance = glm::dvec3(p.color) * double(p.intensity) * std::exp2(double(p.exposure));
@@ -53,7 +123,12 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m) {
       l.axisV = glm::normalize(y);
       l.radius = p.radius * scale;
       break;
-    case LightType::Dome: break;
+    case LightType::Dome:
+      if (!p.textureFile.empty()) {
+        l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
+        l.domeToWorld = RotationOf(m);
+      }
+      break;
   }
   return l;
 }
@@ -81,6 +156,18 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       s.pdf = UniformConePdf(l.cosHalfAngle);
       return s;
     case LightType::Dome: {
+      if (l.dome) {
+        // Importance sampling by luminance x sin(theta) over the lat-long image.
+        double pdfUv = 0;
+        const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
+        const glm::dvec3 local = LatLongToDirection(uv);
+        s.pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return LightSample{};
+        s.dir = glm::normalize(l.domeToWorld * local);
+        s.distance = kInf;
+        s.radiance = DomeRadiance(l, uv);
+        return s;
+      }
       // Uniform sphere (a constant dome gains nothing from importance sampling).
       const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
       s.dir = {r * std::cos(phi), r * std::sin(phi), z};
@@ -135,9 +222,17 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       return true;
     case LightType::Dome:
       if (maxDistance < kInf) return false;
+      *distance = kInf;
+      if (l.dome) {
+        double cosLat = 0;
+        // The rotation is orthonormal: its transpose is its inverse.
+        const glm::dvec2 uv = DirectionToLatLong(glm::normalize(glm::transpose(l.domeToWorld) * dir), &cosLat);
+        *radiance = DomeRadiance(l, uv);
+        *pdf = UvToSolidAngle(l.dome->distribution.Pdf(uv), cosLat);
+        return true;
+      }
       *radiance = l.radiance;
       *pdf = 1 / (4 * kPi);
-      *distance = kInf;
       return true;
     case LightType::Rect:
     case LightType::Disk: {

@@ -46,7 +46,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   std::vector<RenderLight> lights;
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform()));
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
 
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
@@ -56,6 +56,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     context->primIndex = primIndex++;
     const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
     context->material = material ? material->Params() : MaterialParams{};
+    context->diffuseTexture = material ? material->DiffuseTexture() : nullptr;
   }
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));

@@ -1,7 +1,9 @@
 #include "hdeye/renderer.h"
 
 #include "hdeye/eyeShading.h"
+#include "hdeye/previewSurface.h"
 #include "hdeye/renderContext.h"
+#include "hdeye/texture.h"
 
 #include <eyelib/random.h>
 #include <eyelib/sampling.h>
@@ -14,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <type_traits>
 #include <limits>
 #include <stdexcept>
 
@@ -40,6 +43,19 @@ class SampleStream {
 
 double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 
+/// The UsdPreviewSurface BSDF of a non-eye hit: the bound material's parameters, with its diffuse
+/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
+PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& albedo, const glm::dvec2& st) {
+  const MaterialParams& m = context.material;
+  PreviewSurface s;
+  s.albedo = context.diffuseTexture ? glm::dvec3(context.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
+  s.roughness = m.roughness;
+  s.metallic = m.metallic;
+  s.opacity = m.opacity;
+  s.ior = m.ior;
+  return s;
+}
+
 
 struct SurfaceHit {
   double t;
@@ -48,6 +64,8 @@ struct SurfaceHit {
   int primIndex;
   const GeometryContext* context;
   unsigned part;    // the primitive; for eyes, EyeGeometry::Part
+  double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
+  glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
 };
 
 class Tracer {
@@ -76,26 +94,34 @@ class Tracer {
     hit->p = o + hit->t * d;
     glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
-    // Smooth shading: the per-vertex normals interpolated with the hit's barycentrics (the same weights as
-    // displayColor below). The flat geometric normal still decides the side: the shading normal is flipped
-    // onto the side the ray came from, so the renderer's cosines (taken against hit->n and clamped at 0)
-    // stay on the lit side. Eyes, meshes without normals and degenerate (zero) normals keep the flat one.
-    if (ctx->vertexNormals && ctx->triangleVertices && !ctx->eye) {
-      const int* tri = &(*ctx->triangleVertices)[3 * std::size_t(rh.hit.primID)];
+    // Primvars at the hit: per-vertex values (triangleVertices) or per-corner ones (3 per triangle),
+    // weighted by the hit's barycentrics.
+    const double bu = rh.hit.u, bv = rh.hit.v, bw = 1 - bu - bv;
+    const std::size_t firstCorner = 3 * std::size_t(rh.hit.primID);
+    auto atCorners = [&](const auto& values) {
+      using D = glm::vec<std::decay_t<decltype(values[0])>::length(), double>;
+      return bw * D(values[firstCorner]) + bu * D(values[firstCorner + 1]) + bv * D(values[firstCorner + 2]);
+    };
+    // Smooth shading: authored corner normals, else the per-vertex normals, interpolated. The flat
+    // geometric normal still decides the side: the shading normal is flipped onto the side the ray came
+    // from, so the renderer's cosines (taken against hit->n and clamped at 0) stay on the lit side.
+    // Analytic eyes, meshes without normals and degenerate (zero) normals keep the flat one.
+    glm::dvec3 local(0);
+    if (ctx->cornerNormals) {
+      local = glm::dvec3(atCorners(*ctx->cornerNormals));
+    } else if (ctx->vertexNormals && ctx->triangleVertices && !ctx->eye) {
+      const int* tri = &(*ctx->triangleVertices)[firstCorner];
       const auto& vn = *ctx->vertexNormals;
-      const glm::dvec3 local((1 - rh.hit.u - rh.hit.v) * vn[tri[0]] + rh.hit.u * vn[tri[1]] + rh.hit.v * vn[tri[2]]);
-      const glm::dvec3 shading = ctx->normalToWorld * local;
-      const double length = glm::length(shading);
-      if (length > 1e-12 && std::isfinite(length)) n = glm::dot(shading, n) < 0 ? -shading / length : shading / length;
+      local = bw * glm::dvec3(vn[tri[0]]) + bu * glm::dvec3(vn[tri[1]]) + bv * glm::dvec3(vn[tri[2]]);
     }
+    const glm::dvec3 shading = ctx->normalToWorld * local;
+    const double length = glm::length(shading);
+    if (length > 1e-12 && std::isfinite(length)) n = glm::dot(shading, n) < 0 ? -shading / length : shading / length;
     hit->n = n;
-    hit->albedo = glm::dvec3(ctx->material.diffuseColor);
-    if (ctx->displayColor && ctx->triangleVertices) {
-      const int* tri = &(*ctx->triangleVertices)[3 * std::size_t(rh.hit.primID)];
-      const auto& c = *ctx->displayColor;
-      hit->albedo = glm::dvec3((1 - rh.hit.u - rh.hit.v) * c[tri[0]] + rh.hit.u * c[tri[1]] + rh.hit.v * c[tri[2]]);
-    }
-    hit->emission = ctx->eye ? glm::dvec3(0) : glm::dvec3(ctx->material.emissiveColor);
+    hit->u = bu, hit->v = bv;
+    hit->st = ctx->st ? glm::dvec2(atCorners(*ctx->st)) : glm::dvec2(0);
+    hit->albedo = ctx->displayColor ? glm::dvec3(atCorners(*ctx->displayColor)) : glm::dvec3(ctx->material.diffuseColor);
+    hit->emission = ctx->eye || ctx->meshEye ? glm::dvec3(0) : glm::dvec3(ctx->material.emissiveColor);
     hit->primIndex = ctx->primIndex;
     hit->context = ctx;
     hit->part = rh.hit.primID;
@@ -138,12 +164,16 @@ class Tracer {
     // (the camera, the cornea) a light counts in full; after a diffuse bounce, by MIS against light
     // sampling (or not at all without MIS); straight out of an iris, not at all (MNEE counted it).
     bool specular = true, skipLights = false;
+    // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry
+    // no front/back flag, so this assumes the camera is outside and glass objects are closed and
+    // do not nest.
+    bool insideGlass = false;
     double bsdfPdf = 0;
     const double lightSelect = lights_.empty() ? 0 : 1.0 / double(lights_.size());
     const std::function<double()> random = [&rng] { return rng.Next(); };
     EyeLighting eyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
                               return Occluded(po, pd, t);
-                            }, settings_.mneeAllSolutions};
+                            }, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
@@ -160,43 +190,64 @@ class Tracer {
       if (!hitGeometry) break;
       L += beta * hit.emission;
 
-      if (hit.context->eye) {
-        const EyeEvent ev = ScatterAtEye(*hit.context->eye, o, d, EyeGeometry::Part(hit.part), eyeLighting, random);
+      if (const EyeGeometry* eye = hit.context->eye ? hit.context->eye : hit.context->meshEye) {
+        const EyeEvent ev =
+            hit.context->eye
+                ? ScatterAtEye(*eye, o, d, EyeGeometry::Part(hit.part), eyeLighting, random)
+                : ScatterAtEyeMesh(*eye, EyeMeshHitToCanonical(*hit.context, *eye, hit.part, hit.u, hit.v, d), d,
+                                   eyeLighting, random);
         L += beta * ev.radiance;
         *irisMnee += beta * ev.radiance;
         if (ev.kind == EyeEvent::Continue) {
           beta *= ev.weight;
           o = ev.origin, d = ev.dir, tNear = 0, tFar = kInf;
-          specular = true, skipLights = ev.skipLightHits;
+          if (!ev.passThrough) specular = true, skipLights = ev.skipLightHits;
           continue;
         }
         if (ev.kind == EyeEvent::Absorbed) break;
-        hit.albedo = ev.scleraAlbedo;  // sclera: shade below as a diffuse surface
-        hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+        // Sclera: shaded below as a diffuse surface; an eye mesh's own surface keeps its shading normal
+        // and, with a bound material, that material's colour.
+        if (!ev.scleraOnSurface) hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+        if (!ev.scleraOnSurface || !eye->scleraUsesMaterial) hit.albedo = ev.scleraAlbedo;
+        if (depth == 0) first->albedo = hit.albedo;  // the albedo AOV shows the sclera's
       }
-      const glm::dvec3 f = hit.albedo / kPi;
+      // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
+      // UsdPreviewSurface.
+      const bool eyeSurface = hit.context->eye || hit.context->meshEye;
+      const PreviewSurface bsdf =
+          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
+      if (depth == 0 && !eyeSurface) first->albedo = bsdf.albedo;  // the albedo AOV shows the texture
+      const glm::dvec3 wo = -d;
       // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
-      const glm::dvec3 origin = hit.p + hit.n * (1e-5 * (1 + glm::length(hit.p)));
+      const double offset = 1e-5 * (1 + glm::length(hit.p));
+      const glm::dvec3 origin = hit.p + hit.n * offset;
 
-      // Next event estimation: one light chosen uniformly.
+      // Next event estimation: one light chosen uniformly; not for mirrors and glass (delta lobes).
       const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
-      if (!lights_.empty()) {
+      if (!lights_.empty() && HasSmoothLobe(bsdf, hit.n, wo)) {
         const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
         const LightSample ls = SampleLight(light, origin, u1, u2);
         const double cosS = glm::dot(ls.dir, hit.n);
-        if (ls.pdf > 0 && cosS > 0 && !Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) {
-          const double pl = ls.pdf * lightSelect;
-          const double w = settings_.mis ? PowerHeuristic(pl, cosS / kPi) : 1.0;
-          L += beta * f * ls.radiance * (cosS * w / pl);
+        if (ls.pdf > 0 && cosS > 0) {
+          const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
+          if ((f.x > 0 || f.y > 0 || f.z > 0) && !Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) {
+            const double pl = ls.pdf * lightSelect;
+            const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+            L += beta * f * ls.radiance * (cosS * w / pl);
+          }
         }
       }
 
-      // Continue with a cosine-weighted direction: f cos / pdf = albedo.
-      d = eyelib::SampleCosineHemisphere(hit.n, rng.Next(), rng.Next());
-      bsdfPdf = glm::dot(d, hit.n) / kPi;
-      specular = false, skipLights = !settings_.mis;
-      beta *= hit.albedo;
-      o = origin;
+      // Continue in a direction sampled from the BSDF; its weight is f |cos| / pdf.
+      const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
+      BsdfSample bs;
+      if (!SamplePreviewSurface(bsdf, hit.n, wo, insideGlass, uLobe, uDir1, uDir2, &bs)) break;
+      if (bs.transmitted) insideGlass = !insideGlass;
+      d = bs.wi;
+      bsdfPdf = bs.pdf;
+      specular = bs.delta, skipLights = !bs.delta && !settings_.mis;
+      beta *= bs.weight;
+      o = glm::dot(d, hit.n) > 0 ? origin : hit.p - hit.n * offset;
       tNear = 0;
       tFar = kInf;
       // Russian roulette after three bounces.

@@ -67,7 +67,7 @@ struct EyeParams {
   glm::vec3 irisColor{0.35f, 0.2f, 0.1f};  ///< diffuse albedo of the iris
   glm::vec3 scleraColor{0.8f, 0.78f, 0.75f};
   /// Image over the iris disk in the canonical frame (u along +x, v along +y, the disk of diameter
-  /// ChamberParams' iris diameter filling [0, 1]^2); replaces irisColor where set.
+  /// ChamberParams' iris diameter filling [0, 1]^2); irisColor multiplies it (white: the texture as is).
   std::string irisTexture;
   /// Canonical frame (mm, apex at the origin, gaze +z) to the prim's local space. A similarity
   /// (rotation, uniform scale, translation); e.g. scale 0.1 for a scene in centimetres.
@@ -81,8 +81,6 @@ class SceneDelegate {
   virtual std::vector<Vec3f> GetPoints(const PrimId& id) = 0;
   virtual Matrix4d GetTransform(const PrimId& id) = 0;
   virtual bool GetVisible(const PrimId& id) = 0;
-  /// Vertex-interpolated display colour, if authored (one per point), else empty.
-  virtual std::vector<Vec3f> GetDisplayColor(const PrimId& id) = 0;
   /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); empty when not authored.
   virtual Primvar GetPrimvar(const PrimId& /*id*/, const std::string& /*name*/) { return {}; }
   virtual PrimId GetMaterialId(const PrimId& id) = 0;

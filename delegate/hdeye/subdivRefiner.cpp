@@ -47,16 +47,24 @@ void ValidateTopology(const MeshTopology& topology, int pointCount) {
 
 /// Catmull-Clark over the validated topology, refined uniformly to `level` with the full topology of
 /// the last level kept (PrimvarRefiner::Limit needs its vertex neighbourhoods).
+/// With `fvar` set, the topology also carries that face-varying channel (channel 0).
 std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& topology, int pointCount,
-                                                            int level) {
+                                                            int level,
+                                                            const Far::TopologyDescriptor::FVarChannel* fvar) {
   Far::TopologyDescriptor descriptor;
   descriptor.numVertices = pointCount;
   descriptor.numFaces = static_cast<int>(topology.faceVertexCounts.size());
   descriptor.numVertsPerFace = topology.faceVertexCounts.data();
   descriptor.vertIndicesPerFace = topology.faceVertexIndices.data();
+  if (fvar) {
+    descriptor.numFVarChannels = 1;
+    descriptor.fvarChannels = fvar;
+  }
 
   Sdc::Options sdcOptions;
   sdcOptions.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  // UsdGeom's default faceVaryingLinearInterpolation, "cornersPlus1" (Hydra maps it the same way).
+  sdcOptions.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   std::unique_ptr<Far::TopologyRefiner> refiner(
       Factory::Create(descriptor, Factory::Options(Sdc::SCHEME_CATMARK, sdcOptions)));
@@ -94,6 +102,26 @@ class Vec3Sink {
   glm::vec3* _values;
 };
 
+/// A run-time-width view of a float array in the shape PrimvarRefiner reads and writes: element i is
+/// a proxy over floats [i * width, (i + 1) * width).
+class FloatsView {
+ public:
+  struct Element {
+    float* value;
+    int width;
+    void Clear() { std::fill(value, value + width, 0.0f); }
+    void AddWithWeight(const Element& src, float weight) {
+      for (int k = 0; k < width; ++k) value[k] += weight * src.value[k];
+    }
+  };
+  FloatsView(float* data, int width) : _data(data), _width(width) {}
+  Element operator[](int i) const { return Element{_data + static_cast<size_t>(i) * _width, _width}; }
+
+ private:
+  float* _data;
+  int _width;
+};
+
 void CheckCoarseSize(size_t got, int expected) {
   if (got != static_cast<size_t>(expected))
     Fail("got " + std::to_string(got) + " coarse points, the topology has " + std::to_string(expected));
@@ -102,11 +130,11 @@ void CheckCoarseSize(size_t got, int expected) {
 }  // namespace
 
 SubdivRefiner::SubdivRefiner(const MeshTopology& coarse, int coarsePointCount, int level)
-    : _level(level), _coarsePointCount(coarsePointCount) {
+    : _level(level), _coarse(coarse), _coarsePointCount(coarsePointCount) {
   if (level < 1 || level > kMaxLevel)
     Fail("level " + std::to_string(level) + " is outside [1, " + std::to_string(kMaxLevel) + "]");
   ValidateTopology(coarse, coarsePointCount);
-  _refiner = RefineUniformly(coarse, coarsePointCount, level);
+  _refiner = RefineUniformly(coarse, coarsePointCount, level, nullptr);
   _stencils = LastLevelStencils(*_refiner);
   _refinedPointCount = _refiner->GetLevel(level).GetNumVertices();
   BuildRefinedFaces();
@@ -177,6 +205,64 @@ void SubdivRefiner::EvaluateLimit(const std::vector<glm::vec3>& coarse, std::vec
     const float length = glm::length(n);
     (*normals)[i] = length > 0.0f ? n / length : glm::vec3(0.0f);
   }
+}
+
+std::vector<float> SubdivRefiner::EvaluateFaceVarying(const std::vector<float>& coarseCornerValues, int width) const {
+  if (width < 1) Fail("face-varying width is " + std::to_string(width) + ", need at least 1");
+  const size_t corners = _coarse.faceVertexIndices.size();
+  if (coarseCornerValues.size() != corners * static_cast<size_t>(width))
+    Fail("got " + std::to_string(coarseCornerValues.size()) + " face-varying floats, need " +
+         std::to_string(corners) + " corners x " + std::to_string(width));
+
+  // Rebuild the value indices the scene delegate expanded: per point, equal values share an index.
+  std::vector<float> values;
+  std::vector<Far::Index> valueIndices(corners);
+  std::vector<std::vector<int>> valuesAtPoint(static_cast<size_t>(_coarsePointCount));
+  for (size_t c = 0; c < corners; ++c) {
+    const float* value = &coarseCornerValues[c * width];
+    std::vector<int>& candidates = valuesAtPoint[static_cast<size_t>(_coarse.faceVertexIndices[c])];
+    int found = -1;
+    for (int candidate : candidates)
+      if (std::equal(value, value + width, &values[static_cast<size_t>(candidate) * width])) found = candidate;
+    if (found < 0) {
+      found = static_cast<int>(values.size() / width);
+      values.insert(values.end(), value, value + width);
+      candidates.push_back(found);
+    }
+    valueIndices[c] = found;
+  }
+
+  Far::TopologyDescriptor::FVarChannel channel;
+  channel.numValues = static_cast<int>(values.size() / width);
+  channel.valueIndices = valueIndices.data();
+  const std::unique_ptr<const Far::TopologyRefiner> refiner =
+      RefineUniformly(_coarse, _coarsePointCount, _level, &channel);
+
+  // Level by level (each level's values from the previous one), then the last level to the limit.
+  std::vector<float> current = std::move(values);
+  const Far::PrimvarRefiner primvarRefiner(*refiner);
+  for (int l = 1; l <= _level; ++l) {
+    std::vector<float> next(static_cast<size_t>(refiner->GetLevel(l).GetNumFVarValues(0)) * width);
+    FloatsView src(current.data(), width), dst(next.data(), width);
+    primvarRefiner.InterpolateFaceVarying(l, src, dst, 0);
+    current.swap(next);
+  }
+  std::vector<float> limit(current.size());
+  {
+    FloatsView src(current.data(), width), dst(limit.data(), width);
+    primvarRefiner.LimitFaceVarying(src, dst, 0);
+  }
+
+  const Far::TopologyLevel& last = refiner->GetLevel(_level);
+  if (last.GetNumFaces() * 4 != static_cast<int>(_quadIndices.size()))
+    Fail("face-varying refinement produced a different face count");  // same topology: cannot happen
+  std::vector<float> out(_quadIndices.size() * width);
+  for (int f = 0; f < last.GetNumFaces(); ++f) {
+    const Far::ConstIndexArray fv = last.GetFaceFVarValues(f, 0);
+    for (int k = 0; k < 4; ++k)
+      std::copy_n(&limit[static_cast<size_t>(fv[k]) * width], width, &out[(4 * static_cast<size_t>(f) + k) * width]);
+  }
+  return out;
 }
 
 }  // namespace hdeye

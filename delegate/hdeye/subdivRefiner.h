@@ -77,10 +77,21 @@ class SubdivRefiner {
   void EvaluateLimit(const std::vector<glm::vec3>& coarse, std::vector<glm::vec3>* positions,
                      std::vector<glm::vec3>* normals) const;
 
+  /// A face-varying primvar (`width` floats per coarse face corner, in faceVertexIndices order, indices
+  /// expanded) refined through an OpenSubdiv face-varying channel and pushed to the limit, so it matches
+  /// the limit positions the mesh renders: `width` floats per refined quad corner, in
+  /// RefinedQuadIndices() order. Corners that share a point and hold identical values share one
+  /// face-varying value; corners of one point with different values are a seam and stay apart, so a
+  /// UV layout's islands never blend. Linear interpolation rule: UsdGeom's default "cornersPlus1".
+  /// The channel's topology depends on the values, so this refines a second topology each call (a
+  /// DirtyPrimvar cost, never a per-frame one). Throws std::invalid_argument for a wrong size or width.
+  std::vector<float> EvaluateFaceVarying(const std::vector<float>& coarseCornerValues, int width) const;
+
  private:
   void BuildRefinedFaces();
 
   int _level = 0;
+  MeshTopology _coarse;  ///< kept for face-varying channels, which need the coarse faces again
   int _coarsePointCount = 0;
   int _refinedPointCount = 0;
   std::vector<int> _quadIndices;

@@ -23,6 +23,9 @@ struct MeshTopology {
   std::vector<int> faceVertexIndices;  ///< sum(faceVertexCounts) indices into the points
   /// Catmull-Clark refinement level; 0 renders the control mesh as polygons.
   int refineLevel = 0;
+  /// UsdGeom orientation "leftHanded": faces wind clockwise seen from outside, so the computed
+  /// (smooth or limit) normals are flipped to stay outward. Authored normals are used as given.
+  bool leftHanded = false;
 };
 
 }  // namespace hdeye

@@ -122,8 +122,9 @@ Image Render(InMemorySceneDelegate& scene, RenderDelegate& delegate, RenderIndex
 // Seed-to-seed (0 vs 1), relRMSE / blockRMSE / sigma:
 //   eye, 64 spp:   R,G,B 0.087-0.090 / 0.011-0.012 / 0.0014;  A 0.020 / 0.0027 / 0.0003;
 //                  irisMnee 0.27 / 0.030 / 0.0042
-//   ball, 256 spp: R 0.051 / 0.0053 / 0.0009;  G 0.041 / 0.0045 / 0.0007;  B 0.035 / 0.0041 / 0.0006;
-//                  A 0.0057 / 0.0005 / 0.0001
+//   ball, 256 spp: R 0.048 / 0.0084 / 0.0009;  G 0.040 / 0.0063 / 0.0007;  B 0.034 / 0.0051 / 0.0006;
+//                  A 0.0054 / 0.0005 / 0.0001 (re-measured after the UsdPreviewSurface specular coat: its
+//                  highlights raised the block noise from 0.0041-0.0053)
 // A key light 10% brighter gives relBias 0.017-0.020 (eye colour), 0.041 (irisMnee), 0.025-0.038 (ball
 // colour), 4-13x these tolerances; the eye's key at 65 deg instead of 75 gives blockRMSE 0.069 (colour)
 // and 0.19 (irisMnee), 2.3-2.5x.
@@ -132,7 +133,7 @@ const SceneSpec kEye{"eye_side_lit", 64, 64, 64,
                       {"A", {0.05, 0.001, 0.007}}, {"irisMnee.R", {0.67, 0.013, 0.075}},
                       {"irisMnee.G", {0.67, 0.013, 0.075}}, {"irisMnee.B", {0.67, 0.013, 0.075}}}};
 const SceneSpec kBall{"ball_on_floor", 64, 48, 256,
-                      {{"R", {0.13, 0.003, 0.014}}, {"G", {0.10, 0.0025, 0.012}}, {"B", {0.09, 0.002, 0.011}},
+                      {{"R", {0.13, 0.003, 0.021}}, {"G", {0.10, 0.0025, 0.016}}, {"B", {0.09, 0.002, 0.013}},
                        {"A", {0.015, 0.0003, 0.0013}}}};
 
 /// The side-lit eye sample scene (hdeye/sampleScenes.h). AOVs: color, irisMnee, and primId for the

@@ -33,6 +33,7 @@ void FurnaceScene(Scene& s, float albedo, int size) {
   test::UvSphere(1, 24, 48, &topology, &points);
   MaterialParams m;
   m.diffuseColor = glm::vec3(albedo);
+  m.ior = 1;  // no specular coat (F0 = 0): pure Lambert, the closed form below
   s.scene.AddMaterial("/mat", m);
   s.scene.AddMesh("/ball", topology, points, Matrix4d(1.0), "/mat");
   LightParams dome;
@@ -83,6 +84,7 @@ TEST_CASE("a diffuse plane under a sphere light matches the analytic irradiance,
     test::Quad(10, &plane, &points);
     MaterialParams m;
     m.diffuseColor = glm::vec3(float(rho));
+    m.ior = 1;  // pure Lambert: the closed form has no specular coat
     s.scene.AddMaterial("/mat", m);
     s.scene.AddMesh("/floor", plane, points, Matrix4d(1.0), "/mat");
     LightParams light;

@@ -1,0 +1,71 @@
+#pragma once
+// The BSDF of UsdPreviewSurface's metallic workflow (the subset MaterialParams carries), at one
+// shading point. Every sampling routine has its pdf beside it, and the tests check they agree.
+//
+// Lobes, mixed by `opacity`:
+//   opaque part (weight opacity):
+//     diffuse   (1 - metallic) albedo / pi * (1 - Fd(cos_o)) (1 - Fd(cos_i))   (reciprocal; what the
+//               specular coat reflects is not also scattered diffusely)
+//     specular  GGX microfacet D G2 F / (4 cos_o cos_i), Smith height-correlated G2, perceptual
+//               roughness (alpha = roughness^2, at least kMinAlpha), F = mix(Fd(wo.h), albedo, metallic):
+//               the spec's F0 = ((1 - ior) / (1 + ior))^2 with F90 = 1 for metallic 0 (exact
+//               dielectric Fresnel here, which Schlick's form approximates), F0 = F90 = albedo for
+//               metallic 1. Below kMirrorRoughness it is a mirror: a delta lobe, never light-sampled.
+//   glass part (weight 1 - opacity): a smooth dielectric of index `ior`, reflecting with the Fresnel
+//     probability, else refracting (radiance scaled by 1/eta^2, pbrt's non-symmetric BTDF, as the
+//     cornea does). Rough transmission is not modelled: roughness does not blur the glass.
+// Fd is the exact unpolarised Fresnel reflectance of a dielectric of index `ior` (eyelib's). With
+// ior = 1, Fd = 0: no coat, and the opaque part is exactly Lambert.
+//
+// Conventions: directions are unit, world space, pointing away from the surface; `n` is the unit
+// shading normal on the side of wo (dot(n, wo) > 0). f is in 1/sr, pdfs per steradian.
+#include <glm/glm.hpp>
+
+namespace hdeye {
+
+struct PreviewSurface {
+  glm::dvec3 albedo{0.18};  ///< diffuseColor (or its texture), linear, >= 0
+  double roughness = 0.5;   ///< perceptual, [0, 1]
+  double metallic = 0;      ///< [0, 1]
+  double opacity = 1;       ///< [0, 1]; below 1 part of the surface is glass
+  double ior = 1.5;         ///< >= 1
+
+  /// A pure Lambertian reflector (the sclera, and anything that must stay Lambert).
+  static PreviewSurface Lambert(const glm::dvec3& albedo) { return {albedo, 1, 0, 1, 1}; }
+};
+
+/// Roughness below which the specular lobe is a perfect mirror (alpha < 4e-4: a GGX lobe that
+/// narrow is a mirror to within the float precision of hit points, and its pdf would overflow MIS).
+constexpr double kMirrorRoughness = 0.02;
+/// Smallest GGX alpha used for rough lobes.
+constexpr double kMinAlpha = 1e-3;
+
+/// One sampled scattering direction.
+struct BsdfSample {
+  glm::dvec3 wi{0};      ///< unit, away from the surface
+  glm::dvec3 weight{0};  ///< f |cos_i| / pdf (delta lobes: their reflectance over their probability)
+  double pdf = 0;        ///< solid-angle pdf for non-delta samples (for MIS); for delta samples the
+                         ///< lobe's selection probability (not a density: never MIS-weighted)
+  bool delta = false;    ///< a mirror or glass event: lights it meets count in full
+  bool transmitted = false;  ///< crossed to the other side of the surface (into or out of the glass)
+};
+
+/// The non-delta part of f(wo, wi) (1/sr): diffuse plus rough specular, times opacity. Zero for wi
+/// below the surface (the opaque part does not transmit) and for wo at or below it.
+glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi);
+
+/// The solid-angle pdf with which SamplePreviewSurface returns the non-delta direction wi.
+double PdfPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi);
+
+/// Whether the surface has a non-delta lobe (diffuse or rough specular) worth light sampling from wo.
+bool HasSmoothLobe(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo);
+
+/// Samples a direction from three uniform numbers: u0 picks the lobe (by estimated reflectance), u1 and
+/// u2 the direction (and for glass, u1 also reflect or refract). `inside`: wo is inside the glass part
+/// (the relative index is then 1/ior). Returns false when no direction carries light (black surface,
+/// a microfacet sample below the horizon): the path ends there, which is the energy the lobe loses.
+/// The weight and pdf are always finite.
+bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, bool inside, double u0,
+                          double u1, double u2, BsdfSample* sample);
+
+}  // namespace hdeye
