@@ -4,7 +4,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: deps configure build test render bench clean
+.PHONY: deps configure build python test render bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -15,19 +15,26 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
-# Catch2 (CTest), then pytest (the USD schema for now). Each runs even if the other fails; the target fails if either does.
-test: build
+# The Python interpreter the package goes into: the project venv on a Debian python, else python3 (evaluated
+# when a recipe runs, after deps may have created the venv).
+PYTHON = $(shell [ -x .venv/bin/python ] && echo .venv/bin/python || echo python3)
+
+# The eyerender package (pip install ., build tree kept in build/pip so reinstalling is incremental).
+python: deps
+	@$(PYTHON) -m pip install --quiet --disable-pip-version-check --root-user-action=ignore --no-build-isolation .
+
+# Catch2 (CTest), then pytest (schema, scene delegate, eyerecord, samples). Each runs even if the other fails;
+# the target fails if either does.
+test: build python
 	@rc=0; \
 	(cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)) || rc=1; \
-	py=python3; [ -x .venv/bin/python ] && py=.venv/bin/python; \
-	$$py -m pytest -q tests/python || rc=1; \
+	$(PYTHON) -m pytest -q tests/python || rc=1; \
 	exit $$rc
 
-# Until the USD front end (eyerecord) lands, the default render is the delegate's C++ example: an
-# analytic eye under a side light, written to out/eye.exr (all AOVs) and out/eye.png.
-render: build
+# The default sample: the procedural eye close-up, to out/closeup.exr (AOVs) and out/closeup.png.
+render: python
 	@mkdir -p out
-	@$(BUILD_DIR)/delegate/hdeye_render_scene out/eye --spp 32 --size 256x256 --light-angle 75 --exposure 2
+	@$(PYTHON) -m eyerender.eyerecord usd_samples/closeup.usda out/closeup.exr --png -w 256 --spp 32 --aov irisMnee --aov albedo --aov normal --aov depth
 
 bench: build
 	@bash scripts/run_benchmarks.sh $(BUILD_DIR)

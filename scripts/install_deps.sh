@@ -21,14 +21,17 @@ if ((${#missing[@]})); then
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-# Python side (schema tests, later the eyerender package). Where python3 is pyenv's (this project's
+# Python side (the eyerender package and its tests). Where python3 is pyenv's (this project's
 # machines), packages go there; where it is Debian's externally managed /usr/bin/python3, into a
 # project venv, .venv/, which `make test` then uses.
 PYTHON=${PYTHON:-python3}
 if [[ $(command -v "$PYTHON") == /usr/bin/* ]]; then
   if [[ ! -x .venv/bin/python ]]; then
-    dpkg-query -W -f='${Status}' python3-venv 2>/dev/null | grep -q "install ok installed" ||
-      { apt-get update -qq && apt-get install -y -qq --no-install-recommends python3-venv >/dev/null; }
+    # python3-dev: Python.h, for building the eyerender extension against Debian's interpreter.
+    for p in python3-venv python3-dev; do
+      dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" ||
+        { apt-get update -qq && apt-get install -y -qq --no-install-recommends "$p" >/dev/null; }
+    done
     "$PYTHON" -m venv .venv
   fi
   PYTHON=.venv/bin/python
@@ -37,6 +40,10 @@ pip_missing=()
 "$PYTHON" -c "import pxr.Usd" 2>/dev/null || pip_missing+=(usd-core)
 "$PYTHON" -c "import pytest" 2>/dev/null || pip_missing+=(pytest)
 "$PYTHON" -c "import jinja2" 2>/dev/null || pip_missing+=(jinja2)  # usdGenSchema, for the schema consistency test
+"$PYTHON" -c "import numpy" 2>/dev/null || pip_missing+=(numpy)
+# The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
+"$PYTHON" -c "import nanobind" 2>/dev/null || pip_missing+=("nanobind>=2.0")
+"$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"

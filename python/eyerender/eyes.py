@@ -1,0 +1,107 @@
+"""Reading the EyeAPI schema (schemas/schema.usda) off a prim into the delegate's EyeParams.
+
+Every value is checked here, by attribute name and prim path, so a user learns which attribute on which prim
+is wrong; nothing is clamped. The fallbacks repeat the schema's, so a stage whose EyeAPI plugin was not loaded
+(the attributes then carry no fallback) still renders the paper's eye.
+"""
+import math
+
+import numpy as np
+from pxr import Gf, Sdf, Usd
+
+from ._hdeye import CorneaModel, EyeParams
+from .errors import EyeRenderError
+
+EYE_API = "EyeAPI"
+IRIS_DIAMETER_MM = 15.08  # the ellipsoid-cone cornea's rim chord; ratios and the iris texture refer to it
+
+FALLBACKS = {
+    "eye:corneaModel": "ellipsoidCone",
+    "eye:corneaIor": 1.376,
+    "eye:irisDepth": 3.735,  # mm below the corneal apex
+    "eye:limbusInnerRatio": 0.772,  # over the 15.08 mm iris diameter
+    "eye:limbusOuterRatio": 0.855,
+    "eye:pupilDiameter": 4.0,  # mm
+    "eye:irisColor": (0.35, 0.2, 0.1),  # linear albedo
+    "eye:scleraColor": (0.8, 0.78, 0.75),
+    "eye:modelTransform": Gf.Matrix4d(1.0),  # canonical frame (mm) to the prim's local space
+    "eye:limbalArc": True,
+}
+CORNEA_MODELS = {"ellipsoidCone": CorneaModel.ellipsoidCone, "paraboloid": CorneaModel.paraboloid}
+
+
+def is_eye(prim):
+    return EYE_API in prim.GetAppliedSchemas()
+
+
+def _get(prim, name, time):
+    attr = prim.GetAttribute(name)
+    value = attr.Get(time) if attr else None
+    return FALLBACKS[name] if value is None else value
+
+
+def eye_attributes_vary(prim):
+    """Whether any eye:* attribute may change over time (pupils dilate)."""
+    return any(prim.GetAttribute(n).ValueMightBeTimeVarying() for n in FALLBACKS if prim.GetAttribute(n))
+
+
+def _finite(prim, name, value):
+    values = value if isinstance(value, (tuple, list, Gf.Vec3f, Gf.Vec3d)) else [value]
+    if not all(math.isfinite(float(v)) for v in values):
+        raise EyeRenderError(f"{prim.GetPath()}: {name} = {value} is not finite")
+    return value
+
+
+def _matrix(prim, value):
+    flat = [float(value[r][c]) for r in range(4) for c in range(4)]
+    if not all(math.isfinite(v) for v in flat):
+        raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform has non-finite entries")
+    if abs(Gf.Matrix4d(value).GetDeterminant3()) < 1e-18:
+        raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform is singular")
+    return flat
+
+
+def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=None):
+    """EyeParams from prim's eye:* attributes at `time`; raises EyeRenderError naming the attribute and prim."""
+    path = prim.GetPath()
+    model = cornea_model_override or str(_get(prim, "eye:corneaModel", time))
+    if model not in CORNEA_MODELS:
+        raise EyeRenderError(f"{path}: eye:corneaModel = '{model}' is not one of {', '.join(CORNEA_MODELS)}")
+    ior = float(_finite(prim, "eye:corneaIor", _get(prim, "eye:corneaIor", time)))
+    depth = float(_finite(prim, "eye:irisDepth", _get(prim, "eye:irisDepth", time)))
+    inner = float(_finite(prim, "eye:limbusInnerRatio", _get(prim, "eye:limbusInnerRatio", time)))
+    outer = float(_finite(prim, "eye:limbusOuterRatio", _get(prim, "eye:limbusOuterRatio", time)))
+    pupil = float(_finite(prim, "eye:pupilDiameter", _get(prim, "eye:pupilDiameter", time)))
+    if ior < 1:
+        raise EyeRenderError(f"{path}: eye:corneaIor = {ior:g} must be at least 1")
+    if depth <= 0:
+        raise EyeRenderError(f"{path}: eye:irisDepth = {depth:g} mm must be positive (depth below the apex)")
+    for name, ratio in (("eye:limbusInnerRatio", inner), ("eye:limbusOuterRatio", outer)):
+        if not 0 < ratio <= 1:
+            raise EyeRenderError(f"{path}: {name} = {ratio:g} must be in (0, 1] (a fraction of the "
+                                 f"{IRIS_DIAMETER_MM} mm iris diameter)")
+    if inner > outer:
+        raise EyeRenderError(f"{path}: eye:limbusInnerRatio = {inner:g} exceeds eye:limbusOuterRatio = {outer:g}")
+    if not 0 <= pupil < IRIS_DIAMETER_MM:
+        raise EyeRenderError(f"{path}: eye:pupilDiameter = {pupil:g} mm must be in [0, {IRIS_DIAMETER_MM}) mm")
+
+    eye = EyeParams()
+    eye.cornea_model = CORNEA_MODELS[model]
+    eye.cornea_ior, eye.iris_depth, eye.pupil_diameter = ior, depth, pupil
+    eye.limbus_inner_ratio, eye.limbus_outer_ratio = inner, outer
+    for name, setter in (("eye:irisColor", "iris_color"), ("eye:scleraColor", "sclera_color")):
+        color = tuple(float(c) for c in _finite(prim, name, _get(prim, name, time)))
+        if min(color) < 0 or max(color) > 1:
+            raise EyeRenderError(f"{path}: {name} = {color} must be an albedo in [0, 1]")
+        setattr(eye, setter, color)
+    eye.model_transform = np.array(_matrix(prim, _get(prim, "eye:modelTransform", time)), dtype=np.float64).reshape(4, 4)
+    texture = prim.GetAttribute("eye:irisTexture")
+    asset = texture.Get(time) if texture else None
+    if isinstance(asset, Sdf.AssetPath) and asset.path:
+        if not asset.resolvedPath:
+            raise EyeRenderError(f"{path}: eye:irisTexture '{asset.path}' cannot be resolved")
+        eye.iris_texture = asset.resolvedPath
+    problem = eye.validate()  # the C++ model's own check, the last word on what it can render
+    if problem:
+        raise EyeRenderError(f"{path}: {problem}")
+    return eye

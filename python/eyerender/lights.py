@@ -1,0 +1,88 @@
+"""UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, dome).
+
+Radiance = color * intensity * 2^exposure, as UsdLux defines it. With inputs:normalize the intensity is divided
+by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. colorTemperature and
+light textures other than the dome's are not rendered yet; the front end reports them.
+"""
+import math
+
+from pxr import Sdf, UsdLux
+
+from ._hdeye import LightParams
+from .errors import EyeRenderError
+
+# Prim type to the delegate's sprim type.
+LIGHT_TYPES = {
+    "SphereLight": "sphereLight",
+    "DistantLight": "distantLight",
+    "RectLight": "rectLight",
+    "DiskLight": "diskLight",
+    "DomeLight": "domeLight",
+}
+
+
+def light_type(prim):
+    return LIGHT_TYPES.get(prim.GetTypeName())
+
+
+def _scale(world):
+    """The geometric-mean scale of a transform's linear part (lights are sized by it)."""
+    return abs(world.GetDeterminant3()) ** (1.0 / 3.0)
+
+
+def read_light(prim, world, time):
+    """LightParams for a UsdLux light prim with local-to-world `world` (Gf.Matrix4d) at `time`."""
+    api = UsdLux.LightAPI(prim)
+    path = prim.GetPath()
+    p = LightParams()
+    p.color = tuple(float(c) for c in api.GetColorAttr().Get(time))
+    p.intensity = float(api.GetIntensityAttr().Get(time))
+    p.exposure = float(api.GetExposureAttr().Get(time))
+    if not all(math.isfinite(v) for v in (*p.color, p.intensity, p.exposure)) or min(p.color) < 0 or p.intensity < 0:
+        raise EyeRenderError(f"{path}: light color, intensity and exposure must be finite and non-negative")
+    kind = prim.GetTypeName()
+    scale = _scale(world)
+    area = None
+    if kind == "SphereLight":
+        light = UsdLux.SphereLight(prim)
+        p.radius = 0.0 if light.GetTreatAsPointAttr().Get(time) else float(light.GetRadiusAttr().Get(time))
+        area = 4 * math.pi * (p.radius * scale) ** 2
+    elif kind == "DiskLight":
+        p.radius = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
+        area = math.pi * (p.radius * scale) ** 2
+    elif kind == "RectLight":
+        light = UsdLux.RectLight(prim)
+        p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
+        area = p.width * p.height * scale * scale
+    elif kind == "DistantLight":
+        p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
+        if not 0 <= p.angle < 180:
+            raise EyeRenderError(f"{path}: inputs:angle = {p.angle:g} degrees must be in [0, 180)")
+    elif kind == "DomeLight":
+        dome = UsdLux.DomeLight(prim)
+        asset = dome.GetTextureFileAttr().Get(time)
+        if isinstance(asset, Sdf.AssetPath) and asset.path:
+            if not asset.resolvedPath:
+                raise EyeRenderError(f"{path}: inputs:texture:file '{asset.path}' cannot be resolved")
+            fmt = dome.GetTextureFormatAttr().Get(time)
+            if fmt not in ("automatic", "latlong"):
+                raise EyeRenderError(f"{path}: inputs:texture:format '{fmt}' is not supported (latlong only)")
+            p.texture_file = asset.resolvedPath
+    for name in ("radius", "width", "height"):
+        if not (getattr(p, name) >= 0 and math.isfinite(getattr(p, name))):
+            raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
+    if api.GetNormalizeAttr().Get(time) and area:
+        p.intensity /= area
+    return p
+
+
+def unsupported_light_features(prim, time):
+    """Authored light features the renderer ignores, for a one-time warning."""
+    api = UsdLux.LightAPI(prim)
+    notes = []
+    if api.GetEnableColorTemperatureAttr().Get(time):
+        notes.append(f"{prim.GetPath()}: colorTemperature is ignored")
+    if prim.GetTypeName() == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
+        notes.append(f"{prim.GetPath()}: rect light texture is ignored")
+    return notes
+

@@ -1,0 +1,155 @@
+"""A stage rendered through the delegate: the Hydra flow (render delegate, render index, scene store, USD scene
+delegate, render pass, render buffers) built once and reused for every frame, progressive rendering with progress
+callbacks and a time limit, and the outputs (EXR AOVs, PNG preview) written atomically."""
+import os
+import time as clock
+
+import numpy as np
+from pxr import Usd
+
+from . import cameras
+from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, write_exr, write_png_preview
+from .errors import EyeRenderError
+from .usd_scene_delegate import UsdSceneDelegate
+
+# AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
+AOV_CHANNELS = {
+    "color": ("R", "G", "B", "A"),
+    "albedo": ("albedo.R", "albedo.G", "albedo.B"),
+    "normal": ("N.X", "N.Y", "N.Z"),
+    "depth": ("depth.Z",),
+    "primId": ("primId",),
+    "irisMnee": ("irisMnee.R", "irisMnee.G", "irisMnee.B"),
+}
+DEFAULT_CAMERA_ID = "/__eyerender_default_camera"
+DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
+
+
+class RenderSession:
+    """Renders one stage, frame after frame, into in-memory AOV buffers."""
+
+    def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("default",),
+                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None):
+        """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
+        name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
+        stage; aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
+        overrides (seed, threads, max_depth, mis, mnee_all_solutions)."""
+        unknown = [a for a in aovs if a not in AOV_CHANNELS]
+        if unknown:
+            raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
+        self.aovs = ["color"] + [a for a in dict.fromkeys(aovs) if a != "color"]
+        self.stage = stage
+        self.delegate = RenderDelegate()
+        self.index = RenderIndex(self.delegate)
+        self.store = SceneStore(self.index)
+        for name, value in (settings or {}).items():
+            setattr(self.delegate.settings, name, value)
+        self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
+                                      cornea_model=cornea_model)
+        self.scene.populate()
+        self.camera_id = self._choose_camera(camera, purposes, width, height)
+        self.width = int(width)
+        self.height = int(height or self._height_from_camera(width))
+        if self.width < 1 or self.height < 1:
+            raise EyeRenderError(f"image size {self.width}x{self.height} must be positive")
+        for aov in self.aovs:
+            self.store.add_render_buffer(self._buffer_id(aov), self.width, self.height, len(AOV_CHANNELS[aov]))
+        self.render_pass = RenderPass(self.index)
+        self.stats = None
+
+    @staticmethod
+    def _buffer_id(aov):
+        return f"/__eyerender_buffers/{aov}"
+
+    def _choose_camera(self, camera, purposes, width, height):
+        known = self.scene.cameras
+        if camera:
+            matches = [c for c in known if c == camera or c.rsplit("/", 1)[-1] == camera]
+            if not matches:
+                prim = self.stage.GetPrimAtPath(camera) if camera.startswith("/") else None
+                what = f"{camera} is a {prim.GetTypeName() or 'typeless prim'}, not a Camera" if prim else \
+                    f"no camera '{camera}' in the stage"
+                raise EyeRenderError(f"{what} (cameras: {', '.join(known) or 'none'})")
+            return matches[0]
+        for c in known:
+            if c.rsplit("/", 1)[-1] == DEFAULT_CAMERA_NAME:
+                return c
+        if known:
+            return known[0]
+        aspect = width / height if height else 1.0
+        params, world = cameras.default_camera(self.stage, self.scene.time, self.scene.purposes, aspect)
+        self.store.add_camera(DEFAULT_CAMERA_ID, params, np.array(world, dtype=np.float64).reshape(4, 4))
+        return DEFAULT_CAMERA_ID
+
+    def _height_from_camera(self, width):
+        prim = self.stage.GetPrimAtPath(self.camera_id)
+        if not prim:
+            return width
+        camera = prim.GetAttribute("horizontalAperture").Get(self.scene.time), \
+            prim.GetAttribute("verticalAperture").Get(self.scene.time)
+        return max(1, round(width * camera[1] / camera[0])) if camera[0] and camera[1] else width
+
+    def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None):
+        """Renders samples [first_sample, first_sample + spp) of a frame (buffers are cleared first), one sample
+        per pass; stops early once `time_limit` seconds (0: none) are spent, after at least one sample.
+        progress(samples_done, spp, seconds) is called after each pass. Returns a summary dict."""
+        if time is not None:
+            self.scene.set_time(time)
+        for aov in self.aovs:
+            self.index.clear_buffer(self._buffer_id(aov))
+        settings = self.delegate.settings
+        bindings = [(aov, self._buffer_id(aov)) for aov in self.aovs]
+        start, rays, done, non_finite = clock.perf_counter(), 0, 0, 0
+        while done < spp:
+            settings.first_sample, settings.samples_per_pixel = first_sample + done, 1
+            try:
+                stats = self.render_pass.execute(self.camera_id, bindings)
+            except RuntimeError as e:  # bad prim data found at sync: already one line naming the prim
+                raise EyeRenderError(str(e)) from None
+            done, rays, non_finite = done + stats.passes, rays + stats.rays, non_finite + stats.non_finite_samples
+            elapsed = clock.perf_counter() - start
+            if progress:
+                progress(done, spp, elapsed)
+            if time_limit and elapsed >= time_limit:
+                break
+        seconds = clock.perf_counter() - start
+        self.stats = {"samples_per_pixel": done, "seconds": seconds, "rays": rays,
+                      "rays_per_second": rays / seconds if seconds > 0 else 0.0, "non_finite_samples": non_finite,
+                      "first_sample": first_sample, "updated": dict(self.scene.last_update)}
+        return self.stats
+
+    def image(self, aov):
+        """An AOV's pixels, float32 (height, width, components)."""
+        return self.index.resolved(self._buffer_id(aov))
+
+    def write(self, path, exposure=0.0):
+        """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
+        .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
+        ext = os.path.splitext(path)[1].lower()
+        try:
+            if ext == ".exr":
+                planes = []
+                for aov in self.aovs:
+                    pixels = self.image(aov)
+                    planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
+                write_exr(path, planes)
+            elif ext == ".png":
+                write_png_preview(path, np.ascontiguousarray(self.image("color")[:, :, :3]), exposure)
+            else:
+                raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+        except RuntimeError as e:
+            raise EyeRenderError(str(e)) from None
+
+
+def check_writable(path):
+    """Fails fast, before a long render, if `path` cannot be written."""
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise EyeRenderError(f"output {path}: directory {directory} does not exist")
+    if not os.access(directory, os.W_OK):
+        raise EyeRenderError(f"output {path}: directory {directory} is not writable")
+    if os.path.isdir(path):
+        raise EyeRenderError(f"output {path} is a directory")
+
+
+__all__ = ["RenderSession", "AOV_CHANNELS", "check_writable"]

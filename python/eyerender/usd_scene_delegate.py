@@ -1,0 +1,329 @@
+"""The USD scene delegate (UsdImagingDelegate's role): populates the hdeye render index from a Usd.Stage and keeps
+it current as time moves.
+
+Every supported prim becomes one delegate prim with the same path (instance proxies and point-instanced copies
+get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
+stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
+transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
+matching dirty bits. What each `set_time` pushed is counted in `last_update`.
+
+Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
+displayColor / rest), Sphere and Cube gprims (tessellated), Camera, UsdLux sphere / distant / rect / disk / dome
+lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms, purposes, visibility, instanceable
+references and PointInstancers. Anything else is skipped and listed once in `warnings`.
+"""
+import collections
+
+import numpy as np
+from pxr import Usd, UsdGeom, UsdShade
+
+from . import cameras, eyes, lights, materials
+from .errors import EyeRenderError
+from .gprims import tessellate_gprim
+
+SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
+PRIMVARS = ("displayColor", "normals", "rest")
+
+
+def _matrix(m):
+    """A Gf.Matrix4d as the 4x4 float64 array the delegate takes (same layout: no transpose)."""
+    return np.array(m, dtype=np.float64).reshape(4, 4)
+
+
+def _array(values, components, what):
+    """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
+    a = np.asarray(values, dtype=np.float32)
+    if a.size % components:
+        raise EyeRenderError(f"{what} does not hold {components}-component values")
+    a = a.reshape(-1, components)
+    if not np.isfinite(a).all():
+        raise EyeRenderError(f"{what} holds NaN or infinite values")
+    return np.ascontiguousarray(a)
+
+
+def _varies(attrs):
+    return any(a and a.ValueMightBeTimeVarying() for a in attrs)
+
+
+class UsdSceneDelegate:
+    """Populates a SceneStore from a Usd.Stage (see the module doc)."""
+
+    def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("default",), refine_level=2,
+                 cornea_model=None):
+        """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
+        refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
+        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders."""
+        self.stage, self.store = stage, store
+        self.time = Usd.TimeCode(time)
+        self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
+        self.refine_level = refine_level
+        self.cornea_model = cornea_model
+        self.cameras = []        # camera prim paths, in traversal order
+        self.eyes = []           # eye prim paths (meshes and analytic)
+        self.warnings = []       # one line each: what was skipped or ignored
+        self.last_update = collections.Counter()
+        self._xforms = UsdGeom.XformCache(self.time)
+        self._updaters = []      # (kind, callable(time)) for what varies in time
+        self._materials = {}     # material path -> st primvar name
+        self._populated = False
+
+    # -- public ------------------------------------------------------------------------------------------------
+
+    def populate(self):
+        if self._populated:
+            raise RuntimeError("populate() was already called")
+        self._populated = True
+        it = iter(Usd.PrimRange(self.stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        for prim in it:
+            if prim.IsPseudoRoot():
+                continue
+            imageable = UsdGeom.Imageable(prim)
+            if imageable and imageable.ComputePurpose() not in self.purposes:
+                it.PruneChildren()
+                continue
+            if self._add_prim(prim):
+                it.PruneChildren()
+
+    def set_time(self, time):
+        """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
+        self.time = Usd.TimeCode(time)
+        self._xforms.SetTime(self.time)
+        self.last_update = collections.Counter()
+        for kind, update in self._updaters:
+            update(self.time)
+            self.last_update[kind] += 1
+        return self.last_update
+
+    # -- dispatch ----------------------------------------------------------------------------------------------
+
+    def _add_prim(self, prim):
+        """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
+        if prim.IsA(UsdGeom.PointInstancer):
+            self._add_point_instancer(prim)
+            return True
+        if prim.IsA(UsdGeom.Mesh):
+            self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
+            self._track_transform(prim)
+            return False
+        if prim.IsA(UsdGeom.Camera):
+            self._add_camera(prim)
+        elif lights.light_type(prim):
+            self._add_light(prim)
+        elif prim.IsA(UsdGeom.Gprim):
+            self._add_gprim(prim)
+        elif eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable):
+            self._add_analytic_eye(prim)
+        return False
+
+    def _world_of(self, prim):
+        return self._xforms.GetLocalToWorldTransform(prim)
+
+    @staticmethod
+    def _transform_varies(prim):
+        """Whether prim's local-to-world transform may change: its own or an ancestor's xform ops are animated."""
+        p = prim
+        while p and not p.IsPseudoRoot():
+            xformable = UsdGeom.Xformable(p)
+            if xformable and xformable.TransformMightBeTimeVarying():
+                return True
+            p = p.GetParent()
+        return False
+
+    def _track_transform(self, prim):
+        if self._transform_varies(prim):
+            prim_id = prim.GetPath().pathString
+            self._updaters.append(
+                ("transform", lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
+
+    def _track_visibility(self, prim, prim_id):
+        imageable = UsdGeom.Imageable(prim)
+        visible = imageable.ComputeVisibility(self.time) != UsdGeom.Tokens.invisible
+        if not visible:
+            self.store.set_visible(prim_id, False)
+        p = prim
+        while p and not p.IsPseudoRoot():
+            vis = UsdGeom.Imageable(p).GetVisibilityAttr() if UsdGeom.Imageable(p) else None
+            if _varies([vis]):
+                self._updaters.append(("visibility", lambda t: self.store.set_visible(
+                    prim_id, imageable.ComputeVisibility(t) != UsdGeom.Tokens.invisible)))
+                break
+            p = p.GetParent()
+
+    # -- meshes ------------------------------------------------------------------------------------------------
+
+    def _topology(self, prim, mesh, time):
+        path = prim.GetPath()
+        counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int32)
+        indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int32)
+        points = mesh.GetPointsAttr().Get(time)
+        if points is None or len(points) == 0 or len(counts) == 0:
+            raise EyeRenderError(f"{path}: mesh has no points or no faces")
+        points = _array(points, 3, f"{path}: points")
+        if counts.min() < 3:
+            raise EyeRenderError(f"{path}: faceVertexCounts holds a face with fewer than 3 vertices")
+        if int(counts.sum()) != len(indices):
+            raise EyeRenderError(f"{path}: faceVertexIndices has {len(indices)} entries, faceVertexCounts sums "
+                                 f"to {int(counts.sum())}")
+        if indices.min() < 0 or indices.max() >= len(points):
+            raise EyeRenderError(f"{path}: faceVertexIndices refers to points outside [0, {len(points)})")
+        return counts, indices, points
+
+    def _add_mesh(self, prim, prim_id, world):
+        mesh = UsdGeom.Mesh(prim)
+        path = prim.GetPath()
+        counts, indices, points = self._topology(prim, mesh, self.time)
+        scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
+        if scheme not in SUBDIVISION_SCHEMES:
+            raise EyeRenderError(f"{path}: subdivisionScheme '{scheme}' is not one of {', '.join(SUBDIVISION_SCHEMES)}")
+        if scheme in ("loop", "bilinear"):
+            self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
+        level = self.refine_level if scheme == "catmullClark" else 0
+        left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
+        material_id, st_name = self._bind_material(prim)
+        if eyes.is_eye(prim):
+            eye = eyes.read_eye_params(prim, self.time, self.cornea_model)
+            self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
+            self.eyes.append(prim_id)
+            self._track_eye(prim, prim_id)
+        else:
+            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+        names = {"st": st_name, **{n: n for n in PRIMVARS}}
+        for name, source in names.items():
+            self._push_primvar(prim, prim_id, name, source, self.time)
+        self._track_visibility(prim, prim_id)
+
+        points_attr = mesh.GetPointsAttr()
+        if _varies([mesh.GetFaceVertexCountsAttr(), mesh.GetFaceVertexIndicesAttr()]):
+            def update_topology(t):
+                c, i, p = self._topology(prim, mesh, t)
+                self.store.set_topology(prim_id, c, i, p, level, left)
+            self._updaters.append(("topology", update_topology))
+        elif _varies([points_attr]):
+            self._updaters.append(("points", lambda t: self.store.set_points(
+                prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
+        for name, source in names.items():
+            if _varies(self._primvar_attrs(prim, source)):
+                self._updaters.append(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+
+    def _primvar_attrs(self, prim, name):
+        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
+        attrs = [primvar.GetAttr(), primvar.GetIndicesAttr()] if primvar else []
+        if name == "normals":
+            attrs.append(UsdGeom.Mesh(prim).GetNormalsAttr())
+        return attrs
+
+    def _push_primvar(self, prim, prim_id, name, source, time):
+        """Sends primvar `source` of prim to the store under `name`, indices expanded; skips unauthored ones."""
+        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(source)
+        if primvar and primvar.HasValue():
+            values, interpolation = primvar.ComputeFlattened(time), primvar.GetInterpolation()
+        elif name == "normals" and UsdGeom.Mesh(prim).GetNormalsAttr().HasValue():
+            mesh = UsdGeom.Mesh(prim)
+            values, interpolation = mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation()
+        else:
+            return
+        if values is None or len(values) == 0:
+            return
+        components = {"st": 2}.get(name, 3)
+        self.store.set_primvar(prim_id, name, str(interpolation),
+                               _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
+
+    def _add_gprim(self, prim):
+        tessellated = tessellate_gprim(prim, self.time)
+        if tessellated is None:
+            self.warnings.append(f"{prim.GetPath()}: {prim.GetTypeName()} is not rendered (not supported)")
+            return
+        counts, indices, points = tessellated
+        prim_id = prim.GetPath().pathString
+        material_id, _ = self._bind_material(prim)
+        self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
+        self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
+        self._track_transform(prim)
+        self._track_visibility(prim, prim_id)
+
+    # -- point instancers --------------------------------------------------------------------------------------
+
+    def _add_point_instancer(self, prim):
+        """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
+        instancer = UsdGeom.PointInstancer(prim)
+        ids = self._add_instances(prim, instancer, self.time)
+        attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
+                 instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
+        if _varies(attrs) or self._transform_varies(prim):
+            def update(t):
+                for prim_id in ids:
+                    self.store.remove_prim(prim_id)
+                ids[:] = self._add_instances(prim, instancer, t)
+            self._updaters.append(("instancer", update))
+
+    def _add_instances(self, prim, instancer, time):
+        prototypes = instancer.GetPrototypesRel().GetTargets()
+        transforms = instancer.ComputeInstanceTransformsAtTime(time, time)
+        proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
+        mask = instancer.ComputeMaskAtTime(time)
+        world = self._xforms.GetLocalToWorldTransform(prim)
+        ids = []
+        for k, (proto, instance) in enumerate(zip(proto_indices, transforms)):
+            if (mask and not mask[k]) or not 0 <= proto < len(prototypes):
+                continue
+            root = self.stage.GetPrimAtPath(prototypes[proto])
+            for mesh_prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
+                if not mesh_prim.IsA(UsdGeom.Mesh):
+                    continue
+                relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
+                relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
+                prim_id = f"{prim.GetPath()}/instance_{k}/{relative_path}"
+                self._add_mesh(mesh_prim, prim_id, relative * instance * world)
+                ids.append(prim_id)
+        return ids
+
+    # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
+
+    def _add_camera(self, prim):
+        camera = UsdGeom.Camera(prim)
+        prim_id = prim.GetPath().pathString
+        self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
+        self.cameras.append(prim_id)
+        self._track_transform(prim)
+        if _varies(prim.GetAttributes()):
+            self._updaters.append(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
+
+    def _add_light(self, prim):
+        prim_id = prim.GetPath().pathString
+        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
+                             _matrix(self._world_of(prim)))
+        self.warnings.extend(lights.unsupported_light_features(prim, self.time))
+        self._track_transform(prim)
+        if _varies(prim.GetAttributes()):
+            self._updaters.append(("light", lambda t: self.store.set_light_params(
+                prim_id, lights.read_light(prim, self._world_of(prim), t))))
+
+    def _bind_material(self, prim):
+        """(material id, st primvar name) of prim's bound material, adding the material on first use."""
+        material = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0]
+        if not material:
+            return "", "st"
+        path = material.GetPath().pathString
+        if path not in self._materials:
+            params, st_name, ignored = materials.read_material(material, self.time)
+            self.store.add_material(path, params)
+            self.warnings.extend(ignored)
+            self._materials[path] = st_name
+            if any(_varies(p.GetAttributes()) for p in Usd.PrimRange(material.GetPrim())):
+                self._updaters.append(("material", lambda t: self.store.set_material_params(
+                    path, materials.read_material(material, t)[0])))
+        return path, self._materials[path]
+
+    def _add_analytic_eye(self, prim):
+        prim_id = prim.GetPath().pathString
+        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
+                                    _matrix(self._world_of(prim)))
+        self.eyes.append(prim_id)
+        self._track_transform(prim)
+        self._track_eye(prim, prim_id)
+
+    def _track_eye(self, prim, prim_id):
+        if eyes.eye_attributes_vary(prim):
+            self._updaters.append(("eye", lambda t: self.store.set_eye_params(
+                prim_id, eyes.read_eye_params(prim, t, self.cornea_model))))
+

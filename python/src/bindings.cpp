@@ -1,0 +1,361 @@
+// eyerender._hdeye: the hdeye render delegate for Python (nanobind). Python's USD scene delegate
+// pushes a stage into an InMemorySceneDelegate (the scene store whose Set* calls mark dirty bits),
+// then drives render passes with the GIL released.
+//
+// Arrays cross without copies where the layout allows: points, indices and primvars are taken as
+// C-contiguous buffers (numpy arrays, or pxr Vt arrays directly through the buffer protocol) and
+// copied once, into the scene store. Matrices are 4x4 float64 buffers in USD's layout (row vectors,
+// row-major), which is glm's column-major layout of the same transform: no transpose.
+#include "hdeye/imageWriter.h"
+#include "hdeye/inMemorySceneDelegate.h"
+#include "hdeye/mesh.h"
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderIndex.h"
+#include "hdeye/renderPass.h"
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <array>
+#include <cstring>
+#include <stdexcept>
+
+namespace nb = nanobind;
+using namespace hdeye;
+
+namespace {
+
+template <class T, class... Shape>
+using InArray = nb::ndarray<const T, nb::c_contig, nb::device::cpu, Shape...>;
+using Points = InArray<float, nb::shape<-1, 3>>;
+using Indices = InArray<int, nb::ndim<1>>;
+using Matrix = InArray<double, nb::shape<4, 4>>;
+
+std::vector<Vec3f> ToPoints(const Points& a) {
+  const auto* p = reinterpret_cast<const Vec3f*>(a.data());
+  return {p, p + a.shape(0)};
+}
+
+std::vector<int> ToInts(const Indices& a) { return {a.data(), a.data() + a.shape(0)}; }
+
+Matrix4d ToMatrix(const Matrix& m) { return glm::make_mat4(m.data()); }
+
+MeshTopology ToTopology(const Indices& counts, const Indices& indices, int refineLevel, bool leftHanded) {
+  MeshTopology t;
+  t.faceVertexCounts = ToInts(counts);
+  t.faceVertexIndices = ToInts(indices);
+  t.refineLevel = refineLevel;
+  t.leftHanded = leftHanded;
+  return t;
+}
+
+Interpolation ToInterpolation(const std::string& name) {
+  if (name == "constant") return Interpolation::Constant;
+  if (name == "uniform") return Interpolation::Uniform;
+  if (name == "vertex") return Interpolation::Vertex;
+  if (name == "varying") return Interpolation::Varying;
+  if (name == "faceVarying") return Interpolation::FaceVarying;
+  throw std::invalid_argument("unknown primvar interpolation '" + name + "'");
+}
+
+/// A glm vector exposed as a Python 3-tuple property.
+template <class C, glm::vec3 C::*Member> void Vec3Property(nb::class_<C>& cls, const char* name) {
+  cls.def_prop_rw(
+      name, [](const C& c) { return std::array<float, 3>{(c.*Member).x, (c.*Member).y, (c.*Member).z}; },
+      [](C& c, std::array<float, 3> v) { c.*Member = glm::vec3(v[0], v[1], v[2]); });
+}
+
+/// A render buffer's resolved pixels as a new float32 array of shape (height, width, components).
+nb::ndarray<nb::numpy, float, nb::ndim<3>> Resolved(const RenderBuffer& buffer) {
+  const std::size_t w = std::size_t(buffer.Width()), h = std::size_t(buffer.Height()),
+                    c = std::size_t(buffer.Components());
+  auto* data = new float[w * h * c];
+  const auto planes = buffer.ResolvedPlanes();
+  for (std::size_t p = 0; p < w * h; ++p)
+    for (std::size_t k = 0; k < c; ++k) data[p * c + k] = planes[k][p];
+  nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<float*>(d); });
+  return nb::ndarray<nb::numpy, float, nb::ndim<3>>(data, {h, w, c}, owner);
+}
+
+/// A copy of `values` as a new numpy array of the given shape.
+template <class T> nb::ndarray<nb::numpy, T> CopyToNumpy(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
+  auto* data = new T[values.size()];
+  std::copy(values.begin(), values.end(), data);
+  nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<T*>(d); });
+  return nb::ndarray<nb::numpy, T>(data, shape, owner);
+}
+
+RenderBuffer& BufferOf(RenderIndex& index, const PrimId& id) {
+  auto* buffer = dynamic_cast<RenderBuffer*>(index.GetBprim(id));
+  if (!buffer) throw std::invalid_argument("no render buffer " + id);
+  return *buffer;
+}
+
+}  // namespace
+
+NB_MODULE(_hdeye, m) {
+  m.doc() = "The hdeye render delegate: render index, scene store, render pass, render buffers, image output.";
+
+  nb::enum_<eyelib::CorneaModel>(m, "CorneaModel")
+      .value("ellipsoidCone", eyelib::CorneaModel::EllipsoidCone)
+      .value("paraboloid", eyelib::CorneaModel::Paraboloid);
+
+  nb::class_<RenderSettings>(m, "RenderSettings")
+      .def(nb::init<>())
+      .def_rw("samples_per_pixel", &RenderSettings::samplesPerPixel)
+      .def_rw("time_limit_seconds", &RenderSettings::timeLimitSeconds)
+      .def_rw("seed", &RenderSettings::seed)
+      .def_rw("threads", &RenderSettings::threads)
+      .def_rw("max_depth", &RenderSettings::maxDepth)
+      .def_rw("first_sample", &RenderSettings::firstSample)
+      .def_rw("mis", &RenderSettings::mis)
+      .def_rw("mnee", &RenderSettings::mnee)
+      .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions);
+
+  nb::class_<CameraParams>(m, "CameraParams")
+      .def(nb::init<>())
+      .def_rw("orthographic", &CameraParams::orthographic)
+      .def_rw("focal_length", &CameraParams::focalLength, "mm (perspective)")
+      .def_rw("horizontal_aperture", &CameraParams::horizontalAperture, "mm, or scene units (orthographic)")
+      .def_rw("vertical_aperture", &CameraParams::verticalAperture, "mm, or scene units (orthographic)")
+      .def_rw("near_clip", &CameraParams::nearClip, "scene units")
+      .def_rw("far_clip", &CameraParams::farClip, "scene units");
+
+  nb::class_<LightParams> light(m, "LightParams");
+  light.def(nb::init<>())
+      .def_rw("intensity", &LightParams::intensity)
+      .def_rw("exposure", &LightParams::exposure, "stops")
+      .def_rw("radius", &LightParams::radius, "scene units (sphere, disk)")
+      .def_rw("width", &LightParams::width, "scene units (rect)")
+      .def_rw("height", &LightParams::height, "scene units (rect)")
+      .def_rw("angle", &LightParams::angle, "degrees, angular diameter (distant)")
+      .def_rw("texture_file", &LightParams::textureFile, "lat-long image (dome)");
+  Vec3Property<LightParams, &LightParams::color>(light, "color");
+
+  nb::class_<MaterialParams> material(m, "MaterialParams");
+  material.def(nb::init<>())
+      .def_rw("diffuse_texture", &MaterialParams::diffuseTexture)
+      .def_rw("roughness", &MaterialParams::roughness)
+      .def_rw("metallic", &MaterialParams::metallic)
+      .def_rw("opacity", &MaterialParams::opacity)
+      .def_rw("ior", &MaterialParams::ior);
+  Vec3Property<MaterialParams, &MaterialParams::diffuseColor>(material, "diffuse_color");
+  Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
+
+  nb::class_<EyeParams> eye(m, "EyeParams");
+  eye.def(nb::init<>())
+      .def_prop_rw(
+          "cornea_model", [](const EyeParams& e) { return e.chamber.model; },
+          [](EyeParams& e, eyelib::CorneaModel v) { e.chamber.model = v; })
+      .def_prop_rw(
+          "iris_depth", [](const EyeParams& e) { return e.chamber.irisDepth; },
+          [](EyeParams& e, double v) { e.chamber.irisDepth = v; }, "mm below the corneal apex")
+      .def_prop_rw(
+          "pupil_diameter", [](const EyeParams& e) { return e.chamber.pupilDiameter; },
+          [](EyeParams& e, double v) { e.chamber.pupilDiameter = v; }, "mm")
+      .def_prop_rw(
+          "limbus_inner_ratio", [](const EyeParams& e) { return e.chamber.limbusInnerRatio; },
+          [](EyeParams& e, double v) { e.chamber.limbusInnerRatio = v; }, "over the 15.08 mm iris diameter")
+      .def_prop_rw(
+          "limbus_outer_ratio", [](const EyeParams& e) { return e.chamber.limbusOuterRatio; },
+          [](EyeParams& e, double v) { e.chamber.limbusOuterRatio = v; }, "over the 15.08 mm iris diameter")
+      .def_prop_rw(
+          "cornea_ior", [](const EyeParams& e) { return e.chamber.corneaIor; },
+          [](EyeParams& e, double v) { e.chamber.corneaIor = v; })
+      .def_rw("iris_texture", &EyeParams::irisTexture)
+      .def_prop_rw(
+          "model_transform",
+          [](const EyeParams& e) {
+            std::array<double, 16> a;
+            std::memcpy(a.data(), glm::value_ptr(e.modelTransform), sizeof a);
+            return a;
+          },
+          [](EyeParams& e, const Matrix& mtx) { e.modelTransform = ToMatrix(mtx); },
+          "canonical frame (mm) to the prim's local space, 4x4 in USD's layout")
+      .def("validate", [](const EyeParams& e) { return eyelib::ValidateChamberParams(e.chamber); },
+           "An empty string if the chamber parameters are valid, else a one-line message.");
+  Vec3Property<EyeParams, &EyeParams::irisColor>(eye, "iris_color");
+  Vec3Property<EyeParams, &EyeParams::scleraColor>(eye, "sclera_color");
+
+  nb::class_<RenderStats>(m, "RenderStats")
+      .def_ro("samples", &RenderStats::samples)
+      .def_ro("rays", &RenderStats::rays)
+      .def_ro("seconds", &RenderStats::seconds)
+      .def_ro("passes", &RenderStats::passes)
+      .def_ro("non_finite_samples", &RenderStats::nonFiniteSamples)
+      .def_ro("time_limit_reached", &RenderStats::timeLimitReached);
+
+  nb::class_<RenderDelegate>(m, "RenderDelegate")
+      .def(nb::init<>())
+      .def_prop_ro("settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
+                   nb::rv_policy::reference_internal)
+      .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
+      .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
+
+  nb::class_<RenderIndex>(m, "RenderIndex")
+      .def(nb::init<RenderDelegate*>(), nb::keep_alive<1, 2>())
+      .def("sync_all", &RenderIndex::SyncAll)
+      .def("rprim_ids", [](const RenderIndex& index) {
+        std::vector<std::string> ids;
+        for (const auto& [id, entry] : index.Rprims()) ids.push_back(id);
+        return ids;
+      })
+      .def("sprim_ids", [](const RenderIndex& index) {
+        std::vector<std::string> ids;
+        for (const auto& [id, entry] : index.Sprims()) ids.push_back(id);
+        return ids;
+      })
+      .def("dirty_bits", [](RenderIndex& index, const PrimId& id) { return index.GetChangeTracker().GetDirtyBits(id); })
+      .def(
+          "mesh_stats",
+          [](const RenderIndex& index, const PrimId& id) {
+            const auto* mesh = dynamic_cast<const Mesh*>(index.GetRprim(id));
+            if (!mesh) throw std::invalid_argument("no mesh " + id);
+            const MeshSyncStats& s = mesh->Stats();
+            nb::dict d;
+            d["topology_builds"] = s.topologyBuilds, d["refinements"] = s.refinements;
+            d["stencil_evaluations"] = s.stencilEvaluations, d["point_uploads"] = s.pointUploads;
+            d["normal_evaluations"] = s.normalEvaluations, d["transform_updates"] = s.transformUpdates;
+            d["triangles"] = mesh->TriangleCount();
+            return d;
+          },
+          "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
+      .def("resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
+           "A render buffer's per-pixel means, float32 (height, width, components).")
+      .def("clear_buffer", [](RenderIndex& index, const PrimId& id) { BufferOf(index, id).Clear(); })
+      .def("merge_buffer", [](RenderIndex& index, const PrimId& into, RenderIndex& other, const PrimId& from) {
+        BufferOf(index, into).Merge(BufferOf(other, from));
+      })
+      .def(
+          "buffer_state",
+          [](RenderIndex& index, const PrimId& id) {
+            const RenderBuffer& b = BufferOf(index, id);
+            const std::size_t h = std::size_t(b.Height()), w = std::size_t(b.Width()), c = std::size_t(b.Components());
+            return nb::make_tuple(CopyToNumpy(b.Sums(), {h, w, c}), CopyToNumpy(b.Counts(), {h, w}));
+          },
+          "A render buffer's raw state: (sums float64 (height, width, components), counts float64 (height, width)).")
+      .def(
+          "add_buffer_state",
+          [](RenderIndex& index, const PrimId& id, const InArray<double, nb::ndim<3>>& sums,
+             const InArray<double, nb::ndim<2>>& counts) {
+            BufferOf(index, id).AddState({sums.data(), sums.data() + sums.size()},
+                                         {counts.data(), counts.data() + counts.size()});
+          },
+          "Adds a state from buffer_state (of a render of other samples of the same frame): exact merging.");
+
+  nb::class_<InMemorySceneDelegate>(m, "SceneStore",
+                                    "The scene as the delegate pulls it (InMemorySceneDelegate); Set* mark dirty bits.")
+      .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
+      .def(
+          "add_mesh",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+             const Points& points, const Matrix& transform, const PrimId& material, int refineLevel, bool leftHanded) {
+            s.AddMesh(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points), ToMatrix(transform),
+                      material);
+          },
+          nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
+          nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0, nb::arg("left_handed") = false)
+      .def(
+          "add_eye_mesh",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+             const Points& points, const EyeParams& eye, const Matrix& transform, const PrimId& material,
+             int refineLevel, bool leftHanded) {
+            s.AddEyeMesh(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points), eye,
+                         ToMatrix(transform), material);
+          },
+          nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
+          nb::arg("eye"), nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
+          nb::arg("left_handed") = false)
+      .def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
+                                  const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
+      .def("add_camera", [](InMemorySceneDelegate& s, const PrimId& id, const CameraParams& p,
+                            const Matrix& transform) { s.AddCamera(id, p, ToMatrix(transform)); })
+      .def("add_light", [](InMemorySceneDelegate& s, const PrimId& id, const std::string& type, const LightParams& p,
+                           const Matrix& transform) { s.AddLight(id, type, p, ToMatrix(transform)); })
+      .def("add_material", &InMemorySceneDelegate::AddMaterial)
+      .def("add_render_buffer", &InMemorySceneDelegate::AddRenderBuffer)
+      .def("set_points", [](InMemorySceneDelegate& s, const PrimId& id, const Points& p) { s.SetPoints(id, ToPoints(p)); })
+      .def("set_topology",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+              const Points& points, int refineLevel, bool leftHanded) {
+             s.SetTopology(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points));
+           })
+      .def("set_transform", [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
+      .def("set_visible", &InMemorySceneDelegate::SetVisible)
+      .def("set_primvar",
+           [](InMemorySceneDelegate& s, const PrimId& id, const std::string& name, const std::string& interpolation,
+              const InArray<float, nb::ndim<2>>& values) {
+             Primvar p;
+             p.interpolation = ToInterpolation(interpolation);
+             p.components = int(values.shape(1));
+             p.values.assign(values.data(), values.data() + values.size());
+             s.SetPrimvar(id, name, p);
+           })
+      .def("set_light_params", &InMemorySceneDelegate::SetLightParams)
+      .def("set_camera_params", &InMemorySceneDelegate::SetCameraParams)
+      .def("set_material_params", &InMemorySceneDelegate::SetMaterialParams)
+      .def("set_eye_params", &InMemorySceneDelegate::SetEyeParams)
+      .def("set_material_id", &InMemorySceneDelegate::SetMaterialId)
+      .def("remove_prim", &InMemorySceneDelegate::RemovePrim);
+
+  nb::class_<RenderPass>(m, "RenderPass")
+      .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
+      .def(
+          "execute",
+          [](RenderPass& pass, const PrimId& camera, const std::vector<std::pair<std::string, PrimId>>& bindings) {
+            std::vector<AovBinding> b;
+            for (const auto& [aov, buffer] : bindings) b.push_back({aov, buffer});
+            return pass.Execute(camera, b);
+          },
+          nb::arg("camera_id"), nb::arg("bindings"), nb::call_guard<nb::gil_scoped_release>(),
+          "Syncs the index and renders settings.samples_per_pixel samples from settings.first_sample into the "
+          "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].");
+
+  m.def(
+      "write_exr",
+      [](const std::string& path, const std::vector<std::pair<std::string, InArray<float, nb::ndim<2>>>>& planes) {
+        if (planes.empty()) throw std::invalid_argument("write_exr: no planes");
+        const int h = int(planes[0].second.shape(0)), w = int(planes[0].second.shape(1));
+        std::vector<ImagePlane> out;
+        for (const auto& [name, a] : planes) {
+          if (int(a.shape(0)) != h || int(a.shape(1)) != w) throw std::invalid_argument("write_exr: plane " + name + " differs in size");
+          out.push_back({name, std::vector<float>(a.data(), a.data() + a.size())});
+        }
+        nb::gil_scoped_release release;
+        WriteExr(path, w, h, out);
+      },
+      nb::arg("path"), nb::arg("planes"),
+      "Writes named float planes (each (height, width)) as one EXR, atomically.");
+  m.def(
+      "write_png_preview",
+      [](const std::string& path, const InArray<float, nb::shape<-1, -1, 3>>& rgb, float exposure) {
+        std::vector<float> data(rgb.data(), rgb.data() + rgb.size());
+        nb::gil_scoped_release release;
+        WritePngPreview(path, int(rgb.shape(1)), int(rgb.shape(0)), data, exposure);
+      },
+      nb::arg("path"), nb::arg("rgb"), nb::arg("exposure") = 0.0f,
+      "Writes linear RGB (height, width, 3) as a tone-mapped (clamped) sRGB PNG, atomically.");
+  m.def(
+      "read_exr",
+      [](const std::string& path) {
+        int w = 0, h = 0;
+        const auto planes = ReadExr(path, &w, &h);
+        nb::dict out;
+        for (const auto& p : planes) {
+          auto* data = new float[p.pixels.size()];
+          std::memcpy(data, p.pixels.data(), p.pixels.size() * sizeof(float));
+          nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<float*>(d); });
+          out[p.name.c_str()] = nb::ndarray<nb::numpy, float, nb::ndim<2>>(data, {std::size_t(h), std::size_t(w)}, owner);
+        }
+        return out;
+      },
+      nb::arg("path"), "Every channel of an EXR as {name: float32 (height, width)}.");
+}

@@ -1,0 +1,160 @@
+"""eyerecord, the usdrecord-like command: flags, frame ranges, outputs, and one-line errors with a non-zero exit."""
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
+
+from eyerender.eyerecord import main  # noqa: E402
+from eyerender.frames import output_path, parse_frames  # noqa: E402
+
+
+@pytest.fixture
+def stage_file(tmp_path):
+    """A small stage: an analytic eye looking at the camera, a key light, an animated card, frames 1-3."""
+    path = tmp_path / "scene.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageMetersPerUnit(stage, 0.001)  # millimetres: the eye's canonical frame is the stage's
+    stage.SetStartTimeCode(1)
+    stage.SetEndTimeCode(3)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateFocalLengthAttr(50.0)
+    cam.CreateHorizontalApertureAttr(24.0)
+    cam.CreateVerticalApertureAttr(24.0)
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 40))
+    side = UsdGeom.Camera.Define(stage, "/World/side_cam")
+    side.AddTranslateOp().Set(Gf.Vec3d(0, 0, 60))
+    eye = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
+    eye.AddAppliedSchema("EyeAPI")
+    light = UsdLux.SphereLight.Define(stage, "/World/key")
+    light.CreateRadiusAttr(1.0)
+    light.CreateIntensityAttr(2000.0)
+    light.AddTranslateOp().Set(Gf.Vec3d(10, 10, 30))
+    card = UsdGeom.Mesh.Define(stage, "/World/card")
+    card.CreatePointsAttr([(-30, -30, -20), (30, -30, -20), (30, 30, -20), (-30, 30, -20)])
+    card.CreateFaceVertexCountsAttr([4])
+    card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    card.CreateSubdivisionSchemeAttr("none")
+    op = card.AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 1)
+    op.Set(Gf.Vec3d(0, 0, -5), 3)
+    settings = UsdRender.Settings.Define(stage, "/Render/settings")
+    settings.CreateResolutionAttr(Gf.Vec2i(20, 10))
+    settings.CreateCameraRel().SetTargets(["/World/side_cam"])
+    product = UsdRender.Product.Define(stage, "/Render/product")
+    var = UsdRender.Var.Define(stage, "/Render/vars/depth")
+    var.CreateSourceNameAttr("depth")
+    product.CreateOrderedVarsRel().SetTargets([var.GetPath()])
+    settings.CreateProductsRel().SetTargets([product.GetPath()])
+    stage.GetRootLayer().Save()
+    return path
+
+
+def run(*args):
+    return main([str(a) for a in args])
+
+
+def one_line_error(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("eyerecord: error: "), err
+    return err[0]
+
+
+def test_renders_exr_with_aovs_and_png(stage_file, tmp_path, capsys):
+    out = tmp_path / "eye.exr"
+    assert run(stage_file, out, "-w", 24, "--spp", 2, "--aov", "irisMnee", "--aov", "depth", "--png", "-q") == 0
+    channels = eyerender.read_exr(str(out))
+    assert {"R", "G", "B", "A", "irisMnee.R", "depth.Z"} <= set(channels)
+    assert channels["R"].shape == (24, 24)  # square apertures: height follows the camera
+    assert np.isfinite(channels["R"]).all() and channels["R"].max() > 0
+    assert channels["irisMnee.R"].max() > 0  # the iris got light through MNEE
+    assert (tmp_path / "eye.png").stat().st_size > 0
+    summary = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "1 frame(s) 24x24, 2 spp" in summary and "Mrays/s" in summary
+
+
+def test_frame_range_writes_one_file_per_frame(stage_file, tmp_path):
+    assert run(stage_file, tmp_path / "f.###.png", "-f", "1:3", "-w", 8, "--spp", 1, "-q") == 0
+    assert sorted(os.listdir(tmp_path)) == ["f.001.png", "f.002.png", "f.003.png", "scene.usda"]
+
+
+def test_frame_syntax_and_placeholders():
+    assert parse_frames("1:5x2,8") == [1, 3, 5, 8]
+    assert parse_frames("1.5") == [1.5]
+    assert output_path("a.####.exr", 12) == "a.0012.exr"
+    assert output_path("a.###.##.exr", 1.5) == "a.001.50.exr"
+    for bad in ("1:", "a", "5:1", "1:5x0"):
+        with pytest.raises(eyerender.EyeRenderError):
+            parse_frames(bad)
+
+
+def test_render_settings_prim_gives_resolution_camera_and_aovs(stage_file, tmp_path):
+    out = tmp_path / "rs.exr"
+    assert run(stage_file, out, "-rs", "/Render/settings", "--spp", 1, "-q") == 0
+    channels = eyerender.read_exr(str(out))
+    assert channels["R"].shape == (10, 20) and "depth.Z" in channels
+
+
+def test_camera_by_name_and_time_limit(stage_file, tmp_path, capsys):
+    out = tmp_path / "side.exr"
+    assert run(stage_file, out, "-cam", "side_cam", "-w", 16, "--spp", 100000, "--time-limit", 0.05, "-q") == 0
+    summary = capsys.readouterr().out
+    spp = int(summary.split(" spp")[0].rsplit(" ", 1)[-1])
+    assert 1 <= spp < 100000  # stopped by the time limit, after whole samples
+
+
+def test_no_mnee_and_paraboloid_switches_change_the_iris(stage_file, tmp_path):
+    images = {}
+    for name, flags in (("mnee", []), ("nomnee", ["--no-mnee"]), ("parab", ["--cornea-model", "paraboloid"])):
+        out = tmp_path / f"{name}.exr"
+        assert run(stage_file, out, "-w", 16, "--spp", 2, "--aov", "irisMnee", "-q", *flags) == 0
+        images[name] = eyerender.read_exr(str(out))
+    assert images["mnee"]["irisMnee.R"].max() > 0
+    assert images["nomnee"]["irisMnee.R"].max() == 0  # nothing came through MNEE
+    assert not np.array_equal(images["mnee"]["R"], images["parab"]["R"])
+
+
+@pytest.mark.parametrize("case", ["missing file", "malformed", "bad camera", "not a camera", "unwritable",
+                                  "bad extension", "frames without placeholder", "bad eye", "bad frames"])
+def test_bad_input_is_one_line_and_nonzero(case, stage_file, tmp_path, capsys):
+    out = tmp_path / "out.exr"
+    args = {
+        "missing file": [tmp_path / "nope.usda", out],
+        "malformed": [tmp_path / "bad.usda", out],
+        "bad camera": [stage_file, out, "--camera", "/World/nope"],
+        "not a camera": [stage_file, out, "--camera", "/World/Eye"],
+        "unwritable": [stage_file, tmp_path / "no_dir" / "out.exr"],
+        "bad extension": [stage_file, tmp_path / "out.jpg"],
+        "frames without placeholder": [stage_file, out, "-f", "1:3"],
+        "bad eye": [tmp_path / "bad_eye.usda", out],
+        "bad frames": [stage_file, tmp_path / "f.#.exr", "-f", "x:y"],
+    }[case]
+    (tmp_path / "bad.usda").write_text("#usda 1.0\ndef Xform \"broken\" {\n")
+    bad_eye = Usd.Stage.CreateNew(str(tmp_path / "bad_eye.usda"))
+    eye = UsdGeom.Xform.Define(bad_eye, "/World/Eye").GetPrim()
+    eye.AddAppliedSchema("EyeAPI")
+    eye.CreateAttribute("eye:limbusInnerRatio", Sdf.ValueTypeNames.Float).Set(0.95)
+    bad_eye.GetRootLayer().Save()
+    assert run(*args, "-w", 8, "--spp", 1, "-q") == 1
+    message = one_line_error(capsys)
+    expected = {"missing file": "no such file", "malformed": "cannot open stage", "bad camera": "no camera",
+                "not a camera": "is a Xform, not a Camera", "unwritable": "does not exist",
+                "bad extension": "must be .exr or .png", "frames without placeholder": "placeholder",
+                "bad eye": "/World/Eye: eye:limbusInnerRatio = 0.95 exceeds", "bad frames": "--frames"}[case]
+    assert expected in message
+    assert not out.exists()  # nothing half-written
+
+
+def test_console_script_is_installed(stage_file, tmp_path):
+    exe = shutil.which("eyerecord") or os.path.join(os.path.dirname(sys.executable), "eyerecord")
+    result = subprocess.run([exe, str(stage_file), str(tmp_path / "x.png"), "-w", "8", "--spp", "1", "-q"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    result = subprocess.run([exe, str(tmp_path / "missing.usda"), str(tmp_path / "x.png")], capture_output=True,
+                            text=True)
+    assert result.returncode == 1 and result.stderr.strip().count("\n") == 0

@@ -1,0 +1,205 @@
+"""The USD scene delegate: what it populates, what it re-syncs when time moves (counted), and how it reports bad
+input (one line naming the prim and attribute)."""
+import math
+
+import numpy as np
+import pytest
+
+eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
+
+from eyerender import EyeRenderError, RenderSession  # noqa: E402
+
+
+def quad_grid_mesh(stage, path, n=4, size=2.0, scheme="catmullClark"):
+    """An n x n quad grid in the xy plane, centred at the origin."""
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    pts = [(size * (i / n - 0.5), size * (j / n - 0.5), 0.0) for j in range(n + 1) for i in range(n + 1)]
+    quads = [(j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i)
+             for j in range(n) for i in range(n)]
+    mesh.CreatePointsAttr(pts)
+    mesh.CreateFaceVertexCountsAttr([4] * len(quads))
+    mesh.CreateFaceVertexIndicesAttr([i for q in quads for i in q])
+    mesh.CreateSubdivisionSchemeAttr(scheme)
+    return mesh
+
+
+def base_stage():
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    stage.SetStartTimeCode(1)
+    stage.SetEndTimeCode(3)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 8))
+    light = UsdLux.SphereLight.Define(stage, "/World/key")
+    light.CreateIntensityAttr(20.0)
+    light.AddTranslateOp().Set(Gf.Vec3d(2, 3, 4))
+    return stage
+
+
+def session(stage, **kwargs):
+    kwargs.setdefault("width", 32)
+    kwargs.setdefault("height", 24)
+    return RenderSession(stage, **kwargs)
+
+
+def test_time_change_resyncs_only_what_varies():
+    stage = base_stage()
+    static = quad_grid_mesh(stage, "/World/static")
+    animated = quad_grid_mesh(stage, "/World/animated")
+    points = animated.GetPointsAttr().Get()
+    for t in (1, 2, 3):
+        animated.GetPointsAttr().Set([p + Gf.Vec3f(0, 0, 0.1 * t) for p in points], t)
+    mover = UsdGeom.Xform.Define(stage, "/World/mover")
+    op = mover.AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 1)
+    op.Set(Gf.Vec3d(0, 1, 0), 3)
+    quad_grid_mesh(stage, "/World/mover/child", scheme="none")
+    intensity = UsdLux.LightAPI(stage.GetPrimAtPath("/World/key")).GetIntensityAttr()
+    intensity.Set(20.0, 1)
+    intensity.Set(40.0, 3)  # two samples: one alone would be a constant
+    del static
+
+    s = session(stage, time=1)
+    s.render(spp=1)
+    before = {p: s.index.mesh_stats(p) for p in ("/World/static", "/World/animated", "/World/mover/child")}
+    counts = s.scene.set_time(2)
+    assert dict(counts) == {"points": 1, "transform": 1, "light": 1}
+    s.render(spp=1)
+    after = {p: s.index.mesh_stats(p) for p in before}
+    assert after["/World/static"] == before["/World/static"]  # untouched: nothing of it varies
+    delta = {k: after["/World/animated"][k] - before["/World/animated"][k] for k in before["/World/animated"]}
+    assert delta["stencil_evaluations"] == 1 and delta["point_uploads"] == 1
+    assert delta["refinements"] == 0 and delta["topology_builds"] == 0  # topology is refined once
+    child = {k: after["/World/mover/child"][k] - before["/World/mover/child"][k] for k in before["/World/mover/child"]}
+    assert child["transform_updates"] == 1 and child["point_uploads"] == 0
+
+
+def test_vt_arrays_are_accepted_without_conversion():
+    stage = base_stage()
+    mesh = quad_grid_mesh(stage, "/World/grid", scheme="none")
+    store = eyerender.SceneStore(eyerender.RenderIndex(eyerender.RenderDelegate()))
+    # Vt arrays expose their memory through the buffer protocol: they go straight to C++ (one copy, into the store).
+    store.add_mesh("/m", mesh.GetFaceVertexCountsAttr().Get(), mesh.GetFaceVertexIndicesAttr().Get(),
+                   mesh.GetPointsAttr().Get(), np.eye(4))
+    with pytest.raises(TypeError):
+        store.set_points("/m", np.zeros((3, 2), dtype=np.float32))  # not (n, 3): refused, not misread
+
+
+def test_eye_on_xform_and_mesh_are_eyes_with_schema_fallbacks():
+    stage = base_stage()
+    xform = UsdGeom.Xform.Define(stage, "/World/analytic").GetPrim()
+    xform.AddAppliedSchema("EyeAPI")
+    mesh = quad_grid_mesh(stage, "/World/eyeMesh").GetPrim()
+    mesh.AddAppliedSchema("EyeAPI")
+    s = session(stage)
+    assert s.scene.eyes == ["/World/analytic", "/World/eyeMesh"]
+    s.render(spp=1)
+
+
+@pytest.mark.parametrize("attribute,value,message", [
+    ("eye:limbusInnerRatio", 0.9, "eye:limbusInnerRatio = 0.9 exceeds eye:limbusOuterRatio"),
+    ("eye:limbusOuterRatio", 1.2, "eye:limbusOuterRatio = 1.2 must be in (0, 1]"),
+    ("eye:irisDepth", -1.0, "eye:irisDepth = -1 mm must be positive"),
+    ("eye:corneaIor", 0.9, "eye:corneaIor = 0.9 must be at least 1"),
+    ("eye:pupilDiameter", float("nan"), "eye:pupilDiameter = nan is not finite"),
+])
+def test_invalid_eye_values_are_reported_by_name_and_path(attribute, value, message):
+    stage = base_stage()
+    prim = UsdGeom.Xform.Define(stage, "/World/Eye_L").GetPrim()
+    prim.AddAppliedSchema("EyeAPI")
+    prim.CreateAttribute(attribute, Sdf.ValueTypeNames.Float).Set(value)
+    with pytest.raises(EyeRenderError) as error:
+        session(stage)
+    assert str(error.value).startswith("/World/Eye_L: ") and message in str(error.value)
+    assert "\n" not in str(error.value)
+
+
+def test_bad_cornea_model_token_is_reported():
+    stage = base_stage()
+    prim = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
+    prim.AddAppliedSchema("EyeAPI")
+    prim.GetAttribute("eye:corneaModel").Set("sphere")
+    with pytest.raises(EyeRenderError, match=r"/World/Eye: eye:corneaModel = 'sphere' is not one of"):
+        session(stage)
+
+
+def test_degenerate_and_nan_meshes_are_reported():
+    stage = base_stage()
+    mesh = quad_grid_mesh(stage, "/World/bad", scheme="none")
+    pts = list(mesh.GetPointsAttr().Get())
+    pts[3] = Gf.Vec3f(math.nan, 0, 0)
+    mesh.GetPointsAttr().Set(pts)
+    with pytest.raises(EyeRenderError, match=r"/World/bad: points holds NaN"):
+        session(stage)
+    mesh.GetPointsAttr().Set([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    with pytest.raises(EyeRenderError, match=r"/World/bad: faceVertexIndices refers to points outside"):
+        session(stage)
+    mesh.GetFaceVertexCountsAttr().Set([2])
+    mesh.GetFaceVertexIndicesAttr().Set([0, 1])
+    with pytest.raises(EyeRenderError, match=r"fewer than 3"):
+        session(stage)
+
+
+def test_instancing_and_point_instancer_are_flattened():
+    stage = base_stage()
+    proto = quad_grid_mesh(stage, "/Prototypes/card/geo", scheme="none")
+    del proto
+    for name, x in (("a", -2.0), ("b", 2.0)):
+        inst = UsdGeom.Xform.Define(stage, f"/World/{name}")
+        inst.AddTranslateOp().Set(Gf.Vec3d(x, 0, 0))
+        inst.GetPrim().GetReferences().AddInternalReference("/Prototypes/card")
+        inst.GetPrim().SetInstanceable(True)
+    stage.GetPrimAtPath("/Prototypes").SetSpecifier(Sdf.SpecifierClass)  # not rendered itself
+    pi = UsdGeom.PointInstancer.Define(stage, "/World/scatter")
+    quad_grid_mesh(stage, "/World/scatter/protos/tile", scheme="none")
+    pi.CreatePrototypesRel().SetTargets(["/World/scatter/protos/tile"])
+    pi.CreatePositionsAttr([(0, 3, 0), (0, -3, 0), (3, 3, 0)])
+    pi.CreateProtoIndicesAttr([0, 0, 0])
+    s = session(stage)
+    ids = s.index.rprim_ids()
+    assert "/World/a/geo" in ids and "/World/b/geo" in ids
+    assert sorted(i for i in ids if i.startswith("/World/scatter/")) == [
+        f"/World/scatter/instance_{k}/tile" for k in range(3)]
+    assert "/World/scatter/protos/tile" not in ids  # prototypes render only through the instancer
+
+
+def test_purposes_and_visibility():
+    stage = base_stage()
+    guide = quad_grid_mesh(stage, "/World/guide", scheme="none")
+    guide.CreatePurposeAttr(UsdGeom.Tokens.guide)
+    hidden = quad_grid_mesh(stage, "/World/hidden", scheme="none")
+    hidden.CreateVisibilityAttr(UsdGeom.Tokens.invisible)
+    s = session(stage)
+    assert "/World/guide" not in s.index.rprim_ids()
+    assert "/World/guide" in session(stage, purposes=("guide",)).index.rprim_ids()
+    s.render(spp=1)
+    assert s.image("color")[:, :, 3].max() == 0  # the only geometry in view is invisible
+
+
+def test_preview_surface_and_texture_are_read(tmp_path):
+    stage = base_stage()
+    mesh = quad_grid_mesh(stage, "/World/card", scheme="none")
+    material = UsdShade.Material.Define(stage, "/World/Looks/red")
+    shader = UsdShade.Shader.Define(stage, "/World/Looks/red/surface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set((0.8, 0.1, 0.1))
+    shader.CreateInput("roughness", Sdf.ValueTypeNames.Float).Set(0.25)
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(material)
+    params, st_name, ignored = eyerender.materials.read_material(material, Usd.TimeCode.Default())
+    assert params.diffuse_color == pytest.approx((0.8, 0.1, 0.1)) and params.roughness == pytest.approx(0.25)
+    assert params.ior == pytest.approx(1.5) and st_name == "st" and not ignored
+    shader.GetInput("roughness").Set(1.5)
+    with pytest.raises(EyeRenderError, match=r"/World/Looks/red/surface: inputs:roughness = 1.5 is out of range"):
+        session(stage)
+
+
+def test_default_camera_frames_a_stage_without_one():
+    stage = Usd.Stage.CreateInMemory()
+    quad_grid_mesh(stage, "/World/card", scheme="none")
+    UsdLux.DomeLight.Define(stage, "/World/sky")
+    s = session(stage)
+    s.render(spp=1)
+    coverage = (s.image("color")[:, :, 3] > 0).mean()
+    assert 0.1 < coverage < 1.0  # the card is in view, framed with a margin
