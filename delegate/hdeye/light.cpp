@@ -10,7 +10,8 @@ namespace hdeye {
 void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   if (*dirtyBits & dirty::DirtyTransform) transform_ = sceneDelegate->GetTransform(Id());
   if (*dirtyBits & dirty::DirtyParams) {
-    const LightParams p = sceneDelegate->GetLightParams(Id());
+    LightParams p = sceneDelegate->GetLightParams(Id());
+    p.type = type_;
     if (!std::isfinite(p.intensity) || p.intensity < 0) throw std::runtime_error("light " + Id() + ": intensity must be >= 0");
     if (p.type == LightType::Sphere && !(p.radius >= 0)) throw std::runtime_error("light " + Id() + ": radius must be >= 0");
     std::shared_ptr<const DomeTexture> dome;

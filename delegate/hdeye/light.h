@@ -10,7 +10,8 @@ namespace hdeye {
 
 class Light final : public Sprim {
  public:
-  using Sprim::Sprim;
+  /// The light's kind is its prim type (as in Hydra), not a parameter: LightParams::type is ignored.
+  Light(PrimId id, LightType type) : Sprim(std::move(id)), type_(type) {}
   DirtyBits GetInitialDirtyBitsMask() const override { return dirty::DirtyTransform | dirty::DirtyParams; }
   void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
 
@@ -21,6 +22,7 @@ class Light final : public Sprim {
   std::shared_ptr<const DomeTexture> Dome() const { return dome_; }
 
  private:
+  LightType type_;
   LightParams params_;
   std::shared_ptr<const DomeTexture> dome_;
   Matrix4d transform_{1.0};

@@ -64,7 +64,11 @@ std::unique_ptr<Rprim> RenderDelegate::CreateRprim(const std::string& type, cons
 std::unique_ptr<Sprim> RenderDelegate::CreateSprim(const std::string& type, const PrimId& id) {
   if (type == primTypes::kCamera) return std::make_unique<Camera>(id);
   if (type == primTypes::kMaterial) return std::make_unique<Material>(id);
-  if (Contains(SupportedSprimTypes(), type)) return std::make_unique<Light>(id);
+  if (type == primTypes::kSphereLight) return std::make_unique<Light>(id, LightType::Sphere);
+  if (type == primTypes::kDistantLight) return std::make_unique<Light>(id, LightType::Distant);
+  if (type == primTypes::kRectLight) return std::make_unique<Light>(id, LightType::Rect);
+  if (type == primTypes::kDiskLight) return std::make_unique<Light>(id, LightType::Disk);
+  if (type == primTypes::kDomeLight) return std::make_unique<Light>(id, LightType::Dome);
   return nullptr;
 }
 

@@ -26,6 +26,7 @@ enum class LightType { Sphere, Distant, Rect, Disk, Dome };
 
 /// Light parameters (UsdLux subset). Radiance of an area light = color * intensity * 2^exposure.
 struct LightParams {
+  /// Set by the light sprim from its prim type (what a scene delegate passes here is ignored).
   LightType type = LightType::Sphere;
   glm::vec3 color{1, 1, 1};
   float intensity = 1, exposure = 0;

@@ -203,3 +203,22 @@ def test_default_camera_frames_a_stage_without_one():
     s.render(spp=1)
     coverage = (s.image("color")[:, :, 3] > 0).mean()
     assert 0.1 < coverage < 1.0  # the card is in view, framed with a margin
+
+
+@pytest.mark.parametrize("light_type", ["DomeLight", "DistantLight", "SphereLight", "RectLight", "DiskLight"])
+def test_each_light_kind_lights_a_card(light_type):
+    # The light's kind comes from its prim type alone (a dome once rendered as a sphere light at the origin).
+    stage = Usd.Stage.CreateInMemory()
+    cam = UsdGeom.Camera.Define(stage, "/cam")
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    quad_grid_mesh(stage, "/card", n=1, size=20, scheme="none")
+    light = getattr(UsdLux, light_type).Define(stage, "/light")
+    light.CreateIntensityAttr(1.0)
+    if light_type not in ("DomeLight", "DistantLight"):
+        light.AddTranslateOp().Set(Gf.Vec3d(0, 0, 3))
+    s = session(stage, width=8, height=8)
+    s.render(spp=8)
+    card = s.image("color")[:, :, :3]
+    assert card.mean() > 1e-3 and np.isfinite(card).all()
+    if light_type == "DomeLight":  # a furnace: the card returns about its albedo (0.18, plus its 4 % coat)
+        assert 0.15 < card.mean() < 0.3
