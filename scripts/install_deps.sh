@@ -41,6 +41,8 @@ pip_missing=()
 "$PYTHON" -c "import pytest" 2>/dev/null || pip_missing+=(pytest)
 "$PYTHON" -c "import jinja2" 2>/dev/null || pip_missing+=(jinja2)  # usdGenSchema, for the schema consistency test
 "$PYTHON" -c "import numpy" 2>/dev/null || pip_missing+=(numpy)
+# The farm extra (eyerender[farm]: eyerecord --scheduler/--workers), so tests/python/test_farm.py runs.
+"$PYTHON" -c "import dask, distributed" 2>/dev/null || pip_missing+=("dask[distributed]>=2024.1")
 # The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
 "$PYTHON" -c "import nanobind" 2>/dev/null || pip_missing+=("nanobind>=2.0")
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")

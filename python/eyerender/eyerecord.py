@@ -50,6 +50,16 @@ def build_parser():
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
     p.add_argument("--mnee-all-solutions", action="store_true", help="search every refraction path (caustic folds)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    farm = p.add_argument_group("render farm (Dask; docs/farm.md)")
+    farm.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster of this scheduler "
+                      "(e.g. tcp://127.0.0.1:8786); the stage and outputs must be reachable from its workers")
+    farm.add_argument("--workers", type=int, metavar="N", help="render on a local cluster of N worker processes")
+    farm.add_argument("--split", metavar="K", help="sample ranges per frame, merged exactly (default auto: "
+                      "enough to give every worker work)")
+    farm.add_argument("--overwrite", action="store_true",
+                      help="re-render frames whose outputs exist (by default a farm job skips them)")
+    farm.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
+                      help="how long to try to reach --scheduler (default 10)")
     return p
 
 
@@ -121,6 +131,10 @@ def run(argv=None):
     if args.time_limit < 0 or (args.imageWidth or 1) < 1 or args.threads < 0 or args.max_depth < 1:
         raise EyeRenderError("--time-limit, --imageWidth, --threads and --max-depth must be positive")
     spp = args.spp or (1 << 20 if args.time_limit else 32)
+    if args.scheduler or args.workers is not None:
+        from .farm_cli import run_farm
+
+        return run_farm(args, spp, COMPLEXITY_REFINE_LEVELS)
     stage = _open_stage(args.usdFilePath)
     frames = parse_frames(args.frames) if args.frames else [None]
     if len(frames) > 1 and not has_placeholder(args.outputImagePath):

@@ -125,20 +125,42 @@ class RenderSession:
     def write(self, path, exposure=0.0):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
         .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
-        ext = os.path.splitext(path)[1].lower()
-        try:
-            if ext == ".exr":
-                planes = []
-                for aov in self.aovs:
-                    pixels = self.image(aov)
-                    planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
-                write_exr(path, planes)
-            elif ext == ".png":
-                write_png_preview(path, np.ascontiguousarray(self.image("color")[:, :, :3]), exposure)
-            else:
-                raise EyeRenderError(f"output {path}: extension must be .exr or .png")
-        except RuntimeError as e:
-            raise EyeRenderError(str(e)) from None
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure)
+
+
+def write_images(path, images, exposure=0.0):
+    """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
+    RenderSession.write does. Atomic."""
+    ext = os.path.splitext(path)[1].lower()
+    try:
+        if ext == ".exr":
+            planes = []
+            for aov, pixels in images.items():
+                planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
+            write_exr(path, planes)
+        elif ext == ".png":
+            write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
+        else:
+            raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+    except RuntimeError as e:
+        raise EyeRenderError(str(e)) from None
+
+
+def resolve_states(states):
+    """Buffer states {aov: (sums float64 (h, w, c), counts float64 (h, w))}, e.g. merged from sample ranges
+    rendered elsewhere, as images {aov: float32 (h, w, c)}, resolved by a render buffer itself so that they are
+    exactly the pixels a session holding those states would give."""
+    index = RenderIndex(RenderDelegate())
+    store = SceneStore(index)
+    images = {}
+    for aov, (sums, counts) in states.items():
+        height, width, components = sums.shape
+        buffer_id = RenderSession._buffer_id(aov)
+        store.add_render_buffer(buffer_id, width, height, components)
+        index.add_buffer_state(buffer_id, np.ascontiguousarray(sums, dtype=np.float64),
+                               np.ascontiguousarray(counts, dtype=np.float64))
+        images[aov] = index.resolved(buffer_id)
+    return images
 
 
 def check_writable(path):
@@ -152,4 +174,4 @@ def check_writable(path):
         raise EyeRenderError(f"output {path} is a directory")
 
 
-__all__ = ["RenderSession", "AOV_CHANNELS", "check_writable"]
+__all__ = ["RenderSession", "AOV_CHANNELS", "check_writable", "write_images", "resolve_states"]

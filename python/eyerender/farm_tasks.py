@@ -1,0 +1,212 @@
+"""What runs on a Dask worker: check that the worker reaches the job's files, render a whole frame and write it,
+render a sample range of a frame, and merge a split frame's ranges and write it.
+
+Each worker process keeps one RenderSession (stage opened, scene synced) for the last job it served and moves it to
+the next frame's time, as eyerecord does on one machine, so a frame costs a stage load only on a worker's first
+task of a job. Tasks are idempotent: outputs are written atomically by the _hdeye writers (temporary file, fsync,
+rename), so a task rerun after its worker died mid-task, or mid-write, rewrites identical bytes, and a reader never
+sees half a file. Progress goes to the client as Dask events on PROGRESS_TOPIC.
+"""
+import os
+import threading
+import time as clock
+
+from .errors import EyeRenderError
+from .farm_merge import RangeAccumulator, certify, merge
+
+PROGRESS_TOPIC = "eyerender-farm-progress"
+_PROGRESS_INTERVAL = 0.25  # seconds between progress events of one task (the last sample is always sent)
+
+# One session per worker process; the lock serialises tasks of a worker that runs several threads (the renderer
+# already uses every core, so they would only compete).
+_session_lock = threading.Lock()
+_cached = {"key": None, "session": None}
+
+
+def _worker_address():
+    try:
+        from distributed import get_worker
+
+        return get_worker().address
+    except (ImportError, ValueError):  # called outside a Dask worker (tests, the local fallback)
+        return "local"
+
+
+def _stage_key(job):
+    """The job's session options plus the stage file's identity, so an edited stage is reopened."""
+    try:
+        info = os.stat(job.stage_path)
+    except OSError as e:
+        raise EyeRenderError(f"stage {job.stage_path} is not reachable from worker {_worker_address()} "
+                             f"({e.strerror})") from None
+    return (job.stage_path, info.st_mtime_ns, info.st_size, job.session_key())
+
+
+def check_worker(job, dask_worker=None):
+    """Run on every worker (Client.run, which passes dask_worker) before a job: the stage is readable and the
+    outputs' folders writable from here. Returns this worker's process id."""
+    import eyerender  # noqa: F401  (registers the EyeAPI schema plugin before pxr opens a stage)
+
+    where = dask_worker.address if dask_worker is not None else _worker_address()
+    if not os.path.isfile(job.stage_path):
+        raise EyeRenderError(f"stage {job.stage_path} is not reachable from worker {where} (no such file)")
+    if not os.access(job.stage_path, os.R_OK):
+        raise EyeRenderError(f"stage {job.stage_path} is not readable from worker {where}")
+    for out in job.outputs:
+        directory = os.path.dirname(out)
+        if not os.path.isdir(directory) or not os.access(directory, os.W_OK):
+            raise EyeRenderError(f"output folder {directory} is not writable from worker {where}")
+    return os.getpid()
+
+
+def _build_session(job, time):
+    """A RenderSession with the job's options, resolved as eyerecord resolves its command line."""
+    import eyerender  # noqa: F401  (before pxr loads: the schema plugin)
+    from pxr import Usd
+
+    from .eyerecord import _open_stage, _render_settings
+    from .render_session import RenderSession
+
+    stage = _open_stage(job.stage_path)
+    width, height, camera, aovs = job.width or 960, job.height, job.camera, list(job.aovs)
+    if job.render_settings_prim:
+        rs_width, rs_height, rs_camera, rs_aovs = _render_settings(stage, job.render_settings_prim)
+        if not job.width:
+            width, height = rs_width, height or rs_height
+        camera, aovs = camera or rs_camera, aovs or rs_aovs
+    return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=job.purposes,
+                         refine_level=job.refine_level, cornea_model=job.cornea_model,
+                         time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
+                         settings=dict(job.settings))
+
+
+def _forget_session_on_error(function):
+    """A task that fails may leave the cached session half moved to its time: the next task starts afresh."""
+    def task(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except BaseException:
+            _cached["key"] = _cached["session"] = None
+            raise
+    task.__name__, task.__qualname__, task.__doc__ = function.__name__, function.__qualname__, function.__doc__
+    return task
+
+
+def _session_for(job, frame):
+    """(session, seconds spent loading, time to pass to render()): the cached session when it fits the job."""
+    key = _stage_key(job)
+    if _cached["key"] == key:
+        from pxr import Usd
+
+        return _cached["session"], 0.0, frame if frame is not None else Usd.TimeCode.EarliestTime()
+    _cached["key"] = _cached["session"] = None  # free the old stage before loading the new one
+    start = clock.perf_counter()
+    session = _build_session(job, frame)
+    _cached["key"], _cached["session"] = key, session
+    return session, clock.perf_counter() - start, None
+
+
+class _Progress:
+    """Sends (samples done) of one task to the client, at most every _PROGRESS_INTERVAL seconds."""
+
+    def __init__(self, job_id, task, frame, total):
+        self.job_id, self.task, self.frame, self.total = job_id, task, frame, total
+        self.worker = None
+        self.last = 0.0
+        try:
+            from distributed import get_worker
+
+            self.worker = get_worker()
+        except (ImportError, ValueError):
+            pass
+
+    def __call__(self, done, *_):
+        now = clock.monotonic()
+        if self.worker is None or (done < self.total and now - self.last < _PROGRESS_INTERVAL):
+            return
+        self.last = now
+        self.worker.log_event(PROGRESS_TOPIC, {"job": self.job_id, "task": self.task, "frame": self.frame,
+                                               "samples": done, "worker": self.worker.address, "pid": os.getpid()})
+
+
+def _frame_stats(session, frame, stats, load_seconds, job):
+    return {"frame": frame, "width": session.width, "height": session.height,
+            "samples_per_pixel": stats["samples_per_pixel"], "first_sample": stats["first_sample"],
+            "render_seconds": stats["seconds"], "rays": stats["rays"],
+            "non_finite_samples": stats["non_finite_samples"], "load_seconds": load_seconds,
+            "worker": _worker_address(), "pid": os.getpid(), "warnings": list(dict.fromkeys(session.scene.warnings)),
+            "outputs": job.output_paths(frame)}
+
+
+@_forget_session_on_error
+def render_frame(job, frame, job_id=None, task=None):
+    """Renders samples [0, job.spp) of `frame` (None: the stage's earliest time) and writes its outputs.
+    Returns the frame's statistics."""
+    with _session_lock:
+        session, load_seconds, time = _session_for(job, frame)
+        progress = _Progress(job_id, task, frame, job.spp)
+        stats = session.render(time, spp=job.spp, time_limit=job.time_limit, progress=progress)
+        start = clock.perf_counter()
+        for path in job.output_paths(frame):
+            session.write(path, job.exposure)
+        result = _frame_stats(session, frame, stats, load_seconds, job)
+    result.update(write_seconds=clock.perf_counter() - start, tasks=1, merge_seconds=0.0, uncertified_values=0,
+                  rerendered_unsplit=False)
+    return result
+
+
+@_forget_session_on_error
+def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
+    """Renders samples [first_sample, first_sample + spp) of `frame` and returns them accumulated
+    ({"stats": ..., "aovs": {aov: RangeAccumulator}}), for `merge_and_write`. One render call per sample reads
+    each float sample exactly, which the exactness certificates need (farm_merge)."""
+    from .render_session import AOV_CHANNELS
+    with _session_lock:
+        session, load_seconds, time = _session_for(job, frame)
+        progress = _Progress(job_id, task, frame, spp)
+        accumulators = {aov: RangeAccumulator(session.height, session.width, len(AOV_CHANNELS[aov]))
+                        for aov in session.aovs}
+        start, rays, non_finite = clock.perf_counter(), 0, 0
+        for i in range(spp):
+            stats = session.render(time if i == 0 else None, spp=1, first_sample=first_sample + i)
+            rays, non_finite = rays + stats["rays"], non_finite + stats["non_finite_samples"]
+            for aov, accumulator in accumulators.items():
+                sums, counts = session.index.buffer_state(session._buffer_id(aov))
+                accumulator.add(sums, counts)
+            progress(i + 1)
+        stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": clock.perf_counter() - start,
+                 "rays": rays, "non_finite_samples": non_finite}
+        return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators}
+
+
+def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
+    """Merges a frame's sample ranges (render_samples results, in sample order), and writes the outputs. Where a
+    value cannot be certified equal to the single-machine render's (farm_merge), `exact` re-renders the frame
+    unsplit here instead; otherwise such values are within one float32 ulp. Returns the frame's statistics."""
+    from .render_session import resolve_states, write_images  # imported on use: pxr after the schema plugin
+
+    start = clock.perf_counter()
+    states, uncertified = {}, 0
+    for aov in parts[0]["aovs"]:
+        sums, counts, abs_sums, grain = merge([p["aovs"][aov] for p in parts])
+        uncertified += int((~certify(sums, counts, abs_sums, grain, job.spp)).sum())
+        states[aov] = (sums, counts)
+    if uncertified and exact:
+        result = render_frame(job, frame, job_id, task)
+        result.update(uncertified_values=uncertified, rerendered_unsplit=True, tasks=len(parts) + 1)
+        return result
+    images = resolve_states(states)
+    merge_seconds = clock.perf_counter() - start
+    for path in job.output_paths(frame):
+        write_images(path, images, job.exposure)
+    stats = [p["stats"] for p in parts]
+    return {**stats[0], "samples_per_pixel": sum(s["samples_per_pixel"] for s in stats),
+            "render_seconds": sum(s["render_seconds"] for s in stats), "rays": sum(s["rays"] for s in stats),
+            "non_finite_samples": sum(s["non_finite_samples"] for s in stats),
+            "load_seconds": sum(s["load_seconds"] for s in stats), "worker": _worker_address(), "pid": os.getpid(),
+            "range_workers": [s["worker"] for s in stats], "tasks": len(parts) + 1, "merge_seconds": merge_seconds,
+            "write_seconds": clock.perf_counter() - start - merge_seconds, "uncertified_values": uncertified,
+            "rerendered_unsplit": False}
+
+
+__all__ = ["PROGRESS_TOPIC", "check_worker", "render_frame", "render_samples", "merge_and_write"]
