@@ -639,9 +639,9 @@ def write_closeup(out):
                       "Default sample: one eye filling the frame, 3/4 view, small sphere key from the side-top, dim "
                       "constant dome, dark backdrop. Centimetres, Y up. Render ~256x256, tens of spp.")
     reference_eye(stage, "/World/Eye")                             # eyeball centre at the origin, gaze +z
-    yaw = math.radians(35)
-    cam_pos = (10.5 * math.sin(yaw), 1.4, 10.5 * math.cos(yaw))
-    add_camera(stage, "/World/Camera", cam_pos, (0.3, 0.05, 0.35), focal_length=100.0)
+    yaw = math.radians(28)
+    cam_pos = (12.0 * math.sin(yaw), 1.6, 12.0 * math.cos(yaw))   # the eyeball fills ~3/4 of the frame
+    add_camera(stage, "/World/Camera", cam_pos, (0.15, 0.05, 0.45), focal_length=100.0)
     # Key: 15 cm away, upper left (opposite the camera side); radius 0.4 cm subtends ~3 deg: a small source, so a
     # sharp caustic. Radiance 225 * 2^2 = 900 -> irradiance ~2 at the eye.
     key_dir = np.array([-0.62, 0.55, 0.56])
@@ -681,7 +681,7 @@ def write_two_eyes(out):
         eye.AddTranslateOp().Set(Gf.Vec3d(*centre))
         eye.AddRotateYOp().Set(round(yaw, 6))
         eye.AddRotateXOp().Set(round(pitch, 6))
-    add_camera(stage, "/World/Camera", (6.0, 3.0, 48.0), (0.0, 0.5, 7.0), focal_length=100.0)
+    add_camera(stage, "/World/Camera", (6.0, 3.0, 48.0), (0.0, 0.5, 7.0), focal_length=70.0)
     # Small key: radius 1 cm at ~62 cm subtends ~1.8 deg; radiance 3000 -> irradiance ~2.5.
     add_sphere_light(stage, "/World/Lights/Key", (25.0, 30.0, 45.0), 1.0, 3000.0, (1.0, 0.96, 0.9))
     add_dome_light(stage, "/World/Lights/Fill", 0.1, (0.8, 0.87, 1.0))
@@ -735,10 +735,12 @@ def write_side_lit(out):
                       "cornea's shadow. Corneal apex at the origin. Centimetres, Y up.")
     eye = reference_eye(stage, "/World/Eye")
     eye.AddTranslateOp().Set(Gf.Vec3d(0, 0, -round(EYE_CENTER_TO_APEX_CM, 9)))   # apex at the world origin
-    add_camera(stage, "/World/Camera", (0.0, 0.0, 4.5), (0.0, 0.0, 0.0), focal_length=100.0)
+    # 7 cm away with a 100 mm lens: a 1.7 cm field, the whole limbus (1.29 cm) with a margin of sclera.
+    add_camera(stage, "/World/Camera", (0.0, 0.0, 7.0), (0.0, 0.0, 0.0), focal_length=100.0)
     a = math.radians(75)
+    # Radius 0.3 cm at 15 cm, radiance 1500: irradiance ~1.9 facing the light.
     add_sphere_light(stage, "/World/Lights/Key", (round(15.0 * math.sin(a), 6), 0.0, round(15.0 * math.cos(a), 6)),
-                     0.3, 300.0)
+                     0.3, 1500.0)
     add_dome_light(stage, "/World/Lights/Fill", 0.05, (1.0, 1.0, 1.0))
     stage.GetRootLayer().Save()
 

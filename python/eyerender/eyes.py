@@ -31,7 +31,11 @@ CORNEA_MODELS = {"ellipsoidCone": CorneaModel.ellipsoidCone, "paraboloid": Corne
 
 
 def is_eye(prim):
-    return EYE_API in prim.GetAppliedSchemas()
+    """Whether the EyeAPI is applied. Read from the composed apiSchemas metadata, not GetAppliedSchemas(): that
+    lists only registered schemas, and an eye must stay an eye even where the EyeAPI plugin is not loaded (its
+    attributes then fall back to FALLBACKS above)."""
+    schemas = prim.GetMetadata("apiSchemas")
+    return bool(schemas) and EYE_API in schemas.ApplyOperations([])
 
 
 def _get(prim, name, time):

@@ -222,3 +222,25 @@ def test_each_light_kind_lights_a_card(light_type):
     assert card.mean() > 1e-3 and np.isfinite(card).all()
     if light_type == "DomeLight":  # a furnace: the card returns about its albedo (0.18, plus its 4 % coat)
         assert 0.15 < card.mean() < 0.3
+
+
+def test_an_eye_stays_an_eye_without_the_schema_plugin(tmp_path):
+    # A process that opened the stage before importing eyerender has built USD's schema registry without the
+    # EyeAPI: GetAppliedSchemas() no longer lists it. The composed apiSchemas metadata still does, and the
+    # renderer's own fallbacks stand in for the schema's.
+    import os
+    import subprocess
+    import sys
+
+    path = tmp_path / "eye.usda"
+    path.write_text('#usda 1.0\ndef Xform "Eye" (prepend apiSchemas = ["EyeAPI"]) {}\n')
+    script = ("from pxr import Usd\n"
+              f"stage = Usd.Stage.Open({str(path)!r})\n"
+              "prim = stage.GetPrimAtPath('/Eye')\n"
+              "registered = 'EyeAPI' in prim.GetAppliedSchemas()\n"
+              "from eyerender import eyes\n"
+              "print(registered, eyes.is_eye(prim), eyes.read_eye_params(prim).iris_depth)\n")
+    env = {k: v for k, v in os.environ.items() if k != "PXR_PLUGINPATH_NAME"}
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "True", "3.735"]
