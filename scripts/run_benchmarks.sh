@@ -8,3 +8,4 @@ python3 bench/plot_intersect.py "$build/intersection_benchmark.csv"
 "$build/bench/bench_mnee" --csv "$build/mnee_benchmark"
 python3 bench/plot_mnee.py "$build/mnee_benchmark"
 "$build/bench/bench_delegate" --csv "$build/delegate_benchmark"
+"${PYTHON:-python3}" bench/bench_farm.py
