@@ -45,7 +45,9 @@ def read_light(prim, world, time):
     area = None
     if kind == "SphereLight":
         light = UsdLux.SphereLight(prim)
-        p.radius = 0.0 if light.GetTreatAsPointAttr().Get(time) else float(light.GetRadiusAttr().Get(time))
+        # treatAsPoint is a hint renderers with area lights may disregard (UsdLux): the sphere keeps its radius,
+        # and with it its power (UsdLux intensity is radiance: a zero-radius sphere would emit nothing).
+        p.radius = float(light.GetRadiusAttr().Get(time))
         area = 4 * math.pi * (p.radius * scale) ** 2
     elif kind == "DiskLight":
         p.radius = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
@@ -82,6 +84,8 @@ def unsupported_light_features(prim, time):
     notes = []
     if api.GetEnableColorTemperatureAttr().Get(time):
         notes.append(f"{prim.GetPath()}: colorTemperature is ignored")
+    if prim.GetTypeName() in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time):
+        notes.append(f"{prim.GetPath()}: radius 0 emits nothing (intensity is radiance)")
     if prim.GetTypeName() == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
         notes.append(f"{prim.GetPath()}: rect light texture is ignored")
     return notes

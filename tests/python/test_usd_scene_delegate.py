@@ -244,3 +244,10 @@ def test_an_eye_stays_an_eye_without_the_schema_plugin(tmp_path):
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["False", "True", "3.735"]
+
+
+def test_zero_radius_light_is_warned_about():
+    stage = base_stage()
+    UsdLux.SphereLight(stage.GetPrimAtPath("/World/key")).CreateRadiusAttr(0.0)
+    s = session(stage)
+    assert any("radius 0 emits nothing" in w for w in s.scene.warnings)
