@@ -8,4 +8,5 @@ python3 bench/plot_intersect.py "$build/intersection_benchmark.csv"
 "$build/bench/bench_mnee" --csv "$build/mnee_benchmark"
 python3 bench/plot_mnee.py "$build/mnee_benchmark"
 "$build/bench/bench_delegate" --csv "$build/delegate_benchmark"
+"$build/bench/bench_deformed_eye"  # tables for docs/deformed_eyes.md
 "${PYTHON:-python3}" bench/bench_farm.py

@@ -28,6 +28,20 @@ struct EyeGeometry {
   std::shared_ptr<const Texture> irisTexture;
   /// Eye meshes with a bound material shade their sclera with it (else with scleraColor).
   bool scleraUsesMaterial = false;
+  /// EyeParams::limbalArc: the sclera walk's teleportation cylinder (eye meshes only).
+  bool limbalArc = true;
+  /// EyeParams::scleraMeanFreePath: the sclera walk's scattering distance per RGB channel, mm.
+  glm::dvec3 scleraMeanFreePath{1.0, 0.8, 0.6};
+  /// Eye meshes (eyeMeshMapping.h): the prim's local (object) space to world (the prim transform).
+  glm::dmat4 objectToWorld{1.0};
+  /// Eye meshes: object space to the iris projection's canonical coordinates (mm): a rest point maps
+  /// to (x, y) there and its z is compared with the iris plane (EyeParams::irisProjection).
+  glm::dmat4 objectToProjection{1.0};
+  /// Eye meshes: EyeParams::reprojection (off: the affine-frame baseline, see eyeMeshMapping.h).
+  bool reprojection = true;
+  /// Eye meshes: -1 when the mesh is turned inside out relative to its rest pose (its signed volume
+  /// changed sign), so its outward side stays outward; else 1.
+  double outwardSign = 1;
 
   EyeGeometry() = default;
   EyeGeometry(const EyeParams& params, const Matrix4d& primTransform);

@@ -23,6 +23,9 @@ class EyeMesh final : public Mesh {
 
  private:
   void ConfigureTriangles(RTCGeometry triangles) override;
+  /// The eye's frames from the transform, the params and the points (eyeMeshMapping.h): the rigid frame
+  /// and the projection (re-projection), or the best-fit affine frame (the baseline); the outward sign.
+  void SyncEyeFrames();
 
   EyeParams params_;
   std::shared_ptr<const Texture> irisTexture_;

@@ -21,14 +21,6 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
-/// Rotates v by the minimal rotation taking unit a onto unit b (Rodrigues with k = a x b, |k| = sin):
-/// R v = cos v + k x v + (k . v) k / (1 + cos). Callers keep a and b within 90 degrees.
-glm::dvec3 RotateMinimal(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& v) {
-  const glm::dvec3 k = glm::cross(a, b);
-  const double c = glm::dot(a, b);
-  return c * v + glm::cross(k, v) + (glm::dot(k, v) / (1 + c)) * k;
-}
-
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
@@ -103,44 +95,28 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     ev.origin = hit.worldPoint + worldDir * (1e-5 * (1 + glm::length(hit.worldPoint)));
     return ev;
   }
-  const glm::dvec3& pc = hit.canonicalPoint;
-  const double r = std::hypot(pc.x, pc.y);
-  // Past the outer limbus edge, and anywhere below the iris plane (the back of the eyeball, whatever its
-  // radius), the mesh is sclera: no analytic point needed.
-  if (r >= eye.chamber.LimbusOuterRadius() || pc.z < eye.chamber.IrisZ()) {
+  // Past the outer limbus edge (a projection that does not cover the hit included), and anywhere below
+  // the iris plane (the back of the eyeball, whatever its radius), the mesh is sclera.
+  if (!hit.onCornea) {
     ev.kind = EyeEvent::Sclera;
     ev.scleraAlbedo = eye.scleraColor;
     ev.scleraOnSurface = true;
     return ev;
   }
-  const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();
-  // The analytic cornea point at the same radius and azimuth (the surface is a height field over (x, y)).
-  const glm::dvec3 pa(pc.x, pc.y, surface.Sag(r)), na = surface.Normal(pc.x, pc.y);
-  // Turn the direction with the surface: the minimal rotation from the mesh normal to the analytic one
-  // keeps the angle of incidence (what Fresnel and Snell see). A mesh normal more than 90 degrees off
-  // does not describe a cornea; the direction is then taken as it is.
-  const glm::dvec3 nm = hit.canonicalNormal;
-  const bool turn = glm::dot(nm, na) > 0;
-  glm::dvec3 d = eye.DirToCanonical(worldDir);
-  if (turn) d = glm::normalize(RotateMinimal(nm, na, d));
-  // A ray that met the mesh at grazing incidence against its shading normal may leave the rotation
-  // tangent or outgoing: bend it just under the tangent plane (a grazing entry, where Fresnel reflects
-  // nearly all of it anyway).
-  constexpr double kMinCos = 1e-4;
-  const double cosIn = glm::dot(d, na);
-  if (cosIn > -kMinCos) d = glm::normalize(d - (cosIn + kMinCos) * na);
-
-  ev = ScatterFromCornea(eye, CorneaEntry{pa, na, d}, lighting, random);
+  // The path continues against the analytic model from the analytic point at the hit's projected (x, y),
+  // with the direction the mapping carried there (eyeMeshMapping.h).
+  ev = ScatterFromCornea(eye, CorneaEntry{hit.analyticPoint, hit.analyticNormal, hit.canonicalDir}, lighting, random);
   if (ev.kind == EyeEvent::Sclera) {
     ev.scleraOnSurface = true;  // the limbus blend chose sclera: shade the mesh surface there
-  } else if (ev.kind == EyeEvent::Continue && ev.reflectedAtEntry) {
-    // Back through the inverse rotation, from the mesh point: the reflection leaves the surface the ray met.
-    glm::dvec3 out = eye.DirToCanonical(ev.dir);
-    if (turn) out = glm::normalize(RotateMinimal(na, nm, out));
-    ev.dir = eye.DirToWorld(out);
-    // The reflection must leave on the outside: a shading normal can tilt it under the triangle.
-    const double cosOut = glm::dot(ev.dir, hit.worldNormal);
-    if (cosOut < kMinCos) ev.dir = glm::normalize(ev.dir + (kMinCos - cosOut) * hit.worldNormal);
+  } else if (ev.kind == EyeEvent::Continue && (hit.reprojected || ev.reflectedAtEntry)) {
+    // Re-projected: every leaving ray (reflection at entry, exit after the chamber walk) leaves from the
+    // deformed hit point, its canonical direction turned back by the hit's local rotation. ScatterFromCornea
+    // placed it through the eye's rigid frame; undo that exactly (a similarity) to recover the canonical one.
+    // Baseline: a reflection at entry leaves from the mesh point the ray met, in the eye's affine frame;
+    // exits leave from the analytic exit point there (the mesh is transparent from inside).
+    EyeMeshHit leaving = hit;
+    if (!hit.reprojected) leaving.worldToLocal = glm::dmat3(1.0);  // the direction is already the world one
+    ev.dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(ev.dir) : ev.dir);
     ev.origin = hit.worldPoint + hit.worldNormal * (1e-5 * (1 + glm::length(hit.worldPoint)));
   }
   return ev;

@@ -66,12 +66,12 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
                       EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random);
 
 /// Scatters a world ray (unit direction) that hit an eye mesh, mapped by EyeMeshHitToCanonical.
-/// Outside the outer limbus radius it is sclera (the mesh surface's). Inside, the path continues
-/// against the analytic model from the analytic cornea point at the hit's (x, y), its direction
-/// turned by the minimal rotation that takes the mesh normal onto the analytic normal, so it keeps
-/// its angle to the surface it met. A reflection at entry leaves from the mesh point, turned back by
-/// the inverse rotation; paths that exit elsewhere leave from the analytic exit point (the mesh is
-/// transparent from inside, so a start inside it is harmless). A hit from inside passes through.
+/// Off the cornea (past the outer limbus edge, below the iris plane, outside the projection) it is
+/// sclera (the mesh surface's). On it, the path continues against the analytic model from the
+/// analytic point at the hit's projected (x, y) with the mapped direction (eyeMeshMapping.h). Re-projected
+/// hits send every leaving ray (reflection, exit) from the deformed hit point, turned back by the hit's
+/// local rotation; baseline hits leave as the analytic eye in the affine frame puts them (a reflection at
+/// entry from the mesh point). A hit from inside passes through.
 EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
                           const EyeLighting& lighting, const std::function<double()>& random);
 

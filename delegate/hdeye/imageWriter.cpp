@@ -6,6 +6,7 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <png.h>
 
 #include <fcntl.h>
@@ -91,7 +92,8 @@ void WriteAtomically(const std::string& path, const std::function<void(const std
 
 }  // namespace
 
-void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes) {
+void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
+              const std::vector<std::pair<std::string, std::string>>& attributes) {
   if (width <= 0 || height <= 0)
     Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
                             " is not positive");
@@ -104,10 +106,22 @@ void WriteExr(const std::string& path, int width, int height, const std::vector<
     const std::string bad = CheckPixels("plane \"" + plane.name + "\"", width, height, 1, plane.pixels);
     if (!bad.empty()) Fail("write", path, bad);
   }
+  {
+    // The attributes every header has; an extra attribute of the same name would replace them.
+    const Imf::Header required(1, 1);
+    std::set<std::string> attributeNames;
+    for (const auto& [name, value] : attributes) {
+      if (name.empty()) Fail("write", path, "a header attribute has an empty name");
+      if (!attributeNames.insert(name).second) Fail("write", path, "duplicate header attribute \"" + name + "\"");
+      if (required.find(name) != required.end())
+        Fail("write", path, "header attribute \"" + name + "\" is one of OpenEXR's required attributes");
+    }
+  }
 
   WriteAtomically(path, [&](const std::string& tmp) {
     Imf::Header header(width, height);  // data window = display window = (0,0)-(w-1,h-1)
     header.compression() = Imf::ZIP_COMPRESSION;
+    for (const auto& [name, value] : attributes) header.insert(name, Imf::StringAttribute(value));
     Imf::FrameBuffer frameBuffer;
     for (const ImagePlane& plane : planes) {
       header.channels().insert(plane.name, Imf::Channel(Imf::FLOAT));
@@ -154,6 +168,20 @@ std::vector<ImagePlane> ReadExr(const std::string& path, int* width, int* height
     if (height) *height = h;
     return planes;
   } catch (const std::exception& e) {  // OpenEXR's Iex exceptions derive from std::exception
+    Fail("read", path, e.what());
+  }
+}
+
+std::map<std::string, std::string> ReadExrStringAttributes(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) Fail("read", path, "file does not exist");
+  try {
+    Imf::InputFile in(path.c_str());
+    std::map<std::string, std::string> out;
+    for (auto it = in.header().begin(); it != in.header().end(); ++it)
+      if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) out[it.name()] = a->value();
+    return out;
+  } catch (const std::exception& e) {
     Fail("read", path, e.what());
   }
 }

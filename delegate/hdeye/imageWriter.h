@@ -5,7 +5,9 @@
 // `path`. Every failure is a std::runtime_error whose one-line message names the path and the reason.
 //
 // Pixel layout everywhere: row-major, top row first, x to the right; index = y * width + x.
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hdeye {
@@ -25,7 +27,15 @@ struct ImagePlane {
 /// infinite (a renderer must never produce them, so they are a bug to report, not data to store: the
 /// message names the plane and the first bad pixel); the directory of `path` does not exist; or the
 /// file cannot be written or renamed.
-void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes);
+/// `attributes` are extra header attributes, each an OpenEXR string attribute (name, value), e.g.
+/// ("eyerender:plan", the render plan's JSON); a name that is empty, repeated, or one of the header's
+/// required attributes (channels, compression, dataWindow, ...) is an error, writing nothing.
+void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
+              const std::vector<std::pair<std::string, std::string>>& attributes = {});
+
+/// Every string attribute of the EXR header at `path` (its first part), by name. Throws
+/// std::runtime_error if the file is missing or not a readable EXR.
+std::map<std::string, std::string> ReadExrStringAttributes(const std::string& path);
 
 /// Reads every channel of the EXR at `path` (its first part; scanline or tiled; HALF, FLOAT or UINT
 /// channels, all converted to float) as planes of *width x *height values, where the size is that of

@@ -147,6 +147,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   rtcSetSceneFlags(prototype_, RTC_SCENE_FLAG_DYNAMIC);
   rtcSetSceneBuildQuality(prototype_, RTC_BUILD_QUALITY_LOW);
   rtcAttachGeometry(prototype_, triangleGeometry_);
+  context_.prototypeScene = prototype_;
 
   instance_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(instance_, prototype_);
@@ -248,6 +249,7 @@ void Mesh::ReleaseGeometry(RenderParam* renderParam) {
   if (prototype_) rtcReleaseScene(prototype_);
   instance_ = triangleGeometry_ = nullptr;
   prototype_ = nullptr;
+  context_.prototypeScene = nullptr;
   instanceId_ = RTC_INVALID_GEOMETRY_ID;
 }
 

@@ -64,6 +64,9 @@ class Mesh : public Rprim {
   /// Rest positions per rendered point, object space (empty when not authored).
   const std::vector<Vec3f>& RestPoints() const { return rest_; }
   const TriangleLayout& Layout() const { return layout_; }
+  /// The prototype scene (object space, this mesh's triangles only; committed after every points upload),
+  /// or null before the first sync. Also in Context()->prototypeScene, where the renderer reads it.
+  RTCScene PrototypeScene() const { return prototype_; }
 
  protected:
   const Matrix4d& Transform() const { return transform_; }

@@ -3,6 +3,8 @@
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/sceneDelegate.h"
 
+#include <embree3/rtcore.h>
+
 #include <vector>
 
 namespace hdeye {
@@ -35,6 +37,9 @@ struct GeometryContext {
   const EyeGeometry* meshEye = nullptr;
   /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
   const Texture* diffuseTexture = nullptr;
+  /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
+  /// finds the eyeball's boundary in it, never in the rest of the scene.
+  RTCScene prototypeScene = nullptr;
 };
 
 }  // namespace hdeye

@@ -8,7 +8,6 @@
 #include "hdeye/mesh.h"
 #include "hdeye/renderBuffer.h"
 
-#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -17,9 +16,6 @@ namespace hdeye {
 namespace {
 void ReportEmbreeError(void*, RTCError code, const char* message) {
   std::fprintf(stderr, "hdeye: Embree error %d: %s\n", int(code), message ? message : "");
-}
-bool Contains(const std::vector<std::string>& list, const std::string& s) {
-  return std::find(list.begin(), list.end(), s) != list.end();
 }
 }  // namespace
 

@@ -40,6 +40,10 @@ struct RenderSettings {
   /// happen to hit a light: plain path tracing, for A/B comparisons).
   bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
+  /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
+  /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
+  /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
+  bool scleraScattering = true;
 };
 
 class RenderDelegate {

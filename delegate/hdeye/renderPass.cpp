@@ -23,6 +23,7 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
                           : b.aovName == "depth"  ? &aovs.depth
                           : b.aovName == "primId" ? &aovs.primId
                           : b.aovName == "irisMnee" ? &aovs.irisMnee
+                          : b.aovName == "limbalArc" ? &aovs.limbalArc
                                                   : nullptr;
     if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
     *slot = buffer;
@@ -60,6 +61,12 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   }
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
+}
+
+RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
+                            const PlanRules& rules) {
+  index_->SyncAll();
+  return MakeRenderPlan(*index_, cameraId, width, height, overrides, rules);
 }
 
 }  // namespace hdeye

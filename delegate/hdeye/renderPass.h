@@ -2,6 +2,7 @@
 // The render pass (HdRenderPass's role): a thin controller. Execute syncs the render index, commits
 // the Embree scene if any prim edited it, hands the renderer the camera view, the light list and
 // the bound AOV buffers, and returns what the renderer did.
+#include "hdeye/renderPlan.h"
 #include "hdeye/renderer.h"
 
 #include <string>
@@ -12,7 +13,7 @@ namespace hdeye {
 class RenderIndex;
 
 /// One AOV bound to a render buffer (HdRenderPassAovBinding's role). aovName: color, albedo,
-/// normal, depth, primId or irisMnee.
+/// normal, depth, primId, irisMnee or limbalArc.
 struct AovBinding {
   std::string aovName;
   PrimId renderBufferId;
@@ -25,6 +26,12 @@ class RenderPass {
   /// Throws std::runtime_error with a one-line message for a missing camera or buffer, an unknown
   /// AOV name, or a prim whose data is bad.
   RenderStats Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings);
+
+  /// The render plan (renderPlan.h) for the camera and a width x height image, without rendering:
+  /// syncs the index as Execute does, then measures and decides. Nothing is applied: the caller
+  /// passes the plan to ApplyRenderPlan (or only prints it). Throws std::runtime_error like Execute.
+  RenderPlan Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
+                  const PlanRules& rules = {});
 
  private:
   RenderIndex* index_;

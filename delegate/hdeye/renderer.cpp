@@ -3,8 +3,10 @@
 #include "hdeye/eyeShading.h"
 #include "hdeye/previewSurface.h"
 #include "hdeye/renderContext.h"
+#include "hdeye/scleraScattering.h"
 #include "hdeye/texture.h"
 
+#include <eyelib/optics.h>
 #include <eyelib/random.h>
 #include <eyelib/sampling.h>
 #include <tbb/blocked_range.h>
@@ -59,7 +61,8 @@ PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& al
 
 struct SurfaceHit {
   double t;
-  glm::dvec3 p, n;  // n faces the incoming ray
+  glm::dvec3 p, n;  // n (the shading normal) faces the incoming ray
+  glm::dvec3 ng{0};  // the geometric normal, facing the incoming ray
   glm::dvec3 albedo, emission;
   int primIndex;
   const GeometryContext* context;
@@ -94,6 +97,7 @@ class Tracer {
     hit->p = o + hit->t * d;
     glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
+    hit->ng = n;
     // Primvars at the hit: per-vertex values (triangleVertices) or per-corner ones (3 per triangle),
     // weighted by the hit's barycentrics.
     const double bu = rh.hit.u, bv = rh.hit.v, bw = 1 - bu - bv;
@@ -128,6 +132,81 @@ class Tracer {
     return true;
   }
 
+  /// What a sclera hit on an eye mesh did: reflected off the wet surface, or entered, walked and left.
+  struct ScleraStep {
+    enum Kind { Reflected, Exited, Ended } kind = Ended;
+    glm::dvec3 origin{0}, dir{0};  ///< Reflected: the mirror ray
+    glm::dvec3 point{0}, normal{0};  ///< Exited: the exit (world) and the outward shading normal there
+    glm::dvec3 weight{0};            ///< Exited: the walk's RGB throughput
+    bool teleported = false;         ///< Exited: the walk lit the limbal arc
+  };
+
+  /// The sclera of an eye mesh as a volume (DESIGN.md step 5): at the hit, a smooth dielectric boundary
+  /// of the eye's tissue index (EyeParams' cornea ior: cornea and sclera share it) reflects with the
+  /// Fresnel probability or refracts in; inside, eyelib's random walk runs in the canonical frame against
+  /// the mesh itself (its own Embree scene), with the teleportation cylinder if the eye asks for it.
+  /// Both Fresnel choices are sampled with their own probability, so no weight changes there.
+  ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
+                        const std::function<double()>& random) const {
+    ScleraStep step;
+    const GeometryContext& ctx = *hit.context;
+    const double ior = eye.chamber.CorneaIor();
+    // Fresnel against the shading normal (smooth highlights); which side is inside, against the
+    // geometric one (the walk's boundary is the triangles themselves).
+    const glm::dvec3 wo = -d;
+    const double cosO = std::max(0.0, glm::dot(wo, hit.n));
+    const double offset = 1e-5 * (1 + glm::length(hit.p));
+    if (random() < eyelib::FresnelDielectric(cosO, ior)) {
+      step.kind = ScleraStep::Reflected;
+      step.dir = eyelib::Reflect(wo, hit.n);
+      // A shading normal can tilt the mirror direction under the triangle: lift it just above.
+      const double cosG = glm::dot(step.dir, hit.ng);
+      if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
+      step.origin = hit.p + hit.ng * offset;
+      return step;
+    }
+    glm::dvec3 inward;
+    if (!eyelib::Refract(wo, hit.n, ior, &inward)) return step;  // cannot happen from outside (ior >= 1)
+    // The refracted direction must enter the triangle the ray met (hit.ng faces the ray: inside is -ng).
+    const double cosIn = glm::dot(inward, hit.ng);
+    if (cosIn > -1e-4) inward = glm::normalize(inward - (cosIn + 1e-4) * hit.ng);
+
+    // The walk meets the mesh as it is now (deformed or not): its own triangles, placed by the prim
+    // transform; the cylinder lives in the eye's canonical frame (ScatterInSclera), so it follows the eye.
+    std::int64_t queries = 0;
+    MeshCrossing exitCrossing;
+    const WorldBoundary boundary = EyeMeshBoundary(ctx.prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
+    ScleraScatteringSettings ws;
+    ws.ior = ior;
+    ws.limbalArc = eye.limbalArc;
+    const ScleraExit exit = ScatterInSclera(eye, hit.p, inward, albedo, eye.scleraMeanFreePath, boundary, random, ws);
+    rays_ += queries;
+    ++walks_;
+    if (exit.teleported) ++teleportedWalks_;
+    if (exit.status == eyelib::WalkStatus::Capped) ++cappedWalks_;
+    if (exit.status == eyelib::WalkStatus::Invalid) ++invalidWalks_;
+    if (!exit.Exited()) return step;
+
+    step.kind = ScleraStep::Exited;
+    step.point = exit.origin;
+    step.weight = exit.weight;
+    step.teleported = exit.teleported;
+    // The outward shading normal at the exit: the mesh's interpolated normals at the last crossing,
+    // if they agree with the geometric normal's side; else the geometric normal.
+    step.normal = exit.normal;
+    if (ctx.vertexNormals && ctx.triangleVertices && exitCrossing.triangle != RTC_INVALID_GEOMETRY_ID &&
+        3 * std::size_t(exitCrossing.triangle) + 2 < ctx.triangleVertices->size()) {
+      const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(exitCrossing.triangle)];
+      const auto& vn = *ctx.vertexNormals;
+      const double bu = exitCrossing.u, bv = exitCrossing.v;
+      const glm::dvec3 local = (1 - bu - bv) * glm::dvec3(vn[tri[0]]) + bu * glm::dvec3(vn[tri[1]]) + bv * glm::dvec3(vn[tri[2]]);
+      const glm::dvec3 shading = ctx.normalToWorld * local;
+      const double length = glm::length(shading);
+      if (length > 1e-12 && std::isfinite(length) && glm::dot(shading, exit.normal) > 0) step.normal = shading / length;
+    }
+    return step;
+  }
+
   bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -158,8 +237,12 @@ class Tracer {
 
   /// Radiance along a camera ray; fills the first hit for the data AOVs.
   glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, SampleStream& rng, SurfaceHit* first,
-                bool* hitAny, glm::dvec3* irisMnee) const {
+                bool* hitAny, glm::dvec3* irisMnee, glm::dvec3* limbalArc) const {
     glm::dvec3 L(0), beta(1);
+    // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only
+    // grows, so L at the end minus L then).
+    bool arc = false;
+    glm::dvec3 lAtArc(0);
     // How the current ray was chosen, for weighting the lights it meets: after a specular event
     // (the camera, the cornea) a light counts in full; after a diffuse bounce, by MIS against light
     // sampling (or not at all without MIS); straight out of an iris, not at all (MNEE counted it).
@@ -206,10 +289,38 @@ class Tracer {
         }
         if (ev.kind == EyeEvent::Absorbed) break;
         // Sclera: shaded below as a diffuse surface; an eye mesh's own surface keeps its shading normal
-        // and, with a bound material, that material's colour.
+        // and, with a bound material, that material's colour (its diffuse texture at the hit's st, if any).
         if (!ev.scleraOnSurface) hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
         if (!ev.scleraOnSurface || !eye->scleraUsesMaterial) hit.albedo = ev.scleraAlbedo;
+        else if (hit.context->diffuseTexture) hit.albedo = glm::dvec3(hit.context->diffuseTexture->Lookup(glm::vec2(hit.st)));
+        hit.albedo = glm::clamp(hit.albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
         if (depth == 0) first->albedo = hit.albedo;  // the albedo AOV shows the sclera's
+        // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert
+        // surface (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
+        if (ev.scleraOnSurface && settings_.scleraScattering && hit.context->prototypeScene) {
+          const ScleraStep step = ScleraWalk(*eye, hit, d, hit.albedo, random);
+          if (step.kind == ScleraStep::Ended) break;
+          if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+            o = step.origin, d = step.dir, tNear = 0, tFar = kInf;
+            specular = true, skipLights = false;
+            continue;
+          }
+          // The exit is a diffuse transmission lobe: the walk decides where light leaves and how much
+          // (its Fresnel test at the boundary included); the direction it leaves in is then taken as
+          // Lambertian about the exit's outward normal, as Cycles and Hyperion do. The walk's own
+          // refracted exit direction is dropped, not followed: its pdf is unknown (it depends on the
+          // whole walk), so it could be neither MIS-weighted against light sampling nor combined with
+          // next event estimation at the exit without counting the light twice. With a Lambertian lobe,
+          // next event estimation and the sampled continuation below are weighted by the power
+          // heuristic like any diffuse bounce. What this approximates: light refracted out of a
+          // dielectric is Lambertian times (1 - F(theta)), a little darker at grazing exit.
+          if (!arc && step.teleported) arc = true, lAtArc = L;
+          beta *= step.weight;
+          hit.p = step.point;
+          hit.n = hit.ng = step.normal;
+          hit.albedo = glm::dvec3(1);  // the colour is in the walk's weight
+          d = -step.normal;            // wo = the outward normal: the lobe is the outward hemisphere
+        }
       }
       // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
       // UsdPreviewSurface.
@@ -257,16 +368,22 @@ class Tracer {
         beta /= q;
       }
     }
+    if (arc) *limbalArc = L - lAtArc;
     return L;
   }
 
   std::int64_t Rays() const { return rays_; }
+  std::int64_t Walks() const { return walks_; }
+  std::int64_t TeleportedWalks() const { return teleportedWalks_; }
+  std::int64_t CappedWalks() const { return cappedWalks_; }
+  std::int64_t InvalidWalks() const { return invalidWalks_; }
 
  private:
   RTCScene scene_;
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
   mutable std::int64_t rays_ = 0;
+  mutable std::int64_t walks_ = 0, teleportedWalks_ = 0, cappedWalks_ = 0, invalidWalks_ = 0;
 };
 
 }  // namespace
@@ -275,7 +392,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
                              const RenderSettings& settings, const AovBuffers& aovs) const {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
-  for (RenderBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee})
+  for (RenderBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
@@ -284,7 +401,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   const auto start = std::chrono::steady_clock::now();
   const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  std::atomic<std::int64_t> rays{0}, nonFinite{0};
+  std::atomic<std::int64_t> rays{0}, nonFinite{0}, walks{0}, teleported{0}, capped{0}, invalid{0};
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
@@ -303,10 +420,11 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
               const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
               SurfaceHit first{};
               bool hitAny = false;
-              glm::dvec3 irisMnee(0);
-              glm::dvec3 L = tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny, &irisMnee);
+              glm::dvec3 irisMnee(0), arc(0);
+              glm::dvec3 L =
+                  tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny, &irisMnee, &arc);
               if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
-                L = irisMnee = glm::dvec3(0);  // never let it into the image; count it so tests can fail on it
+                L = irisMnee = arc = glm::dvec3(0);  // never let it into the image; count it so tests can fail on it
                 ++nonFinite;
               }
               const float color[4] = {float(L.x), float(L.y), float(L.z), hitAny ? 1.0f : 0.0f};
@@ -314,6 +432,10 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
               if (aovs.irisMnee) {
                 const float iris[3] = {float(irisMnee.x), float(irisMnee.y), float(irisMnee.z)};
                 aovs.irisMnee->AddSample(x, y, iris);
+              }
+              if (aovs.limbalArc) {
+                const float a[3] = {float(arc.x), float(arc.y), float(arc.z)};
+                aovs.limbalArc->AddSample(x, y, a);
               }
               if (s != 0) continue;
               const glm::dvec3 albedo = hitAny ? first.albedo : glm::dvec3(0), n = hitAny ? first.n : glm::dvec3(0);
@@ -327,6 +449,10 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
             }
         }
         rays += tracer.Rays();
+        walks += tracer.Walks();
+        teleported += tracer.TeleportedWalks();
+        capped += tracer.CappedWalks();
+        invalid += tracer.InvalidWalks();
       });
     });
     ++stats.passes;
@@ -339,6 +465,10 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   }
   stats.rays = rays;
   stats.nonFiniteSamples = nonFinite;
+  stats.scleraWalks = walks;
+  stats.teleportedWalks = teleported;
+  stats.cappedWalks = capped;
+  stats.invalidWalks = invalid;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

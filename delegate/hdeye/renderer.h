@@ -21,7 +21,8 @@ namespace hdeye {
 /// alpha = camera ray hit geometry), albedo and normal 3, depth (distance along the camera ray, 0
 /// where nothing was hit) and primId (-1 where nothing was hit) 1. The data AOVs (albedo, normal,
 /// depth, primId) come from sample index 0 only, so they are never averaged across edges. irisMnee
-/// (3 components) is the part of color that came to an iris through MNEE.
+/// (3 components) is the part of color that came to an iris through MNEE; limbalArc (3) the part that
+/// came through a sclera walk that teleported.
 struct AovBuffers {
   RenderBuffer* color = nullptr;
   RenderBuffer* albedo = nullptr;
@@ -29,6 +30,9 @@ struct AovBuffers {
   RenderBuffer* depth = nullptr;
   RenderBuffer* primId = nullptr;
   RenderBuffer* irisMnee = nullptr;  ///< 3: the light that reached irises through MNEE, as the camera sees it
+  /// 3: the part of color carried by paths whose sclera walk crossed the teleportation cylinder (the
+  /// limbal arc): everything such a path gathers after its first teleported walk.
+  RenderBuffer* limbalArc = nullptr;
 };
 
 struct RenderStats {
@@ -38,6 +42,13 @@ struct RenderStats {
   int passes = 0;            ///< samples per pixel completed
   std::int64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped (a bug if ever non-zero)
   bool timeLimitReached = false;
+  std::int64_t scleraWalks = 0;    ///< sclera random walks run (eye meshes with RenderSettings::scleraScattering)
+  std::int64_t teleportedWalks = 0;  ///< walks that crossed the teleportation cylinder at least once
+  /// Walks dropped at their step cap (ScleraScatteringSettings::maxSteps): energy lost, reported.
+  std::int64_t cappedWalks = 0;
+  /// Walks ended as eyelib::WalkStatus::Invalid (bad artist values, a boundary query the mesh boundary
+  /// could not answer): the path is dropped; a bug or a bad asset if ever non-zero.
+  std::int64_t invalidWalks = 0;
 };
 
 class Renderer {

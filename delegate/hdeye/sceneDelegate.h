@@ -73,6 +73,23 @@ struct EyeParams {
   /// Canonical frame (mm, apex at the origin, gaze +z) to the prim's local space. A similarity
   /// (rotation, uniform scale, translation); e.g. scale 0.1 for a scene in centimetres.
   Matrix4d modelTransform{1.0};
+  /// The limbal arc (Chiang and Burley 2018, section 3): the teleportation cylinder inside the sclera's
+  /// random walk. Only eye meshes have a sclera volume; analytic eyes ignore it.
+  bool limbalArc = true;
+  /// Sclera scattering distance per RGB channel, mm (the artist's mean free path; > 0 and finite).
+  glm::vec3 scleraMeanFreePath{1.0f, 0.8f, 0.6f};  ///< mm
+  /// Eye meshes (issue 7): the artist's iris projection frame (eye:irisProjection) to the prim's local
+  /// space, so it moves with the eye. A rest point q in this frame projects along its z onto its xy
+  /// plane: canonical (x, y) = 7.54 mm * (q.x, q.y), i.e. the frame's [-1, 1]^2 square is the iris
+  /// texture's square (the 15.08 mm iris disk inscribed). Unused unless hasIrisProjection; the default
+  /// is the model frame along the gaze: modelTransform * scale(7.54).
+  Matrix4d irisProjection{1.0};
+  bool hasIrisProjection = false;
+  /// Eye meshes: re-project hits onto the analytic model (the paper's method). Off is the comparison
+  /// baseline of docs/deformed_eyes.md: the analytic eye carried by the mesh's best-fit affine
+  /// deformation, its optics following that frame (what putting the deformation into the eye's
+  /// transform would give).
+  bool reprojection = true;
 };
 
 class SceneDelegate {

@@ -15,7 +15,7 @@ from .frames import has_placeholder, output_path, parse_frames
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
-AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee")
+AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
 
 
 def build_parser():
@@ -49,6 +49,11 @@ def build_parser():
     p.add_argument("--no-mnee", action="store_true",
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
     p.add_argument("--mnee-all-solutions", action="store_true", help="search every refraction path (caustic folds)")
+    p.add_argument("--mnee", action="store_true", help="MNEE on for every eye, whatever the render plan finds")
+    p.add_argument("--plan", action="store_true", help="print the render plan (JSON) on stdout and exit: nothing is "
+                   "rendered or written (docs/render_plan.md)")
+    p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
+                   "flags and the renderer's defaults say")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     farm = p.add_argument_group("render farm (Dask; docs/farm.md)")
     farm.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster of this scheduler "
@@ -120,6 +125,18 @@ def _render_settings(stage, path):
     return resolution[0], resolution[1], str(cameras[0]) if cameras else None, aovs
 
 
+def _plan_overrides(args, stage):
+    """What the command line and the stage set explicitly, which the render plan must not change."""
+    from .plan import authored_eye_values, make_overrides
+
+    if args.mnee and args.no_mnee:
+        raise EyeRenderError("--mnee and --no-mnee contradict each other")
+    return make_overrides(mnee=False if args.no_mnee else True if args.mnee else None,
+                          mnee_all_solutions=True if args.mnee_all_solutions else None,
+                          refine_level_ceiling=COMPLEXITY_REFINE_LEVELS[args.complexity],
+                          authored=authored_eye_values(stage))
+
+
 def run(argv=None):
     args = build_parser().parse_args(argv)
     import eyerender  # registers the EyeAPI plugin before pxr loads stages
@@ -131,7 +148,7 @@ def run(argv=None):
     if args.time_limit < 0 or (args.imageWidth or 1) < 1 or args.threads < 0 or args.max_depth < 1:
         raise EyeRenderError("--time-limit, --imageWidth, --threads and --max-depth must be positive")
     spp = args.spp or (1 << 20 if args.time_limit else 32)
-    if args.scheduler or args.workers is not None:
+    if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
         from .farm_cli import run_farm
 
         return run_farm(args, spp, COMPLEXITY_REFINE_LEVELS)
@@ -143,7 +160,7 @@ def run(argv=None):
     outputs = [args.outputImagePath]
     if args.png and args.outputImagePath.lower().endswith(".exr"):
         outputs.append(args.outputImagePath[:-4] + ".png")
-    for out in outputs:
+    for out in outputs if not args.plan else []:  # --plan writes nothing
         if os.path.splitext(out)[1].lower() not in (".exr", ".png"):
             raise EyeRenderError(f"output {out}: extension must be .exr or .png")
         check_writable(out)
@@ -162,7 +179,14 @@ def run(argv=None):
         stage, width=width, height=height, camera=camera, aovs=aovs, purposes=purposes,
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model, time=first_time,
         settings={"seed": args.seed, "threads": args.threads, "max_depth": args.max_depth,
-                  "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions})
+                  "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions},
+        plan_overrides=None if args.no_auto_plan else _plan_overrides(args, stage))
+    if args.plan:
+        print(session.plan().to_json())
+        return 0
+    if not args.no_auto_plan:
+        for line in session.plan().summary_lines():
+            print(f"eyerecord: {line}")
     for warning in dict.fromkeys(session.scene.warnings):
         print(f"eyerecord: warning: {warning}", file=sys.stderr)
 

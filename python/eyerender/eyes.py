@@ -26,6 +26,7 @@ FALLBACKS = {
     "eye:scleraColor": (0.8, 0.78, 0.75),
     "eye:modelTransform": Gf.Matrix4d(1.0),  # canonical frame (mm) to the prim's local space
     "eye:limbalArc": True,
+    "eye:scleraMeanFreePath": (1.0, 0.8, 0.6),  # mm per RGB channel
 }
 CORNEA_MODELS = {"ellipsoidCone": CorneaModel.ellipsoidCone, "paraboloid": CorneaModel.paraboloid}
 
@@ -98,6 +99,11 @@ def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=Non
         if min(color) < 0 or max(color) > 1:
             raise EyeRenderError(f"{path}: {name} = {color} must be an albedo in [0, 1]")
         setattr(eye, setter, color)
+    eye.limbal_arc = bool(_get(prim, "eye:limbalArc", time))
+    mfp = tuple(float(c) for c in _finite(prim, "eye:scleraMeanFreePath", _get(prim, "eye:scleraMeanFreePath", time)))
+    if len(mfp) != 3 or min(mfp) <= 0:
+        raise EyeRenderError(f"{path}: eye:scleraMeanFreePath = {mfp} mm must be positive in every channel")
+    eye.sclera_mean_free_path = mfp
     eye.model_transform = np.array(_matrix(prim, _get(prim, "eye:modelTransform", time)), dtype=np.float64).reshape(4, 4)
     texture = prim.GetAttribute("eye:irisTexture")
     asset = texture.Get(time) if texture else None

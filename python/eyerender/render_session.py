@@ -20,6 +20,7 @@ AOV_CHANNELS = {
     "depth": ("depth.Z",),
     "primId": ("primId",),
     "irisMnee": ("irisMnee.R", "irisMnee.G", "irisMnee.B"),
+    "limbalArc": ("limbalArc.R", "limbalArc.G", "limbalArc.B"),
 }
 DEFAULT_CAMERA_ID = "/__eyerender_default_camera"
 DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
@@ -29,11 +30,13 @@ class RenderSession:
     """Renders one stage, frame after frame, into in-memory AOV buffers."""
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("default",),
-                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None):
+                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
-        overrides (seed, threads, max_depth, mis, mnee_all_solutions)."""
+        overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
+        turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
+        sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -56,6 +59,8 @@ class RenderSession:
             self.store.add_render_buffer(self._buffer_id(aov), self.width, self.height, len(AOV_CHANNELS[aov]))
         self.render_pass = RenderPass(self.index)
         self.stats = None
+        self.plan_overrides = plan_overrides
+        self.last_plan = None  # the RenderPlan of the last frame planned (plan_overrides set)
 
     @staticmethod
     def _buffer_id(aov):
@@ -98,6 +103,9 @@ class RenderSession:
         for aov in self.aovs:
             self.index.clear_buffer(self._buffer_id(aov))
         settings = self.delegate.settings
+        if self.plan_overrides is not None:
+            self.last_plan = self.plan()
+            self.last_plan.apply(settings)
         bindings = [(aov, self._buffer_id(aov)) for aov in self.aovs]
         start, rays, done, non_finite = clock.perf_counter(), 0, 0, 0
         while done < spp:
@@ -122,22 +130,34 @@ class RenderSession:
         """An AOV's pixels, float32 (height, width, components)."""
         return self.index.resolved(self._buffer_id(aov))
 
+    def plan(self, overrides=None):
+        """The render plan for the current frame (syncs; renders nothing, changes no setting). overrides: a
+        PlanOverrides, default the session's (or none)."""
+        from .plan import PlanOverrides
+
+        overrides = overrides or self.plan_overrides or PlanOverrides()
+        try:
+            return self.render_pass.plan(self.camera_id, self.width, self.height, overrides)
+        except RuntimeError as e:
+            raise EyeRenderError(str(e)) from None
+
     def write(self, path, exposure=0.0):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
         .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
-        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure)
+        attributes = {"eyerender:plan": self.last_plan.to_json()} if self.last_plan is not None else None
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes)
 
 
-def write_images(path, images, exposure=0.0):
+def write_images(path, images, exposure=0.0, attributes=None):
     """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
-    RenderSession.write does. Atomic."""
+    RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG)."""
     ext = os.path.splitext(path)[1].lower()
     try:
         if ext == ".exr":
             planes = []
             for aov, pixels in images.items():
                 planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
-            write_exr(path, planes)
+            write_exr(path, planes, list((attributes or {}).items()))
         elif ext == ".png":
             write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
         else:

@@ -8,8 +8,9 @@ transforms under animated xforms) and pushes it through the scene store's Set* c
 matching dirty bits. What each `set_time` pushed is counted in `last_update`.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
-displayColor / rest), Sphere and Cube gprims (tessellated), Camera, UsdLux sphere / distant / rect / disk / dome
-lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms, purposes, visibility, instanceable
+displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated), Camera, UsdLux sphere / distant / rect / disk / dome
+lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
+target resolved relative to the eye), purposes, visibility, instanceable
 references and PointInstancers. Anything else is skipped and listed once in `warnings`.
 """
 import collections
@@ -181,15 +182,18 @@ class UsdSceneDelegate:
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
         if eyes.is_eye(prim):
-            eye = eyes.read_eye_params(prim, self.time, self.cornea_model)
+            eye = self._eye_mesh_params(prim, self.time)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
-            self._track_eye(prim, prim_id)
+            self._track_eye(prim, prim_id, mesh=True)
         else:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
+        names["rest"] = self._rest_source(prim)
         for name, source in names.items():
             self._push_primvar(prim, prim_id, name, source, self.time)
+        if names["rest"] is None:
+            self._push_rest_time_points(prim, prim_id, mesh, len(points))
         self._track_visibility(prim, prim_id)
 
         points_attr = mesh.GetPointsAttr()
@@ -202,7 +206,7 @@ class UsdSceneDelegate:
             self._updaters.append(("points", lambda t: self.store.set_points(
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
         for name, source in names.items():
-            if _varies(self._primvar_attrs(prim, source)):
+            if source is not None and _varies(self._primvar_attrs(prim, source)):
                 self._updaters.append(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
 
     def _primvar_attrs(self, prim, name):
@@ -212,8 +216,77 @@ class UsdSceneDelegate:
             attrs.append(UsdGeom.Mesh(prim).GetNormalsAttr())
         return attrs
 
+    @staticmethod
+    def _rest_source(prim):
+        """The primvar holding a mesh's rest positions: primvars:rest, else primvars:Pref (RenderMan's name); None
+        for neither."""
+        api = UsdGeom.PrimvarsAPI(prim)
+        for name in ("rest", "Pref"):
+            primvar = api.GetPrimvar(name)
+            if primvar and primvar.HasValue():
+                return name
+        return None
+
+    def _push_rest_time_points(self, prim, prim_id, mesh, count):
+        """An eye mesh with eye:restTime and no rest/Pref primvar: its points at that time code are its rest pose
+        (sent as the vertex primvar "rest"). Nothing for other meshes, or without eye:restTime."""
+        if not eyes.is_eye(prim):
+            return
+        attr = prim.GetAttribute("eye:restTime")
+        rest_time = attr.Get() if attr and attr.HasAuthoredValue() else None
+        if rest_time is None:
+            return
+        if not np.isfinite(rest_time):
+            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is not finite")
+        rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
+        if rest is None or len(rest) != count:
+            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time:g} has {0 if rest is None else len(rest)} "
+                                 f"points, the mesh has {count}")
+        self.store.set_primvar(prim_id, "rest", "vertex", _array(rest, 3, f"{prim.GetPath()}: points at eye:restTime"))
+
+    def _eye_mesh_params(self, prim, time):
+        """An eye mesh's EyeParams at `time`, with its iris projection (eye:irisProjection) resolved."""
+        eye = eyes.read_eye_params(prim, time, self.cornea_model)
+        projection = self._iris_projection(prim, time)
+        if projection is not None:
+            eye.iris_projection = projection
+        return eye
+
+    def _iris_projection_target(self, prim):
+        """The Xformable prim eye:irisProjection names, or None when the relationship has no target."""
+        rel = prim.GetRelationship("eye:irisProjection")
+        targets = rel.GetForwardedTargets() if rel else []
+        if not targets:
+            return None
+        if len(targets) > 1:
+            raise EyeRenderError(f"{prim.GetPath()}: eye:irisProjection has {len(targets)} targets (needs one)")
+        target = self.stage.GetPrimAtPath(targets[0])
+        if not target or not target.IsValid():
+            raise EyeRenderError(f"{prim.GetPath()}: eye:irisProjection target {targets[0]} does not exist")
+        if not target.IsA(UsdGeom.Xformable):
+            raise EyeRenderError(f"{prim.GetPath()}: eye:irisProjection target {targets[0]} is a "
+                                 f"{target.GetTypeName() or 'typeless prim'}, not an Xform or Camera")
+        return target
+
+    def _iris_projection(self, prim, time):
+        """eye:irisProjection's target frame relative to the eye prim's local space at `time` (USD's row-vector
+        layout: target-to-world x inverse eye-to-world), as the 4x4 float64 array EyeParams.iris_projection takes;
+        None without a target. Its [-1, 1]^2 xy square is the iris texture square (docs/deformed_eyes.md)."""
+        target = self._iris_projection_target(prim)
+        if target is None:
+            return None
+        cache = UsdGeom.XformCache(time)
+        relative = cache.GetLocalToWorldTransform(target) * cache.GetLocalToWorldTransform(prim).GetInverse()
+        m = _matrix(relative)
+        if not np.isfinite(m).all() or abs(relative.GetDeterminant3()) < 1e-300:
+            raise EyeRenderError(f"{prim.GetPath()}: eye:irisProjection target {target.GetPath()} has a singular "
+                                 f"transform relative to the eye")
+        return m
+
     def _push_primvar(self, prim, prim_id, name, source, time):
         """Sends primvar `source` of prim to the store under `name`, indices expanded; skips unauthored ones."""
+        if source is None:
+            return
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(source)
         if primvar and primvar.HasValue():
             values, interpolation = primvar.ComputeFlattened(time), primvar.GetInterpolation()
@@ -322,8 +395,15 @@ class UsdSceneDelegate:
         self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
-    def _track_eye(self, prim, prim_id):
-        if eyes.eye_attributes_vary(prim):
-            self._updaters.append(("eye", lambda t: self.store.set_eye_params(
-                prim_id, eyes.read_eye_params(prim, t, self.cornea_model))))
+    def _track_eye(self, prim, prim_id, mesh=False):
+        if not mesh:
+            if eyes.eye_attributes_vary(prim):
+                self._updaters.append(("eye", lambda t: self.store.set_eye_params(
+                    prim_id, eyes.read_eye_params(prim, t, self.cornea_model))))
+            return
+        # Eye meshes also carry the iris projection: it varies when its target's or the eye's transform does.
+        target = self._iris_projection_target(prim)
+        if eyes.eye_attributes_vary(prim) or (target is not None and (self._transform_varies(target) or
+                                                                      self._transform_varies(prim))):
+            self._updaters.append(("eye", lambda t: self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, t))))
 

@@ -13,10 +13,13 @@
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
 #include "hdeye/renderPass.h"
+#include "hdeye/renderPlan.h"
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/map.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
@@ -118,7 +121,9 @@ NB_MODULE(_hdeye, m) {
       .def_rw("first_sample", &RenderSettings::firstSample)
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
-      .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions);
+      .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
   nb::class_<CameraParams>(m, "CameraParams")
       .def(nb::init<>())
@@ -184,6 +189,25 @@ NB_MODULE(_hdeye, m) {
            "An empty string if the chamber parameters are valid, else a one-line message.");
   Vec3Property<EyeParams, &EyeParams::irisColor>(eye, "iris_color");
   Vec3Property<EyeParams, &EyeParams::scleraColor>(eye, "sclera_color");
+  eye.def_rw("limbal_arc", &EyeParams::limbalArc, "the limbal-arc teleportation cylinder in the sclera walk");
+  Vec3Property<EyeParams, &EyeParams::scleraMeanFreePath>(eye, "sclera_mean_free_path");  // mm per RGB channel
+  eye.def_prop_rw(
+         "iris_projection",
+         [](const EyeParams& e) {
+           std::array<double, 16> a;
+           std::memcpy(a.data(), glm::value_ptr(e.irisProjection), sizeof a);
+           return a;
+         },
+         [](EyeParams& e, const Matrix& mtx) {
+           e.irisProjection = ToMatrix(mtx);
+           e.hasIrisProjection = true;
+         },
+         "the iris projection frame to the prim's local space, 4x4 in USD's layout; its [-1, 1]^2 xy square "
+         "is the iris texture square. Setting it sets has_iris_projection")
+      .def_rw("has_iris_projection", &EyeParams::hasIrisProjection,
+              "off: the projection is the model frame along the gaze (modelTransform x scale 7.54 mm)")
+      .def_rw("reprojection", &EyeParams::reprojection,
+              "eye meshes: re-project hits onto the analytic model (off: the affine-frame comparison baseline)");
 
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)
@@ -191,6 +215,7 @@ NB_MODULE(_hdeye, m) {
       .def_ro("seconds", &RenderStats::seconds)
       .def_ro("passes", &RenderStats::passes)
       .def_ro("non_finite_samples", &RenderStats::nonFiniteSamples)
+      .def_ro("capped_walks", &RenderStats::cappedWalks, "sclera walks dropped at their step cap")
       .def_ro("time_limit_reached", &RenderStats::timeLimitReached);
 
   nb::class_<RenderDelegate>(m, "RenderDelegate")
@@ -306,6 +331,41 @@ NB_MODULE(_hdeye, m) {
       .def("set_material_id", &InMemorySceneDelegate::SetMaterialId)
       .def("remove_prim", &InMemorySceneDelegate::RemovePrim);
 
+  nb::class_<PlanOverrides>(m, "PlanOverrides",
+                            "What the user set explicitly (flags, render settings, authored schema values): wins over "
+                            "the render plan. None: the planner decides.")
+      .def(nb::init<>())
+      .def_rw("mnee", &PlanOverrides::mnee, nb::arg("value").none())
+      .def_rw("mnee_all_solutions", &PlanOverrides::mneeAllSolutions, nb::arg("value").none())
+      .def_rw("sclera_scattering", &PlanOverrides::scleraScattering, nb::arg("value").none())
+      .def_rw("limbal_arc", &PlanOverrides::limbalArc, nb::arg("value").none())
+      .def_rw("refine_level_ceiling", &PlanOverrides::refineLevelCeiling, "the --complexity level")
+      .def(
+          "set_authored_limbal_arc",
+          [](PlanOverrides& o, const PrimId& prim, bool value) { o.authored[prim].limbalArc = value; },
+          nb::arg("prim"), nb::arg("value"), "eye:limbalArc authored on the eye prim `prim`.");
+
+  nb::class_<PlanRules>(m, "PlanRules", "The render plan's thresholds (docs/render_plan.md).")
+      .def(nb::init<>())
+      .def_rw("mnee_min_pixels", &PlanRules::mneeMinPixels, "pixels")
+      .def_rw("mnee_max_solid_angle_sr", &PlanRules::mneeMaxSolidAngleSr, "steradians")
+      .def_rw("mnee_max_solid_angle_sr_grazing", &PlanRules::mneeMaxSolidAngleSrGrazing, "steradians")
+      .def_rw("grazing_angle_deg", &PlanRules::grazingAngleDeg, "degrees")
+      .def_rw("all_solutions_min_angle_deg", &PlanRules::allSolutionsMinAngleDeg, "degrees")
+      .def_rw("all_solutions_min_pixels", &PlanRules::allSolutionsMinPixels, "pixels")
+      .def_rw("sss_min_pixels", &PlanRules::sssMinPixels, "pixels")
+      .def_rw("sss_min_limbus_pixels", &PlanRules::sssMinLimbusPixels, "pixels")
+      .def_rw("limbal_arc_min_light_angle_deg", &PlanRules::limbalArcMinLightAngleDeg, "degrees");
+
+  nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
+      .def("to_json", &RenderPlan::ToJson, "The plan as a JSON object string (docs/render_plan.md).")
+      .def("summary_lines", &RenderPlan::SummaryLines, "One line per eye, for printing at render start.")
+      .def("apply", [](const RenderPlan& p, RenderSettings& s) { ApplyRenderPlan(p, &s); }, nb::arg("settings"),
+           "Sets the settings' global switches (mnee, mnee_all_solutions, sclera_scattering) from the plan.")
+      .def_ro("mnee", &RenderPlan::mnee)
+      .def_ro("mnee_all_solutions", &RenderPlan::mneeAllSolutions)
+      .def_ro("sclera_scattering", &RenderPlan::scleraScattering);
+
   nb::class_<RenderPass>(m, "RenderPass")
       .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
       .def(
@@ -317,11 +377,15 @@ NB_MODULE(_hdeye, m) {
           },
           nb::arg("camera_id"), nb::arg("bindings"), nb::call_guard<nb::gil_scoped_release>(),
           "Syncs the index and renders settings.samples_per_pixel samples from settings.first_sample into the "
-          "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].");
+          "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
+      .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"),
+           nb::arg("overrides"), nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
+           "Syncs the index and returns the render plan for the camera and image size, without rendering.");
 
   m.def(
       "write_exr",
-      [](const std::string& path, const std::vector<std::pair<std::string, InArray<float, nb::ndim<2>>>>& planes) {
+      [](const std::string& path, const std::vector<std::pair<std::string, InArray<float, nb::ndim<2>>>>& planes,
+         const std::vector<std::pair<std::string, std::string>>& attributes) {
         if (planes.empty()) throw std::invalid_argument("write_exr: no planes");
         const int h = int(planes[0].second.shape(0)), w = int(planes[0].second.shape(1));
         std::vector<ImagePlane> out;
@@ -330,10 +394,13 @@ NB_MODULE(_hdeye, m) {
           out.push_back({name, std::vector<float>(a.data(), a.data() + a.size())});
         }
         nb::gil_scoped_release release;
-        WriteExr(path, w, h, out);
+        WriteExr(path, w, h, out, attributes);
       },
-      nb::arg("path"), nb::arg("planes"),
-      "Writes named float planes (each (height, width)) as one EXR, atomically.");
+      nb::arg("path"), nb::arg("planes"), nb::arg("attributes") = std::vector<std::pair<std::string, std::string>>{},
+      "Writes named float planes (each (height, width)) as one EXR, atomically; attributes: [(name, value)] "
+      "string attributes for the header (e.g. ('eyerender:plan', json)).");
+  m.def("read_exr_attributes", &ReadExrStringAttributes, nb::arg("path"),
+        "Every string attribute of an EXR's header, {name: value}.");
   m.def(
       "write_png_preview",
       [](const std::string& path, const InArray<float, nb::shape<-1, -1, 3>>& rgb, float exposure) {

@@ -1,0 +1,365 @@
+"""bench_plan: the sweeps behind the render plan's thresholds (delegate/hdeye/renderPlan.h, docs/render_plan.md).
+
+Each sweep renders small in-memory stages (millimetre units: an analytic eye -- an Xform with EyeAPI -- at the origin
+gazing +z, a grey backdrop card behind it, a camera on the gaze axis, and sphere / dome lights) through the installed
+eyerender package, and measures render time and error against a converged reference rendered with the feature on:
+
+  1. eye size on screen (pixels): MNEE on vs off, small key light      -> PlanRules::mneeMinPixels
+  2. light solid angle (sr) at 30 and 75 degrees, and a dome: MNEE on vs off -> PlanRules::mneeMaxSolidAngleSr
+  3. light direction (degrees off the gaze): all-solutions MNEE on vs off -> PlanRules::allSolutions*
+  4. path depth (maxDepth) on a side-lit eye: what cutting depth changes -> the chamber/depth decision
+
+Error: relative RMSE over the eye's pixels (the eye's primId) and over the frame: sqrt(mean((img - ref)^2)) /
+mean(ref) over RGB, with the worst 0.1% of pixels dropped (single-sample fireflies of sub-pixel highlights). "eff" is the efficiency 1 / (rel MSE x seconds); the ratio of two
+methods' efficiencies is their equal-error time ratio (both estimators are unbiased up to MNEE's missed second paths).
+The reference's own noise is subtracted from the MSE (estimated from the feature-on run at spp/ref_spp of its MSE).
+
+Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4]
+Single-threaded renders by default (--threads), so times compare; the machine is shared.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+import eyerender  # noqa: F401  (registers the EyeAPI schema before stages are made)
+from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade, Sdf
+
+from eyerender.render_session import RenderSession
+
+LIGHT_DISTANCE = 200.0  # mm, from the iris centre to the key's centre
+IRIS_Z = -3.735  # mm: the iris plane in the canonical frame (lights are placed from the iris centre)
+
+
+def make_stage(*, camera_distance=40.0, light="sphere", angle_deg=45.0, radius=2.0, intensity=None):
+    """An analytic eye at the origin (gaze +z), a camera on the axis at camera_distance mm, a backdrop card 30 mm
+    behind, and one light: a sphere of `radius` mm at LIGHT_DISTANCE, angle_deg off the gaze in the xz-plane, or a
+    constant dome. Sphere radiance is scaled so the iris irradiance stays about constant across radii."""
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageMetersPerUnit(stage, 0.001)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateFocalLengthAttr(50.0)
+    cam.CreateHorizontalApertureAttr(24.0)
+    cam.CreateVerticalApertureAttr(24.0)
+    cam.CreateClippingRangeAttr(Gf.Vec2f(0.1, 1e6))
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, camera_distance))
+    eye = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
+    eye.AddAppliedSchema("EyeAPI")
+    half = 0.6 * camera_distance + 20  # the card fills the view at any distance
+    card = UsdGeom.Mesh.Define(stage, "/World/card")
+    card.CreatePointsAttr([(-half, -half, -30), (half, -half, -30), (half, half, -30), (-half, half, -30)])
+    card.CreateFaceVertexCountsAttr([4])
+    card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    card.CreateSubdivisionSchemeAttr("none")
+    if light == "dome":
+        dome = UsdLux.DomeLight.Define(stage, "/World/dome")
+        dome.CreateIntensityAttr(intensity or 1.0)
+    else:
+        sphere = UsdLux.SphereLight.Define(stage, "/World/key")
+        sphere.CreateRadiusAttr(radius)
+        # Irradiance ~ radiance x solid angle: keep it near that of a 2 mm light.
+        solid = 2 * math.pi * (1 - math.sqrt(max(0.0, 1 - (radius / LIGHT_DISTANCE) ** 2)))
+        ref_solid = 2 * math.pi * (1 - math.sqrt(1 - (2.0 / LIGHT_DISTANCE) ** 2))
+        sphere.CreateIntensityAttr(intensity or 3000.0 * ref_solid / solid)
+        a = math.radians(angle_deg)
+        sphere.AddTranslateOp().Set(Gf.Vec3d(LIGHT_DISTANCE * math.sin(a), 0, IRIS_Z + LIGHT_DISTANCE * math.cos(a)))
+    return stage
+
+
+def solid_angle(radius):
+    return 2 * math.pi * (1 - math.sqrt(max(0.0, 1 - (radius / LIGHT_DISTANCE) ** 2)))
+
+
+def render(stage, width, spp, settings, threads, seed=0):
+    """(color image (h, w, 4), primId image, seconds of rendering)."""
+    s = dict(settings)
+    s.update(threads=threads, seed=seed)
+    session = RenderSession(stage, width=width, aovs=("color", "primId"), settings=s)
+    t0 = time.perf_counter()
+    session.render(spp=spp)
+    return session.image("color"), session.image("primId")[:, :, 0], time.perf_counter() - t0
+
+
+def errors(img, ref, eye_mask, trim=0.001):
+    """(rel MSE over the eye's pixels, rel MSE over the frame, mean relative bias over the eye), RGB. The worst
+    `trim` of the pixels by squared difference are dropped from the MSEs: a sub-pixel corneal highlight of a small,
+    bright light makes single-sample fireflies (in a test or in the reference) that otherwise decide the number."""
+    d2 = ((img[:, :, :3] - ref[:, :, :3]) ** 2).mean(axis=2)
+
+    def trimmed(values):
+        return values[values <= np.quantile(values, 1 - trim)].mean()
+
+    eye_mean = ref[:, :, :3][eye_mask].mean()
+    frame_mean = ref[:, :, :3].mean()
+    eye_mse = trimmed(d2[eye_mask]) / eye_mean ** 2
+    frame_mse = trimmed(d2.ravel()) / frame_mean ** 2
+    bias = (img[:, :, :3][eye_mask].mean() - eye_mean) / eye_mean
+    return eye_mse, frame_mse, bias
+
+
+class Bench:
+    def __init__(self, args):
+        self.args = args
+        self.rows = {}
+
+    def reference(self, stage, width, settings):
+        """The converged reference: `settings` at ref_spp samples (another seed than the tests)."""
+        return render(stage, width, self.args.ref_spp, settings, self.args.threads, seed=1000)
+
+    def compare(self, name, stage, width, variants, ref_settings, spp):
+        """variants: [(label, settings)]. Returns rows (dict per variant) with time and errors vs the reference."""
+        ref, prim, ref_secs = self.reference(stage, width, ref_settings)
+        # /World/Eye sorts before /World/card in the render index (std::map by path): the eye is primId 0.
+        eye_mask = prim == 0
+        if eye_mask.sum() == 0:
+            raise RuntimeError(f"{name}: the eye covers no pixel")
+        rows = []
+        for label, settings in variants:
+            img, _, secs = render(stage, width, spp, settings, self.args.threads)
+            eye_mse, frame_mse, bias = errors(img, ref, eye_mask)
+            rows.append({"variant": label, "spp": spp, "seconds": secs, "eye_mse": eye_mse, "frame_mse": frame_mse,
+                         "bias": bias, "eye_pixels": int(eye_mask.sum()), "ref_spp": self.args.ref_spp,
+                         "ref_seconds": ref_secs})
+        # The reference's own noise, from the run whose settings equal the reference's: its MSE x spp / ref_spp.
+        same = [r for (label, s), r in zip(variants, rows) if s == ref_settings]
+        ref_eye = same[0]["eye_mse"] * spp / self.args.ref_spp if same else 0.0
+        ref_frame = same[0]["frame_mse"] * spp / self.args.ref_spp if same else 0.0
+        for r in rows:
+            r["eye_rmse"] = math.sqrt(max(r["eye_mse"] - ref_eye, 1e-12))
+            r["frame_rmse"] = math.sqrt(max(r["frame_mse"] - ref_frame, 1e-12))
+            r["eye_eff"] = 1 / (r["eye_rmse"] ** 2 * r["seconds"])
+            r["frame_eff"] = 1 / (r["frame_rmse"] ** 2 * r["seconds"])
+        return rows
+
+
+def table(header, rows):
+    print("| " + " | ".join(header) + " |")
+    print("|" + "|".join("---" if i == 0 else "--:" for i in range(len(header))) + "|")
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+    print()
+    sys.stdout.flush()
+
+
+def progress(msg):
+    print(f"[bench_plan] {msg}", file=sys.stderr, flush=True)
+
+
+def sweep_pixels(b, out):
+    """1. Eye size on screen: MNEE on vs off, a 2 mm key at 45 degrees (3.1e-4 sr)."""
+    distances = [40, 160, 640] if b.args.quick else [40, 80, 160, 320, 640, 1280]
+    width = b.args.width
+    print("## Sweep 1: eye size on screen (MNEE on vs off)\n")
+    print(f"A 2 mm sphere light at {LIGHT_DISTANCE:g} mm, 45 deg off the gaze ({solid_angle(2):.2g} sr); camera on the "
+          f"axis at growing distance; {width} px wide frame with a backdrop; {b.args.spp} spp per test, reference "
+          f"MNEE on at {b.args.ref_spp} spp.\n")
+    rows_out = []
+    for dist in distances:
+        progress(f"sweep 1: camera at {dist} mm")
+        stage = make_stage(camera_distance=dist, angle_deg=45)
+        px = width * 50 * 15.08 / (24 * (dist - IRIS_Z))
+        rows = b.compare("pixels", stage, width, [("mnee", {"mnee": True}), ("no mnee", {"mnee": False})],
+                         {"mnee": True}, b.args.spp)
+        on, off = rows
+        rows_out.append({"eye_px": px, "eye_pixels": on["eye_pixels"], "mnee_s": on["seconds"], "pt_s": off["seconds"],
+                         "mnee_eye": on["eye_rmse"], "pt_eye": off["eye_rmse"], "mnee_frame": on["frame_rmse"],
+                         "pt_frame": off["frame_rmse"], "eye_ratio": on["eye_eff"] / off["eye_eff"],
+                         "frame_ratio": on["frame_eff"] / off["frame_eff"], "pt_bias": off["bias"]})
+    table(["eye px", "eye pixels", "MNEE s", "PT s", "MNEE eye rRMSE", "PT eye rRMSE", "MNEE frame rRMSE",
+           "PT frame rRMSE", "eff ratio eye (MNEE/PT)", "eff ratio frame"],
+          [[f"{r['eye_px']:.1f}", str(r["eye_pixels"]), f"{r['mnee_s']:.2f}", f"{r['pt_s']:.2f}",
+            f"{r['mnee_eye']:.3f}", f"{r['pt_eye']:.3f}", f"{r['mnee_frame']:.4f}", f"{r['pt_frame']:.4f}",
+            f"{r['eye_ratio']:.2f}", f"{r['frame_ratio']:.2f}"] for r in rows_out])
+    out["pixels"] = rows_out
+
+
+def sweep_solid_angle(b, out):
+    """2. Light solid angle at 30 and 75 degrees (and a dome): MNEE on vs off."""
+    radii = [2, 20, 100] if b.args.quick else [1, 4, 16, 50, 100, 150, 190]
+    angles = [45] if b.args.quick else [30, 75]
+    width = b.args.width
+    print("## Sweep 2: light solid angle (MNEE on vs off)\n")
+    print(f"Sphere lights at {LIGHT_DISTANCE:g} mm (radiance scaled to keep the iris irradiance), and a constant dome; "
+          f"camera at 40 mm, {width} px; {b.args.spp} spp per test; reference MNEE on at {b.args.ref_spp} spp.\n")
+    rows_out = []
+    cases = [(a, r) for a in angles for r in radii] + [(None, None)]
+    for angle, radius in cases:
+        progress(f"sweep 2: {'dome' if angle is None else f'{radius} mm at {angle} deg'}")
+        stage = make_stage(light="dome") if angle is None else make_stage(angle_deg=angle, radius=radius)
+        rows = b.compare("solid", stage, width, [("mnee", {"mnee": True}), ("no mnee", {"mnee": False})],
+                         {"mnee": True}, b.args.spp)
+        on, off = rows
+        rows_out.append({"angle": angle, "radius": radius,
+                         "solid_angle": 4 * math.pi if angle is None else solid_angle(radius),
+                         "mnee_s": on["seconds"], "pt_s": off["seconds"], "mnee_eye": on["eye_rmse"],
+                         "pt_eye": off["eye_rmse"], "eye_ratio": on["eye_eff"] / off["eye_eff"],
+                         "frame_ratio": on["frame_eff"] / off["frame_eff"], "pt_bias": off["bias"],
+                         "mnee_bias": on["bias"]})
+    table(["light", "solid angle (sr)", "MNEE s", "PT s", "MNEE eye rRMSE", "PT eye rRMSE", "PT eye bias",
+           "eff ratio eye (MNEE/PT)", "eff ratio frame"],
+          [["dome" if r["angle"] is None else f"r {r['radius']:g} mm, {r['angle']} deg", f"{r['solid_angle']:.3g}",
+            f"{r['mnee_s']:.2f}", f"{r['pt_s']:.2f}", f"{r['mnee_eye']:.3f}", f"{r['pt_eye']:.3f}",
+            f"{100 * r['pt_bias']:+.1f}%", f"{r['eye_ratio']:.2f}", f"{r['frame_ratio']:.2f}"] for r in rows_out])
+    out["solid_angle"] = rows_out
+
+
+def sweep_all_solutions(b, out):
+    """3. Light direction: all-solutions MNEE on vs off."""
+    angles = [30, 85] if b.args.quick else [0, 30, 60, 75, 85]
+    width = b.args.width
+    print("## Sweep 3: light direction (all-solutions MNEE on vs off)\n")
+    print(f"A 2 mm sphere light at {LIGHT_DISTANCE:g} mm; camera at 40 mm, {width} px; {b.args.spp} spp per test; "
+          f"reference all-solutions MNEE at {b.args.ref_spp} spp. Bias: mean over the eye relative to the reference "
+          f"(its noise about +-{100 / math.sqrt(b.args.ref_spp):.0f}% / sqrt(eye pixels)).\n")
+    rows_out = []
+    for angle in angles:
+        progress(f"sweep 3: {angle} deg")
+        stage = make_stage(angle_deg=angle)
+        ref = {"mnee": True, "mnee_all_solutions": True}
+        rows = b.compare("allsol", stage, width, [("one", {"mnee": True, "mnee_all_solutions": False}), ("all", ref)],
+                         ref, b.args.spp)
+        one, alls = rows
+        rows_out.append({"angle": angle, "one_s": one["seconds"], "all_s": alls["seconds"], "one_eye": one["eye_rmse"],
+                         "all_eye": alls["eye_rmse"], "one_bias": one["bias"], "all_bias": alls["bias"],
+                         "ratio": one["eye_eff"] / alls["eye_eff"]})
+    table(["light (deg)", "one s", "all s", "one eye rRMSE", "all eye rRMSE", "one bias", "all bias",
+           "eff ratio (one/all)"],
+          [[str(r["angle"]), f"{r['one_s']:.2f}", f"{r['all_s']:.2f}", f"{r['one_eye']:.3f}", f"{r['all_eye']:.3f}",
+            f"{100 * r['one_bias']:+.2f}%", f"{100 * r['all_bias']:+.2f}%", f"{r['ratio']:.2f}"] for r in rows_out])
+    out["all_solutions"] = rows_out
+
+
+def sweep_depth(b, out):
+    """4. Path depth on a side-lit eye: time and error against maxDepth 8."""
+    depths = [1, 2, 8] if b.args.quick else [1, 2, 3, 4, 8]
+    width = b.args.width
+    print("## Sweep 4: path depth (maxDepth) on a side-lit eye\n")
+    print(f"A 2 mm sphere light at 75 deg; camera at 40 mm, {width} px; {b.args.spp} spp per test; reference "
+          f"maxDepth 8 at {b.args.ref_spp} spp. The chamber walk is one event for maxDepth: what depth cuts is the "
+          f"light that leaves the eye and comes back (backdrop, other eye), not the chamber's own bounces.\n")
+    stage = make_stage(angle_deg=75)
+    variants = [(f"depth {d}", {"mnee": True, "max_depth": d}) for d in depths]
+    progress("sweep 4")
+    rows = b.compare("depth", stage, width, variants, {"mnee": True, "max_depth": 8}, b.args.spp)
+    rows_out = [{"depth": d, "seconds": r["seconds"], "eye_rmse": r["eye_rmse"], "frame_rmse": r["frame_rmse"],
+                 "bias": r["bias"]} for d, r in zip(depths, rows)]
+    table(["maxDepth", "s", "eye rRMSE", "frame rRMSE", "eye bias"],
+          [[str(r["depth"]), f"{r['seconds']:.2f}", f"{r['eye_rmse']:.3f}", f"{r['frame_rmse']:.4f}",
+            f"{100 * r['bias']:+.2f}%"] for r in rows_out])
+    out["depth"] = rows_out
+
+
+def plot(out, out_dir):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        progress("matplotlib not available: no plots")
+        return []
+    written = []
+    if "pixels" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["pixels"]
+        ax.loglog([r["eye_px"] for r in rows], [r["eye_ratio"] for r in rows], "o-", label="eye pixels")
+        ax.loglog([r["eye_px"] for r in rows], [r["frame_ratio"] for r in rows], "s--", label="frame")
+        ax.axhline(1, color="grey", lw=0.8)
+        ax.set_xlabel("eye diameter on screen (px)")
+        ax.set_ylabel("efficiency MNEE / path tracing")
+        ax.set_title("Sweep 1: eye size (2 mm key, 45 deg)")
+        ax.legend()
+        written.append(_save(fig, out_dir, "render_plan_pixels.png"))
+    if "solid_angle" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["solid_angle"]
+        for angle in sorted({r["angle"] for r in rows if r["angle"] is not None}):
+            sel = [r for r in rows if r["angle"] == angle]
+            ax.loglog([r["solid_angle"] for r in sel], [r["eye_ratio"] for r in sel], "o-", label=f"sphere, {angle} deg")
+        dome = [r for r in rows if r["angle"] is None]
+        if dome:
+            ax.loglog([dome[0]["solid_angle"]], [dome[0]["eye_ratio"]], "k*", ms=10, label="dome")
+        ax.axhline(1, color="grey", lw=0.8)
+        ax.set_xlabel("light solid angle seen from the eye (sr)")
+        ax.set_ylabel("efficiency MNEE / path tracing (eye)")
+        ax.set_title("Sweep 2: light size")
+        ax.legend()
+        written.append(_save(fig, out_dir, "render_plan_solid_angle.png"))
+    if "all_solutions" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["all_solutions"]
+        ax.plot([r["angle"] for r in rows], [100 * r["one_bias"] for r in rows], "o-", label="one path: bias (%)")
+        ax.plot([r["angle"] for r in rows], [r["ratio"] for r in rows], "s--", label="efficiency one / all")
+        ax.axhline(0, color="grey", lw=0.8)
+        ax.set_xlabel("light angle off the gaze (deg)")
+        ax.set_title("Sweep 3: all-solutions MNEE")
+        ax.legend()
+        written.append(_save(fig, out_dir, "render_plan_all_solutions.png"))
+    if "depth" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["depth"]
+        ax.plot([r["depth"] for r in rows], [100 * r["bias"] for r in rows], "o-", label="eye bias (%)")
+        ax2 = ax.twinx()
+        ax2.plot([r["depth"] for r in rows], [r["seconds"] for r in rows], "s--", color="C1", label="seconds")
+        ax.set_xlabel("maxDepth")
+        ax.set_ylabel("eye bias vs depth 8 (%)")
+        ax2.set_ylabel("render seconds")
+        ax.set_title("Sweep 4: path depth, side-lit eye")
+        written.append(_save(fig, out_dir, "render_plan_depth.png"))
+    return written
+
+
+def _save(fig, out_dir, name):
+    path = os.path.join(out_dir, name)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def write_csv(prefix, out):
+    for name, rows in out.items():
+        if not rows:
+            continue
+        with open(f"{prefix}_{name}.csv", "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="fewer points and samples: a smoke run (about a minute)")
+    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated numbers)")
+    p.add_argument("--width", type=int, default=None, help="frame width in pixels (default 64; quick 48)")
+    p.add_argument("--spp", type=int, default=None, help="samples per pixel of each test render (default 32)")
+    p.add_argument("--ref-spp", type=int, default=None, help="reference samples per pixel (default 512)")
+    p.add_argument("--threads", type=int, default=1, help="render threads (default 1: comparable times)")
+    p.add_argument("--out-dir", default=os.path.join(os.path.dirname(__file__), "..", "docs"),
+                   help="where the plots go (default docs/)")
+    p.add_argument("--csv", metavar="PREFIX", help="also write PREFIX_<sweep>.csv")
+    args = p.parse_args(argv)
+    args.width = args.width or (48 if args.quick else 64)
+    args.spp = args.spp or (8 if args.quick else 32)
+    args.ref_spp = args.ref_spp or (128 if args.quick else 512)
+    b = Bench(args)
+    out = {}
+    start = time.perf_counter()
+    sweeps = {"1": sweep_pixels, "2": sweep_solid_angle, "3": sweep_all_solutions, "4": sweep_depth}
+    print(f"# bench_plan ({'quick' if args.quick else 'full'}): {args.width} px frames, {args.spp} spp tests, "
+          f"{args.ref_spp} spp references, {args.threads} thread(s)\n")
+    for key in args.sweeps.split(","):
+        sweeps[key.strip()](b, out)
+    for path in plot(out, args.out_dir):
+        print(f"plot: {os.path.relpath(path)}")
+    if args.csv:
+        write_csv(args.csv, out)
+    print(f"\ntotal {time.perf_counter() - start:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,167 @@
+#pragma once
+// The render plan (DESIGN.md, "Deciding what to model"): after sync and before rendering, decide for
+// each eye everything the artist did not author (MNEE per light, the all-solutions search, chamber
+// depth, sclera scattering and the limbal arc, subdivision level, precision) from what the scene
+// shows: the eye's size on screen, whether it is in view, and each light's solid angle and direction
+// as seen from the eye. Every decision carries a one-line reason; anything the user set explicitly
+// (an authored schema value, a render setting or a command-line flag, gathered in PlanOverrides) wins
+// and the reason says so ("authored" / "flag").
+//
+// Every threshold is in PlanRules, each with the sweep it comes from (bench/bench_plan.py,
+// docs/render_plan.md). Rules whose sweep has not been run are marked provisional, in the code and in
+// the reasons the plan prints.
+//
+// Application today: the renderer has only global switches (RenderSettings::mnee, mneeAllSolutions,
+// scleraScattering, maxDepth), so ApplyRenderPlan turns a feature on if any eye's plan needs it. With one eye in the
+// scene that is exact; with several, per-eye application is pending (the plan says so). The EyePlan
+// fields are what a per-eye switch will read.
+#include "hdeye/camera.h"
+#include "hdeye/eyeGeometry.h"
+#include "hdeye/renderLight.h"
+#include "hdeye/types.h"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+class RenderIndex;
+struct RenderSettings;
+
+/// The planner's thresholds. Units in each comment; where each number comes from in docs/render_plan.md.
+struct PlanRules {
+  /// Eyes whose 15.08 mm iris circle projects smaller than this (pixels) get no MNEE. 0: MNEE at any size.
+  /// Sweep 1 measured MNEE 12-40x more efficient than path tracing on the eye's pixels from 46 px down to
+  /// 1.6 px (a 3e-4 sr key), at the same time per frame: a tiny eye does not justify dropping it.
+  double mneeMinPixels = 0;
+  /// A light whose solid angle seen from the eye exceeds this (steradians) is left to BSDF sampling with MIS.
+  /// Sweep 2 (efficiency MNEE / path tracing on the eye's pixels): at 30 deg off the gaze x29 at 0.02 sr, x3.3
+  /// at 0.2, x1.7 at 0.84, then x0.80 at 2.1, x0.74 at 4.3 and x0.28 for a dome (4 pi sr); at 75 deg x4.7 at
+  /// 0.02 sr, x1.03 at 0.2, x0.78 at 0.84, x0.51 at 2.1. So: 1 sr near the gaze, 0.2 sr at grazing angles.
+  /// The 60 deg split between the two measured angles (30, 75) is not itself swept.
+  double mneeMaxSolidAngleSr = 1.0;
+  double mneeMaxSolidAngleSrGrazing = 0.2;  ///< sr, for lights at least grazingAngleDeg off the gaze
+  double grazingAngleDeg = 60;              ///< degrees
+  /// All-solutions MNEE (every refraction path) only for lights at least this far off the gaze (degrees) --
+  /// where second paths exist (the ellipsoid-cone junction fold under grazing light) -- and on eyes at least
+  /// `allSolutionsMinPixels` wide. Sweep 3: at 0-85 deg one path per sample was 1.3-2.0x more efficient, and
+  /// the all-solutions image differed in mean by +0.03% (60 deg) and +0.08% (85 deg) only (docs/mnee_benchmark.md:
+  /// second paths carry 0.05-0.19% of the iris flux, most at 85 deg). The pixel bound is PROVISIONAL: a close-up
+  /// large enough for 0.1% to rise above the noise was not rendered.
+  double allSolutionsMinAngleDeg = 80;
+  double allSolutionsMinPixels = 400;
+  /// Sclera random-walk SSS on eye meshes whose iris circle is at least this wide (pixels); below it, a
+  /// Lambertian sclera. PROVISIONAL (not swept): one measured point -- on two_eyes (10.5 px eyes) the
+  /// Lambertian sclera left the eyes' pixels at 0.67 relative RMSE against the walk's reference while the walk
+  /// reached 0.22 in the same 4 s (eyestudy), so the walk's difference shows far below the limbus band's size.
+  double sssMinPixels = 2;
+  /// The limbal arc (teleportation cylinder) needs the limbus band ((outer - inner limbus diameter) / 2,
+  /// projected) at least this wide, pixels. PROVISIONAL (not swept).
+  double sssMinLimbusPixels = 1.5;
+  /// The limbal arc shows on the shadowed side of a side-lit limbus: some light at least this far off
+  /// the gaze (degrees). PROVISIONAL, as above.
+  double limbalArcMinLightAngleDeg = 30;
+  /// Subdivision of eye meshes: one level per doubling of the eye's size above this many pixels,
+  /// capped by the --complexity ceiling. PROVISIONAL (not swept); reported, not yet applied.
+  double refinePixelsLevel1 = 64;
+  bool sssProvisional = true, limbalArcProvisional = true, refineProvisional = true;
+};
+
+/// What the user set explicitly: each set value wins over the planner. Flags and render settings are
+/// render-wide; authored values are per eye prim and win over flags for that eye.
+struct PlanOverrides {
+  std::optional<bool> mnee;              ///< flag: --no-mnee / --mnee, or RenderSettings set by hand
+  std::optional<bool> mneeAllSolutions;  ///< flag: --mnee-all-solutions
+  std::optional<bool> scleraScattering;  ///< flag / setting: random-walk sclera (true) or diffuse (false)
+  std::optional<bool> limbalArc;         ///< flag
+  int refineLevelCeiling = 3;            ///< --complexity: the planner's subdivision level never exceeds it
+  /// Schema values authored on an eye prim (HasAuthoredValue, not the fallback).
+  struct Authored {
+    std::optional<bool> limbalArc;  ///< eye:limbalArc
+  };
+  std::map<PrimId, Authored> authored;
+};
+
+/// One light as one eye sees it, and what the eye does with it.
+struct LightFacts {
+  PrimId light;
+  std::string kind;               ///< sphere, distant, rect, disk, dome
+  double solidAngleSr = 0;        ///< subtended at the iris centre, steradians (dome: 4 pi)
+  double angleOffGazeDeg = -1;    ///< gaze to the light's centre, degrees; -1 for a dome (no direction)
+  double angularRadiusDeg = 180;  ///< half the angle the light subtends, degrees
+  bool reachesIris = true;        ///< some part above the rim plane (else the sclera hides it: MNEE finds nothing)
+  /// "mnee" (manifold NEE through the cornea) or "bsdf" (BSDF sampling with MIS: paths that leave the
+  /// cornea and hit the light) or "none" (the light cannot reach the iris).
+  std::string strategy = "bsdf";
+  std::string why;
+};
+
+/// An eye's facts and decisions. Each decision names its reason in `why` (same key).
+struct EyePlan {
+  PrimId prim;
+  std::string geometry;        ///< analyticEye or eyeMesh
+  /// Projected diameter of the 15.08 mm iris/limbus circle, pixels (the longest chord of its image;
+  /// 0 when behind the camera).
+  double pixels = 0;
+  bool inView = false;         ///< some of the circle projects inside the image, in front of the camera
+  bool behindCamera = false;   ///< all of it behind the camera plane
+  double viewAngleDeg = 0;     ///< gaze to the direction from the eye to the camera, degrees (0: looking at it)
+  double limbusPixels = 0;     ///< the limbus band's projected width, pixels
+  std::vector<LightFacts> lights;
+
+  bool mnee = false;           ///< MNEE for at least one light
+  bool mneeAllSolutions = false;
+  /// Chamber events followed per path (the walk's bound inside the anterior chamber).
+  int chamberEvents = 64;
+  std::string sss = "diffuse";  ///< "randomWalk" (path-traced sclera SSS) or "diffuse" (Lambert)
+  bool limbalArc = false;       ///< the teleportation cylinder in the sclera walk
+  int refineLevel = -1;         ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
+  std::string precision = "double";  ///< the eye's analytic intersection and MNEE arithmetic
+  std::map<std::string, std::string> why;  ///< decision name -> short reason
+};
+
+struct RenderPlan {
+  int width = 0, height = 0;  ///< image pixels the plan was made for
+  PrimId camera;
+  std::vector<EyePlan> eyes;
+  /// What ApplyRenderPlan sets (global switches; see the top of this file).
+  bool mnee = true, mneeAllSolutions = false;
+  bool scleraScattering = false;  ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
+  std::map<std::string, std::string> why;  ///< reasons for the global values
+  /// "exact" (at most one eye: the global switches are that eye's plan) or "global" (several eyes:
+  /// a feature is on for all if any eye needs it; per-eye application pending).
+  std::string application = "exact";
+
+  /// The plan as one JSON object: {"camera", "width", "height", "application", "applied": {...},
+  /// "why": {...}, "eyes": [{"prim", "pixels", "mnee", "sss", "limbalArc", "why", ...}]}.
+  std::string ToJson() const;
+  /// One human-readable line per eye (and one for the globals when there is no eye).
+  std::vector<std::string> SummaryLines() const;
+};
+
+/// Projected facts of an eye seen by `camera` in a width x height image (no lights).
+EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
+                   const CameraView& camera, int width, int height);
+
+/// A light as the eye sees it: solid angle, direction off the gaze, whether it can reach the iris.
+LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye);
+
+/// Fills the eye's decisions and reasons from its facts (MeasureEye, MeasureLight into eye->lights),
+/// the rules and the overrides.
+void DecideEye(EyePlan* eye, const PlanRules& rules, const PlanOverrides& overrides);
+
+/// The plan for every eye rprim of a synced index, seen by the camera sprim `cameraId` in a width x
+/// height image. Throws std::runtime_error if the camera is missing or the size is not positive.
+RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int width, int height,
+                          const PlanOverrides& overrides, const PlanRules& rules = {});
+
+/// Sets the global switches of `settings` from the plan (mnee, mneeAllSolutions, scleraScattering). maxDepth is left
+/// alone: it bounds world bounces for the whole frame, not the eye's chamber walk.
+void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings);
+
+/// `s` as a JSON string literal (quotes, backslashes and control characters escaped).
+std::string JsonQuote(const std::string& s);
+
+}  // namespace hdeye

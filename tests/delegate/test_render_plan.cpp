@@ -1,0 +1,341 @@
+// The render plan (renderPlan.h): what it measures of eyes and lights, what it decides on synthetic cases, that
+// explicit settings and authored values win, its JSON, and the EXR header attribute that carries it.
+#include "delegate/scene_helpers.h"
+
+#include "hdeye/imageWriter.h"
+#include "hdeye/inMemorySceneDelegate.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderIndex.h"
+#include "hdeye/renderPass.h"
+#include "hdeye/renderPlan.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace hdeye;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kIrisZ = -3.735;  // mm, the default iris plane
+
+Matrix4d Translate(double x, double y, double z) {
+  Matrix4d m(1.0);
+  m[3] = glm::dvec4(x, y, z, 1);
+  return m;
+}
+
+/// A millimetre scene: an eye (analytic, or on a 12 mm UV-sphere mesh) at the origin gazing +z, a 50 mm camera
+/// (24 x 24 mm film) on the axis at `cameraDistance`, and whatever lights the test adds.
+struct Scene {
+  RenderDelegate delegate;
+  RenderIndex index{&delegate};
+  InMemorySceneDelegate scene{&index};
+  RenderPass pass{&index};
+
+  explicit Scene(double cameraDistance, bool mesh = false, const Matrix4d& cameraTransform = Matrix4d(0.0)) {
+    CameraParams camera;
+    camera.focalLength = 50, camera.horizontalAperture = 24, camera.verticalAperture = 24;
+    scene.AddCamera("/cam", camera, cameraTransform[3][3] != 0 ? cameraTransform : test::LookDownZ(cameraDistance));
+    if (mesh) {
+      MeshTopology topology;
+      std::vector<Vec3f> points;
+      test::UvSphere(12, 24, 48, &topology, &points);
+      EyeParams eye;
+      eye.modelTransform = Translate(0, 0, 12 - 0.0);  // the apex on the sphere's front pole
+      scene.AddEyeMesh("/Eye", topology, points, eye);
+    } else {
+      scene.AddAnalyticEye("/Eye", EyeParams{});
+    }
+  }
+  void SphereLight(const PrimId& id, double radius, double angleDeg, double distance = 200) {
+    LightParams p;
+    p.radius = float(radius);
+    const double a = angleDeg * kPi / 180;
+    scene.AddLight(id, "sphereLight", p, Translate(distance * std::sin(a), 0, kIrisZ + distance * std::cos(a)));
+  }
+  void Dome() { scene.AddLight("/dome", "domeLight", LightParams{}); }
+  RenderPlan Plan(int width, const PlanOverrides& overrides = {}) { return pass.Plan("/cam", width, width, overrides); }
+};
+
+/// A copy (callers often pass a temporary plan).
+EyePlan OnlyEye(const RenderPlan& plan) {
+  REQUIRE(plan.eyes.size() == 1);
+  return plan.eyes[0];
+}
+
+}  // namespace
+
+TEST_CASE("the plan measures the iris circle's projected diameter as the pinhole formula gives it", "[plan]") {
+  for (double distance : {40.0, 100.0, 400.0}) {
+    Scene s(distance);
+    const EyePlan& e = OnlyEye(s.Plan(200));
+    // A circle facing the camera: diameter on film = f D / depth; pixels = film / aperture * width.
+    const double expected = 200.0 / 24 * 50 * 15.08 / (distance - kIrisZ);
+    INFO("distance " << distance << " mm: " << e.pixels << " px, expected " << expected);
+    CHECK(e.pixels == Approx(expected).epsilon(0.005));
+    CHECK(e.inView);
+    CHECK_FALSE(e.behindCamera);
+    CHECK(e.viewAngleDeg < 1e-3);
+  }
+}
+
+TEST_CASE("the plan measures a sphere light's solid angle and its angle off the gaze", "[plan]") {
+  Scene s(40);
+  s.SphereLight("/key", 5, 60, 100);
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  REQUIRE(e.lights.size() == 1);
+  const LightFacts& l = e.lights[0];
+  const double sinA = 5.0 / 100;
+  CHECK(l.solidAngleSr == Approx(2 * kPi * (1 - std::sqrt(1 - sinA * sinA))).epsilon(1e-6));
+  CHECK(l.angleOffGazeDeg == Approx(60).margin(1e-6));
+  CHECK(l.angularRadiusDeg == Approx(std::asin(sinA) * 180 / kPi).epsilon(1e-6));
+  CHECK(l.reachesIris);
+}
+
+TEST_CASE("a small key light seen through the cornea gets MNEE", "[plan]") {
+  Scene s(40);
+  s.SphereLight("/key", 2, 45);
+  const RenderPlan plan = s.Plan(64);
+  const EyePlan& e = OnlyEye(plan);
+  INFO(plan.ToJson());
+  CHECK(e.lights[0].strategy == "mnee");
+  CHECK(e.mnee);
+  CHECK(plan.mnee);
+  CHECK(plan.application == "exact");
+  CHECK_FALSE(e.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
+}
+
+TEST_CASE("a dome light alone is left to BSDF sampling with MIS: no MNEE", "[plan]") {
+  Scene s(40);
+  s.Dome();
+  const RenderPlan plan = s.Plan(64);
+  const EyePlan& e = OnlyEye(plan);
+  INFO(plan.ToJson());
+  CHECK(e.lights[0].kind == "dome");
+  CHECK(e.lights[0].solidAngleSr == Approx(4 * kPi));
+  CHECK(e.lights[0].strategy == "bsdf");
+  CHECK_FALSE(e.mnee);
+  CHECK_FALSE(plan.mnee);
+  RenderSettings settings;
+  REQUIRE(settings.mnee);
+  ApplyRenderPlan(plan, &settings);
+  CHECK_FALSE(settings.mnee);
+}
+
+TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, and the reason says per-light is pending",
+          "[plan]") {
+  Scene s(40);
+  s.Dome();
+  s.SphereLight("/key", 2, 30);
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  REQUIRE(e.lights.size() == 2);
+  CHECK(e.lights[0].light == "/dome");
+  CHECK(e.lights[0].strategy == "bsdf");
+  CHECK(e.lights[1].strategy == "mnee");
+  CHECK(e.mnee);
+  CHECK(e.why.at("mnee").find("pending") != std::string::npos);
+}
+
+TEST_CASE("an eye a few pixels wide gets the small-eye decisions of the rules", "[plan]") {
+  Scene s(2000, /*mesh=*/true);
+  s.SphereLight("/key", 2, 60);
+  const PlanRules rules;
+  const EyePlan& e = OnlyEye(s.pass.Plan("/cam", 64, 64, {}, rules));
+  INFO("eye " << e.pixels << " px");
+  REQUIRE(e.pixels < 3);
+  CHECK(e.inView);
+  CHECK(e.mnee);  // sweep 1: MNEE stays ahead of path tracing down to 1.6 px for a small key
+  PlanRules cut;
+  cut.mneeMinPixels = 8;  // the rule, when set, does cut
+  const EyePlan& c = OnlyEye(s.pass.Plan("/cam", 64, 64, {}, cut));
+  CHECK_FALSE(c.mnee);
+  CHECK(c.lights[0].why.find("px <") != std::string::npos);
+  CHECK(e.sss == "diffuse");  // about 1 px: under PlanRules::sssMinPixels
+  CHECK_FALSE(e.limbalArc);
+  CHECK(e.refineLevel == 0);
+}
+
+TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk and the limbal arc", "[plan]") {
+  Scene s(60, /*mesh=*/true);
+  s.SphereLight("/key", 2, 60);
+  const RenderPlan plan = s.Plan(512);
+  const EyePlan& e = OnlyEye(plan);
+  INFO(plan.ToJson());
+  CHECK(e.limbusPixels > PlanRules{}.sssMinLimbusPixels);
+  CHECK(e.sss == "randomWalk");
+  CHECK(e.limbalArc);
+  CHECK(plan.scleraScattering);
+  CHECK(e.refineLevel == 3);  // large on screen: the complexity ceiling
+
+  Scene frontal(60, /*mesh=*/true);
+  frontal.SphereLight("/key", 2, 5);
+  const EyePlan& f = OnlyEye(frontal.Plan(512));
+  CHECK(f.sss == "randomWalk");
+  CHECK_FALSE(f.limbalArc);  // no shadowed side of the limbus
+}
+
+TEST_CASE("an analytic eye has no sclera volume to walk", "[plan]") {
+  Scene s(40);
+  s.SphereLight("/key", 2, 60);
+  const EyePlan& e = OnlyEye(s.Plan(512));
+  CHECK(e.sss == "none");
+  CHECK_FALSE(e.limbalArc);
+  CHECK(e.refineLevel == -1);
+}
+
+TEST_CASE("an eye behind the camera or out of view gets neither MNEE nor sclera scattering", "[plan]") {
+  // The camera at z = 40 looking down +z (turned around): the eye is behind it.
+  Matrix4d turned(1.0);
+  turned[0] = glm::dvec4(-1, 0, 0, 0), turned[2] = glm::dvec4(0, 0, -1, 0), turned[3] = glm::dvec4(0, 0, 40, 1);
+  Scene behind(40, /*mesh=*/true, turned);
+  behind.SphereLight("/key", 2, 30);
+  const RenderPlan plan = behind.Plan(64);
+  const EyePlan& b = OnlyEye(plan);
+  INFO(plan.ToJson());
+  CHECK(b.behindCamera);
+  CHECK_FALSE(b.inView);
+  CHECK(b.pixels == 0);
+  CHECK_FALSE(b.mnee);
+  CHECK(b.sss == "diffuse");
+  CHECK_FALSE(plan.mnee);
+
+  // The camera moved 200 mm to the side, still looking down -z: the eye is in front but outside the frame.
+  Scene aside(40, /*mesh=*/false, Translate(200, 0, 40));
+  aside.SphereLight("/key", 2, 30);
+  const EyePlan& a = OnlyEye(aside.Plan(64));
+  CHECK_FALSE(a.behindCamera);
+  CHECK_FALSE(a.inView);
+  CHECK_FALSE(a.mnee);
+  CHECK(a.lights[0].why.find("out of view") != std::string::npos);
+}
+
+TEST_CASE("a light below the rim plane cannot reach the iris", "[plan]") {
+  Scene s(40);
+  s.SphereLight("/behind", 2, 120);
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  CHECK_FALSE(e.lights[0].reachesIris);
+  CHECK(e.lights[0].strategy == "none");
+  CHECK_FALSE(e.mnee);
+}
+
+TEST_CASE("explicit flags and authored values win over the planner, and the reasons say so", "[plan]") {
+  Scene s(40);
+  s.Dome();
+  PlanOverrides flags;
+  flags.mnee = true;
+  flags.mneeAllSolutions = true;
+  const RenderPlan plan = s.Plan(64, flags);
+  const EyePlan& e = OnlyEye(plan);
+  CHECK(e.mnee);  // the dome alone would get none
+  CHECK(e.lights[0].why.rfind("flag", 0) == 0);
+  CHECK(e.mneeAllSolutions);
+  CHECK(e.why.at("mneeAllSolutions").rfind("flag", 0) == 0);
+  CHECK(plan.mnee);
+  CHECK(plan.mneeAllSolutions);
+
+  Scene off(40);
+  off.SphereLight("/key", 2, 45);
+  PlanOverrides noMnee;
+  noMnee.mnee = false;
+  CHECK_FALSE(OnlyEye(off.Plan(64, noMnee)).mnee);
+  CHECK_FALSE(off.Plan(64, noMnee).mnee);
+
+  Scene arc(60, /*mesh=*/true);
+  arc.SphereLight("/key", 2, 60);
+  PlanOverrides authored;
+  authored.limbalArc = true;                      // a flag says on ...
+  authored.authored["/Eye"].limbalArc = false;    // ... the artist authored off on this eye: the artist wins
+  const EyePlan& a = OnlyEye(arc.Plan(512, authored));
+  CHECK_FALSE(a.limbalArc);
+  CHECK(a.why.at("limbalArc").rfind("authored", 0) == 0);
+
+  PlanOverrides noWalk;
+  noWalk.scleraScattering = false;
+  const RenderPlan flat = arc.Plan(512, noWalk);
+  CHECK(OnlyEye(flat).sss == "diffuse");
+  CHECK_FALSE(flat.scleraScattering);
+
+  PlanOverrides ceiling;
+  ceiling.refineLevelCeiling = 1;
+  CHECK(OnlyEye(arc.Plan(512, ceiling)).refineLevel == 1);
+}
+
+TEST_CASE("several eyes share the global switches and the plan says per-eye application is pending", "[plan]") {
+  Scene s(200);
+  s.scene.AddAnalyticEye("/Eye2", EyeParams{}, Translate(30, 0, 0));
+  s.SphereLight("/key", 2, 30);
+  const RenderPlan plan = s.Plan(256);
+  REQUIRE(plan.eyes.size() == 2);
+  CHECK(plan.application == "global");
+  CHECK(plan.ToJson().find("\"application\": \"global\"") != std::string::npos);
+  const auto lines = plan.SummaryLines();
+  CHECK(lines.size() == 3);
+  CHECK(lines.back().find("pending") != std::string::npos);
+}
+
+TEST_CASE("the plan's JSON holds the contract keys, with strings escaped", "[plan]") {
+  CHECK(JsonQuote("a\"b\\c\nd\x01") == "\"a\\\"b\\\\c\\nd\\u0001\"");
+  Scene s(40);
+  s.SphereLight("/key", 2, 45);
+  const std::string json = s.Plan(64).ToJson();
+  for (const char* key : {"\"eyes\": [", "\"prim\": \"/Eye\"", "\"pixels\": ", "\"mnee\": true", "\"sss\": ",
+                          "\"limbalArc\": false", "\"why\": {"})
+    CHECK(json.find(key) != std::string::npos);
+  CHECK(json.front() == '{');
+  CHECK(json.back() == '}');
+}
+
+TEST_CASE("a missing camera or an empty image is a one-line error", "[plan]") {
+  Scene s(40);
+  CHECK_THROWS_WITH(s.pass.Plan("/nope", 64, 64, {}), Catch::Contains("camera /nope not found"));
+  CHECK_THROWS_WITH(s.pass.Plan("/cam", 0, 64, {}), Catch::Contains("not positive"));
+}
+
+TEST_CASE("EXR string header attributes round-trip, and required names are refused", "[plan][image]") {
+  const auto dir = std::filesystem::temp_directory_path() / "hdeye_plan_attr";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "a.exr").string();
+  const std::string json = "{\"eyes\": [{\"prim\": \"/Eye\", \"why\": {\"mnee\": \"0.003 sr\"}}]}";
+  WriteExr(path, 2, 1, {{"R", {0.5f, 1.0f}}}, {{"eyerender:plan", json}});
+  const auto attributes = ReadExrStringAttributes(path);
+  REQUIRE(attributes.count("eyerender:plan"));
+  CHECK(attributes.at("eyerender:plan") == json);
+  CHECK_THROWS_WITH(WriteExr(path, 2, 1, {{"R", {0.5f, 1.0f}}}, {{"channels", "x"}}),
+                    Catch::Contains("required"));
+  CHECK(ReadExrStringAttributes(path).at("eyerender:plan") == json);  // the failed write left the file alone
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a large light keeps MNEE near the gaze and loses it at grazing angles, as sweep 2 measured", "[plan]") {
+  const PlanRules rules;
+  Scene s(40);
+  s.SphereLight("/near", 100, 30);     // 0.84 sr, 30 deg: MNEE measured ahead (x1.7)
+  s.SphereLight("/grazing", 100, 75);  // 0.84 sr, 75 deg: MNEE measured behind (x0.78)
+  s.SphereLight("/huge", 195, 30, 200);  // about 4.8 sr: behind (x0.74 at 4.3 sr)
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  REQUIRE(e.lights.size() == 3);
+  CHECK(e.lights[0].light == "/grazing");
+  CHECK(e.lights[0].solidAngleSr > rules.mneeMaxSolidAngleSrGrazing);
+  CHECK(e.lights[0].strategy == "bsdf");
+  CHECK(e.lights[1].light == "/huge");
+  CHECK(e.lights[1].strategy == "bsdf");
+  CHECK(e.lights[2].light == "/near");
+  CHECK(e.lights[2].solidAngleSr == Approx(2 * kPi * (1 - std::sqrt(1 - 0.25))).epsilon(1e-6));
+  CHECK(e.lights[2].strategy == "mnee");
+}
+
+TEST_CASE("a small eye mesh keeps the sclera walk but not the limbal arc when its limbus band is under a pixel",
+          "[plan]") {
+  Scene s(300, /*mesh=*/true);  // about 16 px: limbus band about 0.7 px
+  s.SphereLight("/key", 2, 60);
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  INFO(e.pixels << " px, limbus " << e.limbusPixels << " px");
+  REQUIRE(e.pixels > PlanRules{}.sssMinPixels);
+  REQUIRE(e.limbusPixels < PlanRules{}.sssMinLimbusPixels);
+  CHECK(e.sss == "randomWalk");
+  CHECK_FALSE(e.limbalArc);
+  CHECK(e.why.at("limbalArc").find("limbus band") != std::string::npos);
+}
