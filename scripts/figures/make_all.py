@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Regenerates every paper figure and docs/paper_figures.md in one go: runs each figure script (each prints its own
 command and writes its images and a markdown fragment to docs/figures/), then assembles the page from
-docs/figures/page_template.md with the fragments inlined. With --update-baselines it also rewrites the figure 4
-regression baselines (tests/baselines/figure4_*) and runs that test.
+docs/figures/page_template.md with the fragments inlined. With --update-baselines it also rewrites the figure 4 and
+figure 5 regression baselines (tests/baselines/figure4_*, figure5_*) and runs that test.
 
 Run: python3 scripts/figures/make_all.py [--update-baselines] [--quick] [--page-only]
 """
@@ -19,7 +19,7 @@ REPO = HERE.parents[1]
 DOCS = REPO / "docs"
 TEMPLATE = DOCS / "figures" / "page_template.md"
 PAGE = DOCS / "paper_figures.md"
-SCRIPTS = ["fig3_profile.py", "fig4_iris_depth.py"]
+SCRIPTS = ["fig3_profile.py", "fig4_iris_depth.py", "fig5_limbal_arc.py", "fig_deformed.py"]
 
 
 def run(cmd, env=None):
@@ -33,7 +33,7 @@ def run(cmd, env=None):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--update-baselines", action="store_true",
-                        help="also rewrite tests/baselines/figure4_* and run tests/python/test_paper_figures.py")
+                        help="also rewrite tests/baselines/figure4_*, figure5_* and run tests/python/test_paper_figures.py")
     parser.add_argument("--quick", action="store_true", help="pass --quick to the render scripts (smoke run)")
     parser.add_argument("--page-only", action="store_true",
                         help="only re-assemble docs/paper_figures.md from the existing fragments")
@@ -54,7 +54,7 @@ def main():
     elif timing_file.is_file():
         timings = json.loads(timing_file.read_text())
     page = TEMPLATE.read_text()
-    for name in ("fig3", "fig4"):
+    for name in ("fig3", "fig4", "fig5", "fig_deformed"):
         fragment = (DOCS / "figures" / f"{name}.md").read_text()
         page = page.replace(f"{{{{{name}}}}}", fragment.strip())
     page = page.replace("{{generated}}", time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
