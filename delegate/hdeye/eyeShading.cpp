@@ -14,7 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kMaxInternalEvents = 64;
 
 /// World offset for spawning a ray off the eye's surface along world normal n.
 glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& n) {
@@ -26,9 +25,16 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
                               const std::function<double()>& random) {
   const std::vector<RenderLight>& lights = *lighting.lights;
-  if (lights.empty()) return glm::dvec3(0);
+  // Only the lights MNEE counts; picking among them alone (not among all lights with zero for the rest)
+  // spends every sample on light MNEE is responsible for. The random numbers drawn do not depend on the split.
   const double pick = random(), u1 = random(), u2 = random();
-  const RenderLight& light = lights[std::min(lights.size() - 1, std::size_t(pick * lights.size()))];
+  std::size_t counted = 0;
+  for (std::size_t k = 0; k < lights.size(); ++k) counted += MneeCountsLight(lighting, k);
+  if (counted == 0) return glm::dvec3(0);
+  std::size_t chosen = std::min(counted - 1, std::size_t(pick * double(counted))), index = 0;
+  for (;; ++index)
+    if (MneeCountsLight(lighting, index) && chosen-- == 0) break;
+  const RenderLight& light = lights[index];
   // Sample the light as seen from the corneal apex: a point on it (or a direction), with its pdf.
   const glm::dvec3 apex = eye.ToWorld(glm::dvec3(0));
   const LightSample ls = SampleLight(light, apex, u1, u2);
@@ -71,7 +77,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     if (lighting.occluded(Offset(eye, p, n), toLight, tFar)) continue;
     E += ls.radiance * (s.transfer * cosEmit * weight);
   }
-  return E * double(lights.size());
+  return E * double(counted);
 }
 
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
@@ -154,7 +160,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   // multiplies it back on the way out; light that MNEE brings to the iris keeps only the first.
   glm::dvec3 beta(1 / (ior * ior));
   bool straightFromIris = false;
-  for (int k = 0; k < kMaxInternalEvents; ++k, ++ev.internalEvents) {
+  for (int k = 0; k < lighting.maxChamberEvents; ++k, ++ev.internalEvents) {
     const double tPlane = d.z < 0 ? (eye.chamber.IrisZ() - p.z) / d.z : kInf;
     auto cap = surface.Intersect({p, d});
     if (cap && cap->fromOutside) cap.reset();  // from inside the chamber only exits can be hit

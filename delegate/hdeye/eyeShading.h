@@ -27,7 +27,22 @@ struct EyeLighting {
   /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
   /// path tracing, for A/B comparisons); MNEE is not run.
   bool mnee = true;
+  /// With `mnee`: which lights MNEE counts (EyeRenderOptions::mneeLights, over *lights); the others reach
+  /// the iris only by paths that leave it. Null or of another length: every light.
+  const std::vector<bool>* mneeLights = nullptr;
+  /// The chamber walk's bound: events inside the anterior chamber before the path is dropped.
+  int maxChamberEvents = 64;
 };
+
+/// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris
+/// must therefore skip it): the one place both sides of the split read, so no light is counted twice or
+/// not at all.
+inline bool MneeCountsLight(const EyeLighting& lighting, std::size_t index) {
+  if (!lighting.mnee) return false;
+  const std::vector<bool>* mask = lighting.mneeLights;
+  if (!mask || !lighting.lights || mask->size() != lighting.lights->size()) return true;
+  return (*mask)[index];
+}
 
 struct EyeEvent {
   enum Kind { Continue, Sclera, Absorbed } kind = Absorbed;
@@ -36,8 +51,9 @@ struct EyeEvent {
   /// Radiance the walk gathered (iris direct light through MNEE), already weighted by the walk's
   /// own throughput; the renderer multiplies it by the path throughput that reached the eye.
   glm::dvec3 radiance{0};
-  /// The path left the eye straight from an iris bounce through one refraction: the lights it may hit
-  /// next are MNEE's to count (it already did), so the renderer skips them.
+  /// The path left the eye straight from an iris bounce through one refraction: the lights MNEE counts
+  /// (MneeCountsLight) are MNEE's (it already did), so the renderer skips those when the path hits them;
+  /// lights MNEE does not count, it must count in full (they have no other estimator at the iris).
   bool skipLightHits = false;
   /// Continue: the ray did not interact (an eye mesh seen from inside); the renderer keeps the path's
   /// light-weighting state as it was.
@@ -81,8 +97,9 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
                            const std::function<double()>& random);
 
-/// Irradiance (world units) at iris point x (canonical, mm) from one light chosen uniformly, through
-/// the cornea by MNEE: a one-sample estimate.
+/// Irradiance (world units) at iris point x (canonical, mm) from one of the lights MNEE counts
+/// (MneeCountsLight), chosen uniformly among them, through the cornea by MNEE: a one-sample estimate of
+/// their sum.
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
                               const std::function<double()>& random);
 

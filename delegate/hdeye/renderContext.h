@@ -1,6 +1,7 @@
 #pragma once
 // What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
 // geometry user data. The renderer sees these, never prim classes.
+#include "hdeye/eyeRenderOptions.h"
 #include "hdeye/sceneDelegate.h"
 
 #include <embree3/rtcore.h>
@@ -40,6 +41,9 @@ struct GeometryContext {
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
   /// finds the eyeball's boundary in it, never in the rest of the scene.
   RTCScene prototypeScene = nullptr;
+  /// Eyes (analytic and mesh): the render plan's per-eye switches, written by ApplyRenderPlan. Kept here,
+  /// in the rprim's context, because the context outlives sync while EyeGeometry is rebuilt by it.
+  EyeRenderOptions eyeOptions;
 };
 
 }  // namespace hdeye

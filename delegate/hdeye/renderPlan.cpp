@@ -226,8 +226,8 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   if (e->lights.empty()) why["mnee"] = ov.mnee ? "flag (no lights)" : "no lights";
   else why["mnee"] = perLight;
   if (mneeLights > 0 && bsdfLights > 0)
-    why["mnee"] += "; per-light choice pending: with MNEE on the renderer runs it for every light (unbiased; "
-                   "light MNEE counted is skipped by the exiting path, so nothing is counted twice)";
+    why["mnee"] += "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
+                   "(each light by one of the two)";
 
   // All solutions: only where second refraction paths carry measurable light.
   if (ov.mneeAllSolutions) {
@@ -254,9 +254,10 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   }
 
   // Chamber depth: never cut (no measured case yet where cutting leaves the image unchanged).
-  e->chamberEvents = 64;
+  e->chamberEvents = EyeRenderOptions{}.maxChamberEvents;
   why["chamberEvents"] = "full walk (64 events): chamber bounces carry light in side-lit eyes; not cut "
-                         "(provisional: no per-eye cut exists in the renderer yet)";
+                         "(provisional: the per-eye bound is applied, but no sweep has shown where cutting it "
+                         "leaves the image unchanged)";
 
   // Sclera scattering and the limbal arc. Only eye meshes have a sclera volume to walk.
   if (e->geometry != "eyeMesh") {
@@ -300,8 +301,8 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
                              : std::string("no side light: no shadowed limbus side")) +
                        (rules.limbalArcProvisional ? " (provisional rule)" : "");
   }
-  // What renders today is eye:limbalArc (authored or its fallback, true): the planner's choice is
-  // reported; applying it per eye needs a per-eye switch in the sclera walk (pending).
+  // Applied per eye (EyeRenderOptions::limbalArc) in place of the eye's EyeParams::limbalArc; an authored
+  // eye:limbalArc wins above, so what the artist set still renders.
 
   // Subdivision (eye meshes): reported, not yet applied (refinement is chosen at populate).
   if (e->geometry == "eyeMesh") {
@@ -346,8 +347,10 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
     plan.eyes.push_back(std::move(e));
   }
 
-  plan.application = plan.eyes.size() <= 1 ? "exact" : "global";
-  const std::string scope = plan.eyes.size() <= 1 ? "" : " (global: on if any eye needs it; per-eye pending)";
+  plan.application = "perEye";
+  const std::string scope =
+      plan.eyes.size() <= 1 ? "" : " (default for eyes without a plan: on if any eye needs it; each planned eye "
+                                   "renders with its own)";
   if (overrides.mnee) {
     plan.mnee = *overrides.mnee;
     plan.why["mnee"] = "flag";
@@ -377,10 +380,52 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
   return plan;
 }
 
+EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) const {
+  EyeRenderOptions o;
+  o.planned = true;
+  o.mnee = mnee;
+  o.mneeLights.reserve(lightOrder.size());
+  for (const PrimId& id : lightOrder) {
+    const auto l = std::find_if(lights.begin(), lights.end(), [&](const LightFacts& f) { return f.light == id; });
+    // Unmeasured (added after planning): MNEE, as without a plan. "none" (below the rim plane): not MNEE's,
+    // so a path leaving the iris still counts it if it finds it -- the partition stays complete.
+    o.mneeLights.push_back(l == lights.end() ? true : l->strategy == "mnee");
+  }
+  o.allSolutions = mneeAllSolutions;
+  o.maxChamberEvents = chamberEvents;
+  o.scleraScattering = sss == "randomWalk";
+  o.limbalArc = limbalArc;
+  return o;
+}
+
+std::vector<PrimId> RenderLightOrder(const RenderIndex& index) {
+  std::vector<PrimId> order;  // RenderPass::Execute's loop: the sprim map (id order), lights only
+  for (const auto& [id, entry] : index.Sprims())
+    if (dynamic_cast<const Light*>(entry.prim.get())) order.push_back(id);
+  return order;
+}
+
+void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings* settings) {
+  const std::vector<PrimId> lightOrder = RenderLightOrder(*index);
+  for (const auto& [id, entry] : index->Rprims()) {
+    if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
+    GeometryContext* context = entry.prim->Context();
+    if (!context) continue;
+    const auto e = std::find_if(plan.eyes.begin(), plan.eyes.end(), [&](const EyePlan& p) { return p.prim == id; });
+    context->eyeOptions = e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder);
+  }
+  ApplyRenderPlan(plan, settings);
+}
+
 void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) {
   settings->mnee = plan.mnee;
   settings->mneeAllSolutions = plan.mneeAllSolutions;
   settings->scleraScattering = plan.scleraScattering;
+}
+
+void ClearRenderPlan(RenderIndex* index) {
+  for (const auto& [id, entry] : index->Rprims())
+    if (GeometryContext* context = entry.prim->Context()) context->eyeOptions = EyeRenderOptions{};
 }
 
 std::string RenderPlan::ToJson() const {
@@ -406,7 +451,15 @@ std::string RenderPlan::ToJson() const {
       << ", \"limbusPixels\": " << Num(e.limbusPixels) << ", \"mnee\": " << boolean(e.mnee)
       << ", \"mneeAllSolutions\": " << boolean(e.mneeAllSolutions) << ", \"chamberEvents\": " << e.chamberEvents
       << ", \"sss\": " << JsonQuote(e.sss) << ", \"limbalArc\": " << boolean(e.limbalArc)
-      << ", \"refineLevel\": " << e.refineLevel << ", \"precision\": " << JsonQuote(e.precision) << ", \"lights\": [";
+      << ", \"refineLevel\": " << e.refineLevel << ", \"precision\": " << JsonQuote(e.precision);
+    // What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
+    std::string mneeLights;
+    for (const LightFacts& l : e.lights)
+      if (l.strategy == "mnee") mneeLights += (mneeLights.empty() ? "" : ", ") + JsonQuote(l.light);
+    o << ", \"applied\": {\"mnee\": " << boolean(e.mnee) << ", \"mneeLights\": [" << mneeLights
+      << "], \"allSolutions\": " << boolean(e.mneeAllSolutions) << ", \"maxChamberEvents\": " << e.chamberEvents
+      << ", \"scleraScattering\": " << boolean(e.sss == "randomWalk") << ", \"limbalArc\": " << boolean(e.limbalArc)
+      << "}, \"lights\": [";
     for (std::size_t k = 0; k < e.lights.size(); ++k) {
       const LightFacts& l = e.lights[k];
       o << (k ? ", " : "") << "{\"light\": " << JsonQuote(l.light) << ", \"kind\": " << JsonQuote(l.kind)
@@ -438,10 +491,6 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
     lines.push_back(line);
   }
   if (eyes.empty()) lines.push_back("plan: no eyes in the scene");
-  else if (application != "exact")
-    lines.push_back("plan: " + std::to_string(eyes.size()) + " eyes share the global switches (mnee " +
-                    (mnee ? "on" : "off") + ", all solutions " + (mneeAllSolutions ? "on" : "off") +
-                    "); per-eye application pending");
   return lines;
 }
 

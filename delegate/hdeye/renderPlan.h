@@ -11,12 +11,16 @@
 // docs/render_plan.md). Rules whose sweep has not been run are marked provisional, in the code and in
 // the reasons the plan prints.
 //
-// Application today: the renderer has only global switches (RenderSettings::mnee, mneeAllSolutions,
-// scleraScattering, maxDepth), so ApplyRenderPlan turns a feature on if any eye's plan needs it. With one eye in the
-// scene that is exact; with several, per-eye application is pending (the plan says so). The EyePlan
-// fields are what a per-eye switch will read.
+// Application: ApplyRenderPlan writes each eye's decisions into that eye rprim's EyeRenderOptions
+// (eyeRenderOptions.h), which the renderer reads from the eye it is shading: MNEE per light, the
+// all-solutions search, the chamber walk's bound, the sclera walk and the limbal arc. Two eyes in one
+// frame render each with its own plan; a dome and a key at one eye split between BSDF sampling and MNEE,
+// each light counted by exactly one of them. The global RenderSettings switches stay the defaults of eyes
+// no plan reached (and of renders without a plan); flags reach the plan through PlanOverrides and win there.
+// Reported, not applied: refineLevel (chosen at populate) and precision (one arithmetic exists).
 #include "hdeye/camera.h"
 #include "hdeye/eyeGeometry.h"
+#include "hdeye/eyeRenderOptions.h"
 #include "hdeye/renderLight.h"
 #include "hdeye/types.h"
 
@@ -113,26 +117,33 @@ struct EyePlan {
 
   bool mnee = false;           ///< MNEE for at least one light
   bool mneeAllSolutions = false;
-  /// Chamber events followed per path (the walk's bound inside the anterior chamber).
+  /// Chamber events followed per path (the walk's bound inside the anterior chamber): applied as
+  /// EyeRenderOptions::maxChamberEvents.
   int chamberEvents = 64;
   std::string sss = "diffuse";  ///< "randomWalk" (path-traced sclera SSS) or "diffuse" (Lambert)
   bool limbalArc = false;       ///< the teleportation cylinder in the sclera walk
   int refineLevel = -1;         ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
   std::string precision = "double";  ///< the eye's analytic intersection and MNEE arithmetic
   std::map<std::string, std::string> why;  ///< decision name -> short reason
+
+  /// The switches ApplyRenderPlan gives this eye. `lightOrder`: the render's light list (light prim ids in
+  /// the order RenderPass::Execute hands them to the renderer); a light the plan did not measure keeps MNEE
+  /// (the renderer's behaviour without a plan).
+  EyeRenderOptions RenderOptions(const std::vector<PrimId>& lightOrder) const;
 };
 
 struct RenderPlan {
   int width = 0, height = 0;  ///< image pixels the plan was made for
   PrimId camera;
   std::vector<EyePlan> eyes;
-  /// What ApplyRenderPlan sets (global switches; see the top of this file).
+  /// The global switches ApplyRenderPlan also sets: on if any eye's plan needs the feature. They are the
+  /// defaults for eyes the plan does not cover (none, when the plan was made for the scene it is applied
+  /// to); every planned eye renders with its own switches.
   bool mnee = true, mneeAllSolutions = false;
   bool scleraScattering = false;  ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
   std::map<std::string, std::string> why;  ///< reasons for the global values
-  /// "exact" (at most one eye: the global switches are that eye's plan) or "global" (several eyes:
-  /// a feature is on for all if any eye needs it; per-eye application pending).
-  std::string application = "exact";
+  /// "perEye": ApplyRenderPlan with the render index gives each eye its own decisions, per light for MNEE.
+  std::string application = "perEye";
 
   /// The plan as one JSON object: {"camera", "width", "height", "application", "applied": {...},
   /// "why": {...}, "eyes": [{"prim", "pixels", "mnee", "sss", "limbalArc", "why", ...}]}.
@@ -157,9 +168,22 @@ void DecideEye(EyePlan* eye, const PlanRules& rules, const PlanOverrides& overri
 RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int width, int height,
                           const PlanOverrides& overrides, const PlanRules& rules = {});
 
-/// Sets the global switches of `settings` from the plan (mnee, mneeAllSolutions, scleraScattering). maxDepth is left
-/// alone: it bounds world bounces for the whole frame, not the eye's chamber walk.
+/// Applies the plan: every eye rprim of `index` the plan covers gets its EyeRenderOptions (EyePlan::RenderOptions,
+/// lights in the index's order: the renderer's); eye rprims it does not cover are reset to unplanned (the
+/// global switches). Then sets the global switches of `settings` (mnee, mneeAllSolutions, scleraScattering)
+/// as the defaults. maxDepth is left alone: it bounds world bounces for the whole frame, not the eye's chamber
+/// walk. Call it after the plan's sync and before Execute: Execute's sync keeps the options (they live in
+/// the rprims' contexts).
+void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings* settings);
+
+/// Only the global switches (no per-eye options): for a settings object with no render index to reach.
 void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings);
+
+/// Resets every eye rprim of `index` to unplanned: renders use the global switches again (--no-auto-plan).
+void ClearRenderPlan(RenderIndex* index);
+
+/// The light prim ids of `index` in the order RenderPass::Execute lists lights for the renderer.
+std::vector<PrimId> RenderLightOrder(const RenderIndex& index);
 
 /// `s` as a JSON string literal (quotes, backslashes and control characters escaped).
 std::string JsonQuote(const std::string& s);

@@ -147,7 +147,7 @@ class Tracer {
   /// the mesh itself (its own Embree scene), with the teleportation cylinder if the eye asks for it.
   /// Both Fresnel choices are sampled with their own probability, so no weight changes there.
   ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
-                        const std::function<double()>& random) const {
+                        bool limbalArc, const std::function<double()>& random) const {
     ScleraStep step;
     const GeometryContext& ctx = *hit.context;
     const double ior = eye.chamber.CorneaIor();
@@ -178,7 +178,7 @@ class Tracer {
     const WorldBoundary boundary = EyeMeshBoundary(ctx.prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
     ScleraScatteringSettings ws;
     ws.ior = ior;
-    ws.limbalArc = eye.limbalArc;
+    ws.limbalArc = limbalArc;
     const ScleraExit exit = ScatterInSclera(eye, hit.p, inward, albedo, eye.scleraMeanFreePath, boundary, random, ws);
     rays_ += queries;
     ++walks_;
@@ -222,10 +222,16 @@ class Tracer {
   }
 
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
-  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf) const {
+  /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
+  /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
+  /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
+  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
+                const EyeLighting* skipMneeOf = nullptr) const {
     double best = kInf;
     bool found = false;
-    for (const RenderLight& l : lights_) {
+    for (std::size_t k = 0; k < lights_.size(); ++k) {
+      if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
+      const RenderLight& l = lights_[k];
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
       if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
@@ -245,8 +251,15 @@ class Tracer {
     glm::dvec3 lAtArc(0);
     // How the current ray was chosen, for weighting the lights it meets: after a specular event
     // (the camera, the cornea) a light counts in full; after a diffuse bounce, by MIS against light
-    // sampling (or not at all without MIS); straight out of an iris, not at all (MNEE counted it).
-    bool specular = true, skipLights = false;
+    // sampling (or not at all without MIS); straight out of an iris (skipMnee), the lights MNEE counted
+    // there not at all, and every other light in full. Why in full and not by MIS: the iris bounce's
+    // cosine-hemisphere pdf exists, but for a light MNEE does not handle there is no second strategy at
+    // the iris (light sampling cannot see through the refracting cornea; that is what MNEE is for), so
+    // the path leaving the iris is that light's only estimator and its weight is 1. Nor is MNEE MIS-
+    // weighted against the exiting path for the lights it does handle: its one-solution search has no
+    // known pdf over exit directions, so the two are a partition, light by light, never a mixture.
+    bool specular = true, skipLights = false, skipMnee = false;
+    EyeLighting skipMneeOf;  // skipMnee: the lighting of the iris the path left (its MNEE lights)
     // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry
     // no front/back flag, so this assumes the camera is outside and glass objects are closed and
     // do not nest.
@@ -257,6 +270,7 @@ class Tracer {
     EyeLighting eyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
                               return Occluded(po, pd, t);
                             }, settings_.mneeAllSolutions, settings_.mnee};
+    static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
@@ -266,7 +280,7 @@ class Tracer {
       }
       glm::dvec3 le(0);
       double lpdf = 0;
-      if (!skipLights && HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf)) {
+      if (!skipLights && HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf, skipMnee ? &skipMneeOf : nullptr)) {
         if (specular) L += beta * le;
         else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
       }
@@ -274,6 +288,16 @@ class Tracer {
       L += beta * hit.emission;
 
       if (const EyeGeometry* eye = hit.context->eye ? hit.context->eye : hit.context->meshEye) {
+        // This eye's switches: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else the
+        // global settings.
+        const EyeRenderOptions& options = hit.context->eyeOptions;
+        const bool planned = options.planned;
+        eyeLighting.mnee = planned ? options.mnee : settings_.mnee;
+        eyeLighting.allSolutions = planned ? options.allSolutions : settings_.mneeAllSolutions;
+        eyeLighting.mneeLights = planned ? &options.mneeLights : nullptr;
+        eyeLighting.maxChamberEvents = planned ? options.maxChamberEvents : kUnplanned.maxChamberEvents;
+        const bool scleraScattering = planned ? options.scleraScattering : settings_.scleraScattering;
+        const bool limbalArc = planned ? options.limbalArc : eye->limbalArc;
         const EyeEvent ev =
             hit.context->eye
                 ? ScatterAtEye(*eye, o, d, EyeGeometry::Part(hit.part), eyeLighting, random)
@@ -284,7 +308,10 @@ class Tracer {
         if (ev.kind == EyeEvent::Continue) {
           beta *= ev.weight;
           o = ev.origin, d = ev.dir, tNear = 0, tFar = kInf;
-          if (!ev.passThrough) specular = true, skipLights = ev.skipLightHits;
+          if (!ev.passThrough) {
+            specular = true, skipLights = false, skipMnee = ev.skipLightHits;
+            if (skipMnee) skipMneeOf = eyeLighting;
+          }
           continue;
         }
         if (ev.kind == EyeEvent::Absorbed) break;
@@ -297,12 +324,12 @@ class Tracer {
         if (depth == 0) first->albedo = hit.albedo;  // the albedo AOV shows the sclera's
         // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert
         // surface (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
-        if (ev.scleraOnSurface && settings_.scleraScattering && hit.context->prototypeScene) {
-          const ScleraStep step = ScleraWalk(*eye, hit, d, hit.albedo, random);
+        if (ev.scleraOnSurface && scleraScattering && hit.context->prototypeScene) {
+          const ScleraStep step = ScleraWalk(*eye, hit, d, hit.albedo, limbalArc, random);
           if (step.kind == ScleraStep::Ended) break;
           if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
             o = step.origin, d = step.dir, tNear = 0, tFar = kInf;
-            specular = true, skipLights = false;
+            specular = true, skipLights = false, skipMnee = false;
             continue;
           }
           // The exit is a diffuse transmission lobe: the walk decides where light leaves and how much
@@ -356,7 +383,7 @@ class Tracer {
       if (bs.transmitted) insideGlass = !insideGlass;
       d = bs.wi;
       bsdfPdf = bs.pdf;
-      specular = bs.delta, skipLights = !bs.delta && !settings_.mis;
+      specular = bs.delta, skipLights = !bs.delta && !settings_.mis, skipMnee = false;
       beta *= bs.weight;
       o = glm::dot(d, hit.n) > 0 ? origin : hit.p - hit.n * offset;
       tNear = 0;

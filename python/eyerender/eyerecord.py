@@ -10,7 +10,7 @@ import argparse
 import os
 import sys
 
-from .errors import EyeRenderError
+from .errors import EyeRenderError, run_command
 from .frames import has_placeholder, output_path, parse_frames
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
@@ -125,16 +125,26 @@ def _render_settings(stage, path):
     return resolution[0], resolution[1], str(cameras[0]) if cameras else None, aovs
 
 
-def _plan_overrides(args, stage):
-    """What the command line and the stage set explicitly, which the render plan must not change."""
-    from .plan import authored_eye_values, make_overrides
-
+def plan_options(args):
+    """What the command line fixes for the render plan, as plain data (a farm job carries it to its workers);
+    None with --no-auto-plan."""
     if args.mnee and args.no_mnee:
         raise EyeRenderError("--mnee and --no-mnee contradict each other")
-    return make_overrides(mnee=False if args.no_mnee else True if args.mnee else None,
-                          mnee_all_solutions=True if args.mnee_all_solutions else None,
-                          refine_level_ceiling=COMPLEXITY_REFINE_LEVELS[args.complexity],
-                          authored=authored_eye_values(stage))
+    if args.no_auto_plan:
+        return None
+    return tuple((name, value) for name, value in (("mnee", False if args.no_mnee else True if args.mnee else None),
+                                                   ("mnee_all_solutions", True if args.mnee_all_solutions else None))
+                 if value is not None)
+
+
+def plan_overrides(options, stage, refine_level):
+    """PlanOverrides from plan_options(), the --complexity refinement level (the plan's subdivision ceiling) and
+    what the stage authors on its eyes: all three win over the planner. None for options None (no plan)."""
+    from .plan import authored_eye_values, make_overrides
+
+    if options is None:
+        return None
+    return make_overrides(**dict(options), refine_level_ceiling=refine_level, authored=authored_eye_values(stage))
 
 
 def run(argv=None):
@@ -180,7 +190,7 @@ def run(argv=None):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model, time=first_time,
         settings={"seed": args.seed, "threads": args.threads, "max_depth": args.max_depth,
                   "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions},
-        plan_overrides=None if args.no_auto_plan else _plan_overrides(args, stage))
+        plan_overrides=plan_overrides(plan_options(args), stage, COMPLEXITY_REFINE_LEVELS[args.complexity]))
     if args.plan:
         print(session.plan().to_json())
         return 0
@@ -213,14 +223,7 @@ def run(argv=None):
 
 
 def main(argv=None):
-    try:
-        return run(argv)
-    except EyeRenderError as e:
-        print(f"eyerecord: error: {e}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("\neyerecord: interrupted; nothing was written for the unfinished frame", file=sys.stderr)
-        return 130
+    return run_command("eyerecord", run, argv, interrupted="interrupted; nothing was written for the unfinished frame")
 
 
 if __name__ == "__main__":

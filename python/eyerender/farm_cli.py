@@ -12,6 +12,7 @@ from .frames import has_placeholder, parse_frames
 
 
 def _job_from_args(args, spp, COMPLEXITY_REFINE_LEVELS):
+    from .eyerecord import plan_options
     from .farm_job import RenderJob
 
     outputs = [args.outputImagePath]
@@ -25,7 +26,7 @@ def _job_from_args(args, spp, COMPLEXITY_REFINE_LEVELS):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
-        exposure=args.exposure, time_limit=args.time_limit)
+        exposure=args.exposure, time_limit=args.time_limit, plan=plan_options(args))
 
 
 class _FarmProgressBar:

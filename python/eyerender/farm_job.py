@@ -15,7 +15,8 @@ class RenderJob:
     stage_path and outputs are absolute paths that every worker must reach (a shared file system). width None means
     the render settings prim's, else 960 (eyerecord's default); outputs are '#'-placeholder patterns (.exr/.png)
     written atomically by the worker that finishes the frame. settings are RenderSettings overrides as (name, value)
-    pairs (seed, threads, max_depth, mnee, mnee_all_solutions); time_limit (seconds, 0: none) only for unsplit frames.
+    pairs (seed, threads, max_depth, mnee, mnee_all_solutions); time_limit (seconds, 0: none) only for unsplit frames;
+    plan: the render plan's fixed options (eyerecord.plan_options), so workers plan frames as a local render does.
     """
     stage_path: str
     outputs: Tuple[str, ...]
@@ -31,6 +32,9 @@ class RenderJob:
     settings: Tuple[Tuple[str, object], ...] = ()
     exposure: float = 0.0
     time_limit: float = 0.0
+    # What the render plan may not decide (eyerecord.plan_options: e.g. (("mnee", False),)); () plans everything, as
+    # eyerecord does by default; None renders with no plan (the settings as given).
+    plan: Optional[Tuple[Tuple[str, object], ...]] = ()
 
     def __post_init__(self):
         # Workers run in other directories: relative paths would name other files there.
@@ -54,7 +58,7 @@ class RenderJob:
     def session_key(self):
         """What a cached RenderSession must match to be reused for another frame (everything but the time)."""
         return (self.width, self.height, self.camera, self.aovs, self.render_settings_prim, self.purposes,
-                self.refine_level, self.cornea_model, self.settings)
+                self.refine_level, self.cornea_model, self.settings, self.plan)
 
 
 def split_samples(first_sample, spp, parts):

@@ -64,7 +64,7 @@ def _build_session(job, time):
     import eyerender  # noqa: F401  (before pxr loads: the schema plugin)
     from pxr import Usd
 
-    from .eyerecord import _open_stage, _render_settings
+    from .eyerecord import _open_stage, _render_settings, plan_overrides
     from .render_session import RenderSession
 
     stage = _open_stage(job.stage_path)
@@ -77,7 +77,7 @@ def _build_session(job, time):
     return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=job.purposes,
                          refine_level=job.refine_level, cornea_model=job.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
-                         settings=dict(job.settings))
+                         settings=dict(job.settings), plan_overrides=plan_overrides(job.plan, stage, job.refine_level))
 
 
 def _forget_session_on_error(function):

@@ -7,6 +7,7 @@ setting (--no-mnee, --mnee, --mnee-all-solutions), the planner.
 """
 import json
 
+from .eyes import is_eye
 from ._hdeye import PlanOverrides, PlanRules, RenderPlan
 
 PLAN_ATTRIBUTE = "eyerender:plan"  # the EXR header attribute holding the plan's JSON
@@ -19,7 +20,7 @@ def authored_eye_values(stage, time=None):
 
     out = {}
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
-        if "EyeAPI" not in prim.GetAppliedSchemas():
+        if not is_eye(prim):
             continue
         attr = prim.GetAttribute("eye:limbalArc")
         if attr and attr.HasAuthoredValue():

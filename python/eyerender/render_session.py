@@ -8,7 +8,7 @@ import numpy as np
 from pxr import Usd
 
 from . import cameras
-from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, write_exr, write_png_preview
+from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
 from .errors import EyeRenderError
 from .usd_scene_delegate import UsdSceneDelegate
 
@@ -105,7 +105,10 @@ class RenderSession:
         settings = self.delegate.settings
         if self.plan_overrides is not None:
             self.last_plan = self.plan()
-            self.last_plan.apply(settings)
+            self.last_plan.apply(settings, self.index)  # per eye and per light, and the global defaults
+        else:
+            clear_render_plan(self.index)  # no plan: no eye keeps a switch from an earlier planned frame
+            self.last_plan = None
         bindings = [(aov, self._buffer_id(aov)) for aov in self.aovs]
         start, rays, done, non_finite = clock.perf_counter(), 0, 0, 0
         while done < spp:

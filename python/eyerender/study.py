@@ -20,7 +20,7 @@ import sys
 
 import numpy as np
 
-from .errors import EyeRenderError
+from .errors import EyeRenderError, run_command
 
 STUDY_ATTRIBUTE = "eyerender:study"  # the reference EXR's key: what it was rendered from
 EVERY_FEATURE = {"mnee": True, "mnee_all_solutions": True, "sclera_scattering": True}
@@ -210,14 +210,7 @@ def _plot(rows, path, progress):
 
 
 def main(argv=None):
-    try:
-        return run(argv)
-    except EyeRenderError as e:
-        print(f"eyestudy: error: {e}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("\neyestudy: interrupted", file=sys.stderr)
-        return 130
+    return run_command("eyestudy", run, argv)
 
 
 if __name__ == "__main__":

@@ -76,6 +76,15 @@ template <class C, glm::vec3 C::*Member> void Vec3Property(nb::class_<C>& cls, c
       [](C& c, std::array<float, 3> v) { c.*Member = glm::vec3(v[0], v[1], v[2]); });
 }
 
+/// A read-write property `name` on the flat Python EyeParams for one field of EyeParams::chamber.
+template <class T, T eyelib::ChamberParams::*Field>
+void ChamberProperty(nb::class_<EyeParams>& cls, const char* name, const char* doc = nullptr) {
+  auto get = [](const EyeParams& e) { return e.chamber.*Field; };
+  auto set = [](EyeParams& e, T v) { e.chamber.*Field = v; };
+  if (doc) cls.def_prop_rw(name, get, set, doc);
+  else cls.def_prop_rw(name, get, set);
+}
+
 /// A render buffer's resolved pixels as a new float32 array of shape (height, width, components).
 nb::ndarray<nb::numpy, float, nb::ndim<3>> Resolved(const RenderBuffer& buffer) {
   const std::size_t w = std::size_t(buffer.Width()), h = std::size_t(buffer.Height()),
@@ -156,25 +165,15 @@ NB_MODULE(_hdeye, m) {
   Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
 
   nb::class_<EyeParams> eye(m, "EyeParams");
+  ChamberProperty<eyelib::CorneaModel, &eyelib::ChamberParams::model>(eye, "cornea_model");
+  ChamberProperty<double, &eyelib::ChamberParams::irisDepth>(eye, "iris_depth", "mm below the corneal apex");
+  ChamberProperty<double, &eyelib::ChamberParams::pupilDiameter>(eye, "pupil_diameter", "mm");
+  ChamberProperty<double, &eyelib::ChamberParams::limbusInnerRatio>(eye, "limbus_inner_ratio",
+                                                                    "over the 15.08 mm iris diameter");
+  ChamberProperty<double, &eyelib::ChamberParams::limbusOuterRatio>(eye, "limbus_outer_ratio",
+                                                                    "over the 15.08 mm iris diameter");
+  ChamberProperty<double, &eyelib::ChamberParams::corneaIor>(eye, "cornea_ior");
   eye.def(nb::init<>())
-      .def_prop_rw(
-          "cornea_model", [](const EyeParams& e) { return e.chamber.model; },
-          [](EyeParams& e, eyelib::CorneaModel v) { e.chamber.model = v; })
-      .def_prop_rw(
-          "iris_depth", [](const EyeParams& e) { return e.chamber.irisDepth; },
-          [](EyeParams& e, double v) { e.chamber.irisDepth = v; }, "mm below the corneal apex")
-      .def_prop_rw(
-          "pupil_diameter", [](const EyeParams& e) { return e.chamber.pupilDiameter; },
-          [](EyeParams& e, double v) { e.chamber.pupilDiameter = v; }, "mm")
-      .def_prop_rw(
-          "limbus_inner_ratio", [](const EyeParams& e) { return e.chamber.limbusInnerRatio; },
-          [](EyeParams& e, double v) { e.chamber.limbusInnerRatio = v; }, "over the 15.08 mm iris diameter")
-      .def_prop_rw(
-          "limbus_outer_ratio", [](const EyeParams& e) { return e.chamber.limbusOuterRatio; },
-          [](EyeParams& e, double v) { e.chamber.limbusOuterRatio = v; }, "over the 15.08 mm iris diameter")
-      .def_prop_rw(
-          "cornea_ior", [](const EyeParams& e) { return e.chamber.corneaIor; },
-          [](EyeParams& e, double v) { e.chamber.corneaIor = v; })
       .def_rw("iris_texture", &EyeParams::irisTexture)
       .def_prop_rw(
           "model_transform",
@@ -360,11 +359,23 @@ NB_MODULE(_hdeye, m) {
   nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
       .def("to_json", &RenderPlan::ToJson, "The plan as a JSON object string (docs/render_plan.md).")
       .def("summary_lines", &RenderPlan::SummaryLines, "One line per eye, for printing at render start.")
-      .def("apply", [](const RenderPlan& p, RenderSettings& s) { ApplyRenderPlan(p, &s); }, nb::arg("settings"),
-           "Sets the settings' global switches (mnee, mnee_all_solutions, sclera_scattering) from the plan.")
+      .def(
+          "apply",
+          [](const RenderPlan& p, RenderSettings& s, RenderIndex* index) {
+            if (index) ApplyRenderPlan(p, index, &s);
+            else ApplyRenderPlan(p, &s);
+          },
+          nb::arg("settings"), nb::arg("index").none() = nb::none(),
+          "Applies the plan: with the render index, each eye rprim gets its own switches (MNEE per light, all "
+          "solutions, chamber bound, sclera walk, limbal arc); the settings' global switches (mnee, "
+          "mnee_all_solutions, sclera_scattering) become the defaults for eyes without a plan. Without the index, "
+          "only the global switches.")
       .def_ro("mnee", &RenderPlan::mnee)
       .def_ro("mnee_all_solutions", &RenderPlan::mneeAllSolutions)
       .def_ro("sclera_scattering", &RenderPlan::scleraScattering);
+
+  m.def("clear_render_plan", [](RenderIndex& index) { ClearRenderPlan(&index); }, nb::arg("index"),
+        "Resets every eye of the index to unplanned: renders use the settings' global switches.");
 
   nb::class_<RenderPass>(m, "RenderPass")
       .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())

@@ -1,6 +1,13 @@
 #pragma once
-// Small procedural scenes for the delegate tests.
+// Small procedural scenes for the delegate tests, and the delegate stack they are rendered through.
+#include "hdeye/inMemorySceneDelegate.h"
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderDelegate.h"
+#include "hdeye/renderIndex.h"
+#include "hdeye/renderPass.h"
 #include "hdeye/types.h"
+
+#include <eyelib/anterior_surface.h>
 
 #include <cmath>
 #include <vector>
@@ -40,6 +47,36 @@ inline void UvSphere(double radius, int rings, int segments, hdeye::MeshTopology
   }
 }
 
+/// An eyeball in the canonical frame (mm, apex at the origin, gaze +z): the analytic anterior surface out
+/// to the 15.08 mm rim on `front` of its `rings`, then a 12 mm sphere through the rim around the back, as a
+/// UV sphere's topology (counter-clockwise seen from outside). Returns the back sphere's centre on the axis
+/// (mm: the eyeball's centre).
+inline double EyeballMesh(int rings, int front, int segments, int refineLevel, hdeye::MeshTopology* topology,
+                          std::vector<hdeye::Vec3f>* points) {
+  const double pi = 3.14159265358979323846;
+  UvSphere(1, rings, segments, topology, points);
+  topology->refineLevel = refineLevel;
+  const eyelib::AnteriorSurface<double> cornea;
+  const double rim = cornea.RimRadius(), zRim = cornea.Sag(rim), R = 12;
+  const double zCentre = zRim - std::sqrt(R * R - rim * rim), alpha0 = std::asin(rim / R);
+  auto place = [&](int ring, double phi) {  // ring 0 (apex) .. rings (back pole)
+    glm::dvec2 rz;
+    if (ring <= front) {
+      const double r = rim * ring / front;
+      rz = glm::dvec2(r, cornea.Sag(r));
+    } else {
+      const double a = alpha0 + (pi - alpha0) * (ring - front) / double(rings - front);
+      rz = glm::dvec2(R * std::sin(a), zCentre + R * std::cos(a));
+    }
+    return hdeye::Vec3f(float(rz.x * std::cos(phi)), float(rz.x * std::sin(phi)), float(rz.y));
+  };
+  (*points)[0] = place(0, 0);
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) (*points)[1 + (r - 1) * segments + s] = place(r, 2 * pi * s / segments);
+  points->back() = place(rings, 0);
+  return zCentre;
+}
+
 /// A square in the plane z = 0, half-size h, as one quad.
 inline void Quad(double h, hdeye::MeshTopology* topology, std::vector<hdeye::Vec3f>* points) {
   *points = {{float(-h), float(-h), 0}, {float(h), float(-h), 0}, {float(h), float(h), 0}, {float(-h), float(h), 0}};
@@ -61,5 +98,17 @@ inline hdeye::Matrix4d LookDownZ(double distance) {
   m[3] = glm::dvec4(0, 0, distance, 1);
   return m;
 }
+
+/// The delegate stack a test renders through: a render delegate, its render index, an in-memory scene
+/// delegate feeding that index, and a render pass over it. Test scenes derive from it and add their prims.
+struct RenderStack {
+  hdeye::RenderDelegate delegate;
+  hdeye::RenderIndex index{&delegate};
+  hdeye::InMemorySceneDelegate scene{&index};
+  hdeye::RenderPass pass{&index};
+
+  /// The render buffer bprim `id` (it must exist).
+  hdeye::RenderBuffer& Buffer(const hdeye::PrimId& id) { return *static_cast<hdeye::RenderBuffer*>(index.GetBprim(id)); }
+};
 
 }  // namespace test

@@ -3,6 +3,8 @@
 #include "delegate/scene_helpers.h"
 
 #include "hdeye/imageWriter.h"
+#include "hdeye/renderBuffer.h"
+#include "hdeye/renderContext.h"
 #include "hdeye/inMemorySceneDelegate.h"
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
@@ -12,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 using namespace hdeye;
@@ -29,12 +32,7 @@ Matrix4d Translate(double x, double y, double z) {
 
 /// A millimetre scene: an eye (analytic, or on a 12 mm UV-sphere mesh) at the origin gazing +z, a 50 mm camera
 /// (24 x 24 mm film) on the axis at `cameraDistance`, and whatever lights the test adds.
-struct Scene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
-
+struct Scene : test::RenderStack {
   explicit Scene(double cameraDistance, bool mesh = false, const Matrix4d& cameraTransform = Matrix4d(0.0)) {
     CameraParams camera;
     camera.focalLength = 50, camera.horizontalAperture = 24, camera.verticalAperture = 24;
@@ -104,7 +102,7 @@ TEST_CASE("a small key light seen through the cornea gets MNEE", "[plan]") {
   CHECK(e.lights[0].strategy == "mnee");
   CHECK(e.mnee);
   CHECK(plan.mnee);
-  CHECK(plan.application == "exact");
+  CHECK(plan.application == "perEye");
   CHECK_FALSE(e.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
 }
 
@@ -125,8 +123,7 @@ TEST_CASE("a dome light alone is left to BSDF sampling with MIS: no MNEE", "[pla
   CHECK_FALSE(settings.mnee);
 }
 
-TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, and the reason says per-light is pending",
-          "[plan]") {
+TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, applied per light", "[plan]") {
   Scene s(40);
   s.Dome();
   s.SphereLight("/key", 2, 30);
@@ -136,7 +133,12 @@ TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, and the
   CHECK(e.lights[0].strategy == "bsdf");
   CHECK(e.lights[1].strategy == "mnee");
   CHECK(e.mnee);
-  CHECK(e.why.at("mnee").find("pending") != std::string::npos);
+  CHECK(e.why.at("mnee").find("pending") == std::string::npos);
+  CHECK(e.why.at("mnee").find("applied per light") != std::string::npos);
+  // The renderer's mask follows the render's light order (the index's), whatever order it is given in.
+  const EyeRenderOptions o = e.RenderOptions({"/key", "/dome", "/added-later"});
+  CHECK(o.planned);
+  CHECK(o.mneeLights == std::vector<bool>{true, false, true});  // an unmeasured light keeps MNEE
 }
 
 TEST_CASE("an eye a few pixels wide gets the small-eye decisions of the rules", "[plan]") {
@@ -263,17 +265,30 @@ TEST_CASE("explicit flags and authored values win over the planner, and the reas
   CHECK(OnlyEye(arc.Plan(512, ceiling)).refineLevel == 1);
 }
 
-TEST_CASE("several eyes share the global switches and the plan says per-eye application is pending", "[plan]") {
+TEST_CASE("several eyes are each applied their own plan, and nothing says pending", "[plan]") {
   Scene s(200);
   s.scene.AddAnalyticEye("/Eye2", EyeParams{}, Translate(30, 0, 0));
   s.SphereLight("/key", 2, 30);
   const RenderPlan plan = s.Plan(256);
   REQUIRE(plan.eyes.size() == 2);
-  CHECK(plan.application == "global");
-  CHECK(plan.ToJson().find("\"application\": \"global\"") != std::string::npos);
+  CHECK(plan.application == "perEye");
+  const std::string json = plan.ToJson();
+  CHECK(json.find("\"application\": \"perEye\"") != std::string::npos);
+  CHECK(json.find("pending") == std::string::npos);
+  CHECK(json.find("\"applied\": {\"mnee\": true, \"mneeLights\": [\"/key\"]") != std::string::npos);
   const auto lines = plan.SummaryLines();
-  CHECK(lines.size() == 3);
-  CHECK(lines.back().find("pending") != std::string::npos);
+  CHECK(lines.size() == 2);  // one per eye; no shared-switches line
+  for (const auto& line : lines) CHECK(line.find("pending") == std::string::npos);
+  // Applied: each eye rprim holds its own switches.
+  RenderSettings settings;
+  ApplyRenderPlan(plan, &s.index, &settings);
+  for (const PrimId id : {"/Eye", "/Eye2"}) {
+    const EyeRenderOptions& o = s.index.GetRprim(id)->Context()->eyeOptions;
+    CHECK(o.planned);
+    CHECK(o.mneeLights == std::vector<bool>{true});
+  }
+  ClearRenderPlan(&s.index);
+  CHECK_FALSE(s.index.GetRprim("/Eye")->Context()->eyeOptions.planned);
 }
 
 TEST_CASE("the plan's JSON holds the contract keys, with strings escaped", "[plan]") {
@@ -338,4 +353,191 @@ TEST_CASE("a small eye mesh keeps the sclera walk but not the limbal arc when it
   CHECK(e.sss == "randomWalk");
   CHECK_FALSE(e.limbalArc);
   CHECK(e.why.at("limbalArc").find("limbus band") != std::string::npos);
+}
+
+// ---- Application: the renderer reads each eye's plan, per light for MNEE --------------------------------------
+
+namespace {
+
+const EyePlan& EyeNamed(const RenderPlan& plan, const PrimId& id) {
+  for (const EyePlan& e : plan.eyes)
+    if (e.prim == id) return e;
+  FAIL("no eye " << id << " in the plan");
+  return plan.eyes.front();
+}
+
+/// Means over the pixels of rprim `prim` (the primId AOV): colour (red) and irisMnee (red), and the pixel count.
+struct EyeMeans {
+  double color = 0, iris = 0;
+  int pixels = 0;
+};
+EyeMeans MeansOver(test::RenderStack& s, const PrimId& prim, int size) {
+  const int index = s.index.GetRprim(prim)->Context()->primIndex;
+  EyeMeans m;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      if (int(std::lround(s.Buffer("/prim").Resolved(x, y, 0))) == index) {
+        m.color += s.Buffer("/color").Resolved(x, y, 0), m.iris += s.Buffer("/iris").Resolved(x, y, 0), ++m.pixels;
+      }
+  if (m.pixels) m.color /= m.pixels, m.iris /= m.pixels;
+  return m;
+}
+
+void AddBuffers(Scene& s, int size) {
+  s.scene.AddRenderBuffer("/color", size, size, 4);
+  s.scene.AddRenderBuffer("/iris", size, size, 3);
+  s.scene.AddRenderBuffer("/prim", size, size, 1);
+}
+
+RenderStats RenderBuffers(Scene& s) {
+  for (const char* b : {"/color", "/iris", "/prim"}) s.Buffer(b).Clear();
+  return s.pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}, {"primId", "/prim"}});
+}
+
+}  // namespace
+
+TEST_CASE("two eyes in one frame render each with its own plan: MNEE on the near eye, off on the far one",
+          "[plan][render]") {
+  // A test rule cuts MNEE under 10 px: the near eye (about 19 px) keeps it, the far one (about 5 px) loses it.
+  Scene s(100);
+  s.scene.AddAnalyticEye("/Far", EyeParams{}, Translate(60, 0, -300));
+  s.SphereLight("/key", 2, 30);
+  constexpr int kSize = 64;
+  AddBuffers(s, kSize);
+  PlanRules rules;
+  rules.mneeMinPixels = 10;
+  const RenderPlan plan = s.pass.Plan("/cam", kSize, kSize, {}, rules);
+  INFO(plan.ToJson());
+  REQUIRE(EyeNamed(plan, "/Eye").mnee);
+  REQUIRE_FALSE(EyeNamed(plan, "/Far").mnee);
+  RenderSettings& settings = s.delegate.Settings();
+  settings.samplesPerPixel = 16;
+  ApplyRenderPlan(plan, &s.index, &settings);
+  REQUIRE(settings.mnee);  // the global default is on (one eye needs it): the far eye must not take it
+  RenderStats stats = RenderBuffers(s);
+  const EyeMeans near = MeansOver(s, "/Eye", kSize), far = MeansOver(s, "/Far", kSize);
+  std::printf("two eyes, per eye: near %d px irisMnee %.4g, far %d px irisMnee %.4g\n", near.pixels, near.iris,
+              far.pixels, far.iris);
+  CHECK(stats.nonFiniteSamples == 0);
+  REQUIRE(near.pixels > 100);
+  REQUIRE(far.pixels > 4);
+  CHECK(near.iris > 0);
+  CHECK(far.iris == 0);  // no MNEE ran on the far eye
+  CHECK(far.color > 0);  // it is still lit (paths leaving its iris count the key)
+
+  // The control: the same plan through the global switches only -- the far eye gets MNEE again, so the
+  // check above can fail.
+  ClearRenderPlan(&s.index);
+  ApplyRenderPlan(plan, &settings);
+  stats = RenderBuffers(s);
+  const EyeMeans farGlobal = MeansOver(s, "/Far", kSize);
+  std::printf("two eyes, global only: far irisMnee %.4g\n", farGlobal.iris);
+  CHECK(farGlobal.iris > 0);
+}
+
+TEST_CASE("per-light furnace: a closed white eye in a uniform dome returns the dome whether MNEE or the exiting "
+          "paths count the dome, never both",
+          "[plan][render]") {
+  // The dome is MNEE's (flag) or the exiting paths' (the plan's own choice). If the path leaving the iris
+  // counted a light MNEE counted, the mean would rise by MNEE's share of it (S, printed); if neither counted
+  // it, it would fall by S. Both must return the dome (1) and agree far inside S.
+  EyeParams white;
+  white.chamber.pupilDiameter = 0;  // closed: nothing leaves through the lens
+  white.irisColor = glm::vec3(1);
+  white.scleraColor = glm::vec3(1);
+  constexpr int kSize = 20;
+  EyeMeans means[2];
+  for (int viaMnee = 0; viaMnee < 2; ++viaMnee) {
+    Scene s(40);
+    s.scene.SetEyeParams("/Eye", white);
+    s.Dome();
+    AddBuffers(s, kSize);
+    PlanOverrides flags;
+    if (viaMnee) flags.mnee = true;
+    const RenderPlan plan = s.Plan(kSize, flags);
+    REQUIRE(OnlyEye(plan).lights.at(0).strategy == (viaMnee ? "mnee" : "bsdf"));
+    RenderSettings& settings = s.delegate.Settings();
+    settings.samplesPerPixel = 256;
+    settings.maxDepth = 16;
+    ApplyRenderPlan(plan, &s.index, &settings);
+    settings.mnee = !viaMnee;  // the global default says the opposite: the eye's own switch must win
+    const RenderStats stats = RenderBuffers(s);
+    means[viaMnee] = MeansOver(s, "/Eye", kSize);
+    std::printf("per-light furnace, dome by %s: mean %.4f over %d eye pixels, irisMnee %.4f (%.1f s)\n",
+                viaMnee ? "MNEE" : "BSDF paths", means[viaMnee].color, means[viaMnee].pixels, means[viaMnee].iris,
+                stats.seconds);
+    CHECK(stats.nonFiniteSamples == 0);
+    REQUIRE(means[viaMnee].pixels > 100);
+    CHECK(means[viaMnee].color == Approx(1.0).epsilon(0.02));
+  }
+  const double share = means[1].iris;  // S: the dome light MNEE brings to the iris, per eye pixel
+  CHECK(means[0].iris == 0);
+  REQUIRE(share > 0.05);
+  CHECK(std::abs(means[1].color - means[0].color) < share / 4);
+}
+
+TEST_CASE("a small key and a dome split per light (key MNEE, dome BSDF) agree with MNEE for both", "[plan][render]") {
+  // The mixed case the furnace cannot hold (a key breaks uniformity): the split and all-MNEE estimate the same
+  // image. The dome's MNEE share S (all-MNEE's irisMnee minus the split's) is what a double count or a drop
+  // would move the mean by; the two must agree far inside it.
+  constexpr int kSize = 24;
+  EyeMeans means[2];
+  for (int allMnee = 0; allMnee < 2; ++allMnee) {
+    Scene s(40);
+    EyeParams eye;
+    eye.irisColor = glm::vec3(0.6f);
+    s.scene.SetEyeParams("/Eye", eye);
+    s.Dome();
+    LightParams key;
+    key.radius = 10;  // 0.008 sr at 200 mm: MNEE's by the rules, and a corneal highlight that is not a firefly
+    key.intensity = 40;
+    const double a = 30 * kPi / 180;
+    s.scene.AddLight("/key", "sphereLight", key, Translate(200 * std::sin(a), 0, kIrisZ + 200 * std::cos(a)));
+    AddBuffers(s, kSize);
+    PlanOverrides flags;
+    if (allMnee) flags.mnee = true;
+    const RenderPlan plan = s.Plan(kSize, flags);
+    const EyePlan e = OnlyEye(plan);
+    REQUIRE(e.lights.size() == 2);
+    REQUIRE(e.lights[0].strategy == (allMnee ? "mnee" : "bsdf"));  // the dome
+    REQUIRE(e.lights[1].strategy == "mnee");                        // the key
+    RenderSettings& settings = s.delegate.Settings();
+    settings.samplesPerPixel = 256;
+    settings.maxDepth = 16;
+    ApplyRenderPlan(plan, &s.index, &settings);
+    const RenderStats stats = RenderBuffers(s);
+    means[allMnee] = MeansOver(s, "/Eye", kSize);
+    std::printf("key + dome, %s: mean %.4f over %d eye pixels, irisMnee %.4f (%.1f s)\n",
+                allMnee ? "all MNEE" : "split (key MNEE, dome BSDF)", means[allMnee].color, means[allMnee].pixels,
+                means[allMnee].iris, stats.seconds);
+    CHECK(stats.nonFiniteSamples == 0);
+    REQUIRE(means[allMnee].pixels > 100);
+  }
+  const double domeShare = means[1].iris - means[0].iris;
+  std::printf("key + dome: dome's MNEE share %.4f, difference of means %.4f (%.2f%%)\n", domeShare,
+              means[0].color - means[1].color, 100 * (means[0].color / means[1].color - 1));
+  CHECK(means[0].iris > 0);  // the key is still MNEE's in the split
+  REQUIRE(domeShare > 0.02 * means[1].color);
+  CHECK(std::abs(means[0].color - means[1].color) < domeShare / 4);
+  CHECK(means[0].color == Approx(means[1].color).epsilon(0.03));
+}
+
+TEST_CASE("an eye mesh walks its sclera by its own plan, whatever the global switch says", "[plan][render]") {
+  Scene s(40, /*mesh=*/true);
+  s.SphereLight("/key", 2, 60);
+  AddBuffers(s, 16);
+  RenderPlan plan = s.Plan(16);
+  REQUIRE(plan.eyes.at(0).sss == "randomWalk");
+  RenderSettings& settings = s.delegate.Settings();
+  settings.samplesPerPixel = 4;
+  ApplyRenderPlan(plan, &s.index, &settings);
+  settings.scleraScattering = false;
+  const RenderStats walked = RenderBuffers(s);
+  plan.eyes[0].sss = "diffuse";
+  ApplyRenderPlan(plan, &s.index, &settings);
+  settings.scleraScattering = true;
+  const RenderStats flat = RenderBuffers(s);
+  INFO("walks: plan randomWalk " << walked.scleraWalks << ", plan diffuse " << flat.scleraWalks);
+  CHECK(walked.scleraWalks > 0);
+  CHECK(flat.scleraWalks == 0);
 }

@@ -103,6 +103,31 @@ def test_session_applies_the_plan_to_its_settings():
     assert check_contract(plan_dict(session.last_plan))["eyes"][0]["mnee"] is False
 
 
+def test_a_dome_and_a_key_are_applied_per_light_and_the_json_says_so():
+    plan = check_contract(plan_of(make_stage(lights=(("dome",), ("sphere", 2.0, 30.0)))))
+    assert plan["application"] == "perEye"
+    assert "pending" not in json.dumps(plan)
+    (eye,) = plan["eyes"]
+    assert {light["light"]: light["strategy"] for light in eye["lights"]} == {"/World/dome": "bsdf",
+                                                                             "/World/key1": "mnee"}
+    assert eye["applied"] == {"mnee": True, "mneeLights": ["/World/key1"], "allSolutions": False,
+                              "maxChamberEvents": 64, "scleraScattering": False, "limbalArc": eye["limbalArc"]}
+
+
+def test_session_renders_each_eye_with_its_plan_and_clears_it_without_one():
+    # A dome alone: the plan gives it to BSDF sampling, so no MNEE runs on the eye (irisMnee stays 0); without a
+    # plan the eye's planned switches are cleared and the global switch (on) rules again.
+    stage = make_stage(lights=(("dome",),))
+    session = RenderSession(stage, width=16, aovs=("color", "irisMnee"), plan_overrides=make_overrides())
+    session.render(spp=2)
+    assert float(session.image("irisMnee").max()) == 0.0
+    session.plan_overrides = None
+    session.delegate.settings.mnee = True
+    session.render(spp=2)
+    assert session.last_plan is None
+    assert float(session.image("irisMnee").max()) > 0.0
+
+
 def test_authored_limbal_arc_is_read_from_the_stage():
     from eyerender.plan import authored_eye_values
 
