@@ -1,5 +1,6 @@
 #include "hdeye/analyticEye.h"
 
+#include "hdeye/eyeParamsSync.h"
 #include "hdeye/renderParam.h"
 
 #include <cmath>
@@ -101,14 +102,7 @@ void Occluded(const RTCOccludedFunctionNArguments* args) {
 void AnalyticEye::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   const DirtyBits bits = *dirtyBits;
   if (bits & (dirty::DirtyParams | dirty::InitRepr)) {
-    params_ = sceneDelegate->GetEyeParams(Id());
-    const std::string problem = eyelib::ValidateChamberParams(params_.chamber);
-    if (!problem.empty()) throw std::runtime_error("eye " + Id() + ": " + problem);
-    try {
-      irisTexture_ = params_.irisTexture.empty() ? nullptr : renderParam->Textures().Get(params_.irisTexture);
-    } catch (const std::exception& e) {
-      throw std::runtime_error("eye " + Id() + ": iris texture: " + e.what());
-    }
+    SyncEyeParams(sceneDelegate, renderParam, "eye", Id(), &params_, &irisTexture_);
   }
   if (bits & (dirty::DirtyTransform | dirty::InitRepr)) transform_ = sceneDelegate->GetTransform(Id());
   eye_ = EyeGeometry(params_, transform_);

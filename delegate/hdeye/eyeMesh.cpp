@@ -1,6 +1,7 @@
 #include "hdeye/eyeMesh.h"
 
 #include "hdeye/eyeMeshMapping.h"
+#include "hdeye/eyeParamsSync.h"
 #include "hdeye/renderParam.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -98,14 +99,7 @@ void EyeMesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, Dirty
   const DirtyBits bits = *dirtyBits;
   Mesh::Sync(sceneDelegate, renderParam, dirtyBits);
   if (bits & (dirty::DirtyParams | dirty::InitRepr)) {
-    params_ = sceneDelegate->GetEyeParams(Id());
-    const std::string problem = eyelib::ValidateChamberParams(params_.chamber);
-    if (!problem.empty()) throw std::runtime_error("eye mesh " + Id() + ": " + problem);
-    try {
-      irisTexture_ = params_.irisTexture.empty() ? nullptr : renderParam->Textures().Get(params_.irisTexture);
-    } catch (const std::exception& e) {
-      throw std::runtime_error("eye mesh " + Id() + ": iris texture: " + e.what());
-    }
+    SyncEyeParams(sceneDelegate, renderParam, "eye mesh", Id(), &params_, &irisTexture_);
   }
   // Cheap, and it depends on the transform, the params and the material binding: rebuilt every sync.
   eye_ = EyeGeometry(params_, Transform());

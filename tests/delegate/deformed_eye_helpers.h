@@ -27,36 +27,14 @@ namespace test {
 
 constexpr double kEyePi = 3.14159265358979323846;
 
-/// An eyeball in the canonical frame (mm, apex at the origin, gaze +z): the analytic anterior surface out
-/// to the 15.08 mm rim on `front` of its rings, then a 12 mm sphere through the rim around the back.
+/// The EyeballMesh (canonical frame, mm) with its centre, and its deformed points and rest primvar.
 struct Eyeball {
   hdeye::MeshTopology topology;
   std::vector<hdeye::Vec3f> points;
   double zCentre = 0;  ///< mm: the back sphere's centre on the axis (the eyeball's centre)
 
-  Eyeball(int rings, int front, int segments, int refineLevel) {
-    UvSphere(1, rings, segments, &topology, &points);
-    topology.refineLevel = refineLevel;
-    const eyelib::AnteriorSurface<double> cornea;
-    const double rim = cornea.RimRadius(), zRim = cornea.Sag(rim), R = 12;
-    zCentre = zRim - std::sqrt(R * R - rim * rim);
-    const double alpha0 = std::asin(rim / R);
-    auto place = [&](int ring, double phi) {
-      glm::dvec2 rz;
-      if (ring <= front) {
-        const double r = rim * ring / front;
-        rz = glm::dvec2(r, cornea.Sag(r));
-      } else {
-        const double a = alpha0 + (kEyePi - alpha0) * (ring - front) / double(rings - front);
-        rz = glm::dvec2(R * std::sin(a), zCentre + R * std::cos(a));
-      }
-      return hdeye::Vec3f(float(rz.x * std::cos(phi)), float(rz.x * std::sin(phi)), float(rz.y));
-    };
-    points[0] = place(0, 0);
-    for (int r = 1; r < rings; ++r)
-      for (int s = 0; s < segments; ++s) points[1 + (r - 1) * segments + s] = place(r, 2 * kEyePi * s / segments);
-    points.back() = place(rings, 0);
-  }
+  Eyeball(int rings, int front, int segments, int refineLevel)
+      : zCentre(EyeballMesh(rings, front, segments, refineLevel, &topology, &points)) {}
 
   std::vector<hdeye::Vec3f> Deformed(const std::function<glm::dvec3(const glm::dvec3&)>& f) const {
     std::vector<hdeye::Vec3f> out;
@@ -87,11 +65,7 @@ inline const std::string& UvIrisTexture() {
 /// An eye mesh seen head-on by a camera on its gaze axis (focal 100 mm on a 36 mm aperture: the image
 /// spans +-0.18 x the distance), lit by a small sphere light 0.5 rad off the gaze at 100 mm (2 mm radius). `frame` (a
 /// similarity) places the camera and lights, so a scaled eye sees the same scene scaled.
-struct DeformedEyeScene {
-  hdeye::RenderDelegate delegate;
-  hdeye::RenderIndex index{&delegate};
-  hdeye::InMemorySceneDelegate scene{&index};
-  hdeye::RenderPass pass{&index};
+struct DeformedEyeScene : RenderStack {
   int size;
 
   /// The camera sits at (offset.x, offset.y, distance) in the frame, looking down -z.
@@ -126,7 +100,6 @@ struct DeformedEyeScene {
     for (const char* b : {"/color", "/iris"}) Buffer(b).Clear();
     return pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}});
   }
-  hdeye::RenderBuffer& Buffer(const hdeye::PrimId& id) { return *static_cast<hdeye::RenderBuffer*>(index.GetBprim(id)); }
   /// The colour AOV's RGB, for PNG previews.
   std::vector<float> Rgb() {
     std::vector<float> rgb;

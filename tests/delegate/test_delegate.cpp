@@ -15,12 +15,7 @@ using namespace hdeye;
 
 namespace {
 
-struct Fixture {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
-
+struct Fixture : test::RenderStack {
   Fixture() {
     delegate.Settings().samplesPerPixel = 1;
     scene.AddCamera("/cam", CameraParams{}, test::LookDownZ(10));

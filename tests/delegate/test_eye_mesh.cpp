@@ -21,47 +21,10 @@ using namespace hdeye;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-/// An eyeball in the canonical frame (mm, apex at the origin, gaze +z): the analytic anterior surface
-/// out to the 15.08 mm rim, then a sphere of radius 12 mm through the rim around the back, as a UV
-/// sphere's topology (counter-clockwise seen from outside) with `front` of its rings on the cornea.
-/// `inflate` scales it about the eyeball's centre (1: the front lies on the analytic surface).
-void Eyeball(int rings, int front, int segments, int refineLevel, double inflate, MeshTopology* topology,
-             std::vector<Vec3f>* points) {
-  test::UvSphere(1, rings, segments, topology, points);
-  topology->refineLevel = refineLevel;
-  const eyelib::AnteriorSurface<double> cornea;
-  const double rim = cornea.RimRadius(), zRim = cornea.Sag(rim), R = 12;
-  const double zCentre = zRim - std::sqrt(R * R - rim * rim), alpha0 = std::asin(rim / R);
-  auto profile = [&](int ring) {  // (radius, z) of ring 0 (apex) .. rings (back pole)
-    if (ring <= front) {
-      const double r = rim * ring / front;
-      return glm::dvec2(r, cornea.Sag(r));
-    }
-    const double a = alpha0 + (kPi - alpha0) * (ring - front) / double(rings - front);
-    return glm::dvec2(R * std::sin(a), zCentre + R * std::cos(a));
-  };
-  auto place = [&](int ring, double phi) {
-    const glm::dvec2 rz = profile(ring);
-    const glm::dvec3 p(rz.x * std::cos(phi), rz.x * std::sin(phi), rz.y);
-    const glm::dvec3 c(0, 0, zCentre);
-    return Vec3f(c + inflate * (p - c));
-  };
-  (*points)[0] = place(0, 0);
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) (*points)[1 + (r - 1) * segments + s] = place(r, 2 * kPi * s / segments);
-  points->back() = place(rings, 0);
-}
-
 /// An eye (analytic, or on a mesh) at the origin gazing at a camera 40 mm away that it fills, lit by a
 /// small sphere light 30 degrees off the gaze; everything in one frame `frame` (world = frame * canonical,
 /// a similarity: the camera and light are placed through it too, the light's radius scaled with it).
-struct EyeScene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
+struct EyeScene : test::RenderStack {
   int size;
 
   EyeScene(int size, const Matrix4d& frame = Matrix4d(1.0)) : size(size) {
@@ -81,13 +44,19 @@ struct EyeScene {
     scene.AddLight("/key", primTypes::kSphereLight, key, at);
     for (const char* b : {"/color", "/iris", "/albedo"}) scene.AddRenderBuffer(b, size, size, b[1] == 'c' ? 4 : 3);
   }
+  /// Swaps the key light for a constant dome of radiance 1 (a white furnace).
+  void LightByDome() {
+    scene.RemovePrim("/key");
+    LightParams dome;
+    dome.type = LightType::Dome;
+    scene.AddLight("/dome", primTypes::kDomeLight, dome);
+  }
   RenderStats Render(int spp, unsigned seed = 0) {
     delegate.Settings().samplesPerPixel = spp;
     delegate.Settings().seed = seed;
     for (const char* b : {"/color", "/iris", "/albedo"}) Buffer(b).Clear();
     return pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}, {"albedo", "/albedo"}});
   }
-  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
   /// The light MNEE brought to the iris (red channel), per pixel.
   std::vector<double> IrisImage() {
     std::vector<double> image;
@@ -132,7 +101,7 @@ TEST_CASE("an eye mesh whose front follows the analytic cornea renders the iris 
   EyeScene mesh(size);
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(48, 24, 48, 2, 1.0, &topology, &points);
+  test::EyeballMesh(48, 24, 48, 2, &topology, &points);
   mesh.scene.AddEyeMesh("/eye", topology, points, GreyIris());
   const RenderStats m0 = mesh.Render(spp, 0);
   const double irisMesh = mesh.MeanIris();
@@ -159,15 +128,12 @@ TEST_CASE("an eye mesh whose front follows the analytic cornea renders the iris 
 TEST_CASE("eye mesh sclera shades as sclera: scleraColor, or the bound material's colour", "[render]") {
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(24, 12, 24, 1, 1.0, &topology, &points);
+  test::EyeballMesh(24, 12, 24, 1, &topology, &points);
   // Seen from 40 mm the image spans +-7.2 mm; pixels beyond the outer limbus (6.45 mm) but on the ball
   // are sclera. Under a white dome the convex sclera returns its albedo (a Lambertian furnace).
   for (bool material : {false, true}) {
     EyeScene s(24);
-    s.scene.RemovePrim("/key");
-    LightParams dome;
-    dome.type = LightType::Dome;
-    s.scene.AddLight("/dome", primTypes::kDomeLight, dome);
+    s.LightByDome();
     EyeParams eye = GreyIris();
     eye.scleraColor = glm::vec3(0.8f, 0.6f, 0.4f);
     MaterialParams m;
@@ -206,7 +172,7 @@ TEST_CASE("eye mesh sclera shades as sclera: scleraColor, or the bound material'
 TEST_CASE("a rotated eye mesh in a centimetre scene renders as the same eye in millimetres", "[render]") {
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(32, 16, 32, 1, 1.0, &topology, &points);
+  test::EyeballMesh(32, 16, 32, 1, &topology, &points);
   const int size = 24, spp = 24;
 
   EyeScene mm(size);
@@ -241,7 +207,7 @@ TEST_CASE("a rotated eye mesh in a centimetre scene renders as the same eye in m
 TEST_CASE("an eye mesh is invisible from inside: rays leaving the cornea do not re-enter it") {
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(24, 12, 24, 1, 1.0, &topology, &points);
+  test::EyeballMesh(24, 12, 24, 1, &topology, &points);
   // Turned 2.5 rad about y, so a filter that mixed world directions with object-space normals would
   // get every answer backwards (Embree hands instanced filters object-space rays).
   const Matrix4d prim = glm::rotate(glm::dmat4(1.0), 2.5, glm::dvec3(0, 1, 0));
@@ -287,8 +253,8 @@ TEST_CASE("an inflated eye mesh still lets the iris see its light: exits and MNE
   const int size = 24, spp = 24;
   MeshTopology topology;
   std::vector<Vec3f> points, inflated;
-  Eyeball(32, 16, 32, 1, 1.0, &topology, &points);
-  Eyeball(32, 16, 32, 1, 1.02, &topology, &inflated);
+  const glm::dvec3 centre(0, 0, test::EyeballMesh(32, 16, 32, 1, &topology, &points));
+  for (const Vec3f& p : points) inflated.push_back(Vec3f(centre + 1.02 * (glm::dvec3(p) - centre)));
   EyeScene exact(size), puffy(size);
   exact.scene.AddEyeMesh("/eye", topology, points, GreyIris());
   puffy.scene.AddEyeMesh("/eye", topology, inflated, GreyIris());
@@ -323,12 +289,9 @@ TEST_CASE("eye mesh furnace: a closed white eye mesh in a uniform dome returns t
   white.scleraColor = glm::vec3(1);
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(32, 16, 32, 1, 1.0, &topology, &points);
+  test::EyeballMesh(32, 16, 32, 1, &topology, &points);
   EyeScene s(20);
-  s.scene.RemovePrim("/key");
-  LightParams dome;
-  dome.type = LightType::Dome;
-  s.scene.AddLight("/dome", primTypes::kDomeLight, dome);
+  s.LightByDome();
   s.scene.AddEyeMesh("/eye", topology, points, white);
   s.delegate.Settings().maxDepth = 16;
   s.delegate.Settings().mneeAllSolutions = true;
@@ -358,7 +321,7 @@ TEST_CASE("the iris texture, tinted by irisColor, u along +x over the 15.08 mm d
 
   MeshTopology topology;
   std::vector<Vec3f> points;
-  Eyeball(24, 12, 24, 1, 1.0, &topology, &points);
+  test::EyeballMesh(24, 12, 24, 1, &topology, &points);
   for (bool onMesh : {false, true}) {
     INFO((onMesh ? "eye mesh" : "analytic eye"));
     auto add = [&](EyeScene& s, const EyeParams& e) {

@@ -16,12 +16,7 @@ using namespace hdeye;
 
 namespace {
 
-struct EyeScene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
-
+struct EyeScene : test::RenderStack {
   /// An analytic eye in mm at the origin, gazing at a camera 40 mm away that it fills.
   explicit EyeScene(const EyeParams& eye, int size) {
     scene.AddAnalyticEye("/eye", eye);
@@ -30,7 +25,7 @@ struct EyeScene {
     scene.AddCamera("/cam", lens, test::LookDownZ(40));
     scene.AddRenderBuffer("/color", size, size, 4);
   }
-  const RenderBuffer& Color() { return *static_cast<RenderBuffer*>(index.GetBprim("/color")); }
+  const RenderBuffer& Color() { return Buffer("/color"); }
 };
 
 }  // namespace
@@ -81,7 +76,7 @@ TEST_CASE("a side-lit eye shows its caustic crescent on the iris side away from 
   const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}});
   // The brightest tenth of the iris light (the irisMnee AOV) sits on the far side: image x grows with
   // world x, and the light is towards +x.
-  const auto& iris = *static_cast<RenderBuffer*>(s.index.GetBprim("/iris"));
+  const RenderBuffer& iris = s.Buffer("/iris");
   std::vector<std::pair<float, double>> pixels;  // (value, x offset from the centre in pixels)
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 48; ++x) pixels.push_back({iris.Resolved(x, y, 0), x + 0.5 - 24});

@@ -1,6 +1,7 @@
 // Image output: EXR planes round-trip bit-exactly under their exact names, writes are atomic, bad input
 // is rejected with a reason, and the PNG preview is the documented clamp + sRGB curve.
 #include "hdeye/imageWriter.h"
+#include "test_support.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfHeader.h>
@@ -25,40 +26,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A fresh directory beside the test executable (so under the build tree), removed with its contents.
-struct ScratchDir {
-  fs::path path;
-  ScratchDir() {
-    static int counter = 0;
-    std::error_code ec;
-    fs::path base = fs::read_symlink("/proc/self/exe", ec).parent_path();
-    if (ec || base.empty()) base = fs::temp_directory_path();
-    path = base / ("image_writer_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-  std::set<std::string> Files() const {
-    std::set<std::string> names;
-    for (const auto& entry : fs::directory_iterator(path))
-      names.insert(entry.path().filename().string());
-    return names;
-  }
-};
-
-/// The message of the std::runtime_error that f throws, or "" if it throws nothing.
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
+using test::ScratchDir;
 
 std::vector<float> Ramp(size_t n, float start, float step) {
   std::vector<float> v(n);

@@ -24,39 +24,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// A closed eyeball in the canonical frame (mm, apex at the origin, gaze +z): the analytic anterior
-/// surface out to the 15.08 mm rim, then a 12 mm sphere through the rim around the back; a UV sphere's
-/// topology with `front` of its `rings` on the cornea.
-void Eyeball(int rings, int front, int segments, int refineLevel, MeshTopology* topology, std::vector<Vec3f>* points) {
-  test::UvSphere(1, rings, segments, topology, points);
-  topology->refineLevel = refineLevel;
-  const eyelib::AnteriorSurface<double> cornea;
-  const double rim = cornea.RimRadius(), zRim = cornea.Sag(rim), R = 12;
-  const double zCentre = zRim - std::sqrt(R * R - rim * rim), alpha0 = std::asin(rim / R);
-  auto place = [&](int ring, double phi) {
-    glm::dvec2 rz;
-    if (ring <= front) {
-      const double r = rim * ring / front;
-      rz = {r, cornea.Sag(r)};
-    } else {
-      const double a = alpha0 + (kPi - alpha0) * (ring - front) / double(rings - front);
-      rz = {R * std::sin(a), zCentre + R * std::cos(a)};
-    }
-    return Vec3f(float(rz.x * std::cos(phi)), float(rz.x * std::sin(phi)), float(rz.y));
-  };
-  (*points)[0] = place(0, 0);
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) (*points)[1 + (r - 1) * segments + s] = place(r, 2 * kPi * s / segments);
-  points->back() = place(rings, 0);
-}
-
 /// An eye mesh gazing at a camera 40 mm away (the image spans +-7.2 mm at the apex), lit by a dome
 /// or by a small sphere light at `lightAngle` radians off the gaze towards +x.
-struct ArcScene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
+struct ArcScene : test::RenderStack {
   int size;
 
   ArcScene(int size, const EyeParams& eye, bool dome, double lightAngle = 0) : size(size) {
@@ -77,7 +47,7 @@ struct ArcScene {
     }
     MeshTopology topology;
     std::vector<Vec3f> points;
-    Eyeball(32, 16, 32, 1, &topology, &points);
+    test::EyeballMesh(32, 16, 32, 1, &topology, &points);
     scene.AddEyeMesh("/eye", topology, points, eye);
     scene.AddRenderBuffer("/color", size, size, 4);
     scene.AddRenderBuffer("/arc", size, size, 3);
@@ -89,7 +59,6 @@ struct ArcScene {
     for (const char* b : {"/color", "/arc", "/depth"}) Buffer(b).Clear();
     return pass.Execute("/cam", {{"color", "/color"}, {"limbalArc", "/arc"}, {"depth", "/depth"}});
   }
-  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
   /// Pixel centre (x, y) in mm on the apex plane (the camera looks down -z from 40 mm, 100 mm lens).
   glm::dvec2 Film(int x, int y) const {
     const double half = 40 * 18.0 / 100;  // 36 mm aperture / 2 over the focal length, at 40 mm

@@ -11,6 +11,7 @@
 #include "hdeye/renderPass.h"
 #include "hdeye/texture.h"
 #include "scene_helpers.h"
+#include "test_support.h"
 
 #include <catch2/catch.hpp>
 #include <eyelib/optics.h>
@@ -34,33 +35,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// A fresh directory beside the test executable, removed with its contents.
-struct ScratchDir {
-  fs::path path;
-  ScratchDir() {
-    static int counter = 0;
-    std::error_code ec;
-    fs::path base = fs::read_symlink("/proc/self/exe", ec).parent_path();
-    if (ec || base.empty()) base = fs::temp_directory_path();
-    path = base / ("materials_test_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::ErrorOf;
+using test::ScratchDir;
 
 /// The sRGB decoding curve (IEC 61966-2-1), written out independently of the code under test.
 double SrgbDecode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
@@ -245,6 +221,18 @@ PreviewSurface Surface(glm::dvec3 albedo, double roughness, double metallic, dou
 
 const glm::dvec3 kUp(0, 0, 1);
 
+/// The surface's directional albedo (red channel) seen from wo, by sampling: the mean BSDF sample weight over
+/// n samples (a failed sample counts as 0).
+double SampledAlbedo(const PreviewSurface& s, const glm::dvec3& wo, int n, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample bs;
+    if (SamplePreviewSurface(s, kUp, wo, false, u(rng), u(rng), u(rng), &bs)) sum += bs.weight.x;
+  }
+  return sum / n;
+}
+
 }  // namespace
 
 TEST_CASE("the BSDF is reciprocal and, with ior 1, exactly Lambert", "[bsdf]") {
@@ -332,18 +320,11 @@ TEST_CASE("a sampled weight is f cos / pdf, and sampling averages to the quadrat
 
 TEST_CASE("white-furnace albedo of a white metal: at most 1, at least 0.9 when smooth", "[bsdf]") {
   std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
   for (double roughness : {0.0, 0.05, 0.2, 0.4, 0.6, 0.8, 1.0}) {
     const PreviewSurface s = Surface({1, 1, 1}, roughness, 1);
     for (double cosO : {1.0, 0.5, 0.2}) {
       const glm::dvec3 wo = DirectionAt(cosO, 0.7);
-      const int n = 50000;
-      double sum = 0;
-      for (int i = 0; i < n; ++i) {
-        BsdfSample bs;
-        if (SamplePreviewSurface(s, kUp, wo, false, u(rng), u(rng), u(rng), &bs)) sum += bs.weight.x;
-      }
-      const double albedo = sum / n;
+      const double albedo = SampledAlbedo(s, wo, 50000, rng);
       std::printf("white metal, roughness %.2f, cos_o %.1f: albedo %.4f\n", roughness, cosO, albedo);
       CHECK(albedo <= 1.0 + 1e-9);  // every weight is F G2 / G1 <= 1: no noise allowance needed
       // Single-scattering GGX loses energy with roughness (no multiple-scattering compensation).
@@ -363,19 +344,12 @@ TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most w
   // By sampling (the weights are f cos / pdf, checked above; quadrature cannot resolve a narrow lobe
   // at grazing incidence). The weights are bounded, so 1% covers the noise of 40000 samples.
   std::mt19937_64 rng(13);
-  std::uniform_real_distribution<double> u(0, 1);
   for (double roughness : {0.0, 0.1, 0.5, 1.0})
     for (double ior : {1.0, 1.5, 3.0})
       for (double cosO : {1.0, 0.5, 0.2, 0.05}) {
         const PreviewSurface s = Surface({1, 1, 1}, roughness, 0, 1, ior);
         const glm::dvec3 wo = DirectionAt(cosO, 0);
-        const int n = 40000;
-        double sum = 0;
-        for (int i = 0; i < n; ++i) {
-          BsdfSample bs;
-          if (SamplePreviewSurface(s, kUp, wo, false, u(rng), u(rng), u(rng), &bs)) sum += bs.weight.x;
-        }
-        const double albedo = sum / n;
+        const double albedo = SampledAlbedo(s, wo, 40000, rng);
         INFO("roughness " << roughness << " ior " << ior << " cos_o " << cosO << ": albedo " << albedo);
         CHECK(albedo <= 1.01);
         if (ior == 1.0) CHECK(albedo == Approx(1).margin(1e-9));  // Lambert: every weight is exactly 1
@@ -550,13 +524,7 @@ TEST_CASE("dome importance sampling: the pdf integrates to 1 and SampleLight's p
 
 namespace {
 
-struct Scene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
-
-  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
+struct Scene : test::RenderStack {
   RenderStats Render() { return pass.Execute("/cam", {{"color", "/color"}}); }
 };
 

@@ -31,11 +31,7 @@ double AngleDeg(const glm::dvec3& a, const glm::dvec3& b) {
 }
 
 /// A mesh, a camera at (0, 0, 5) looking down -z, and color / normal / depth buffers of size x size.
-struct Scene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
+struct Scene : test::RenderStack {
   int size;
 
   Scene(const MeshTopology& topology, const std::vector<Vec3f>& points, const Matrix4d& transform, int size)
@@ -49,10 +45,9 @@ struct Scene {
   }
   /// A fresh frame: buffers accumulate samples across renders (so sample ranges merge), hence the clear.
   void Render() {
-    for (const char* b : {"/color", "/normal", "/depth"}) static_cast<RenderBuffer*>(index.GetBprim(b))->Clear();
+    for (const char* b : {"/color", "/normal", "/depth"}) Buffer(b).Clear();
     pass.Execute("/cam", {{"color", "/color"}, {"normal", "/normal"}, {"depth", "/depth"}});
   }
-  const RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
   Mesh& GetMesh() { return *static_cast<Mesh*>(index.GetRprim("/mesh")); }
 
   bool OnObject(int x, int y) { return Buffer("/color").Resolved(x, y, 3) == 1.0f; }

@@ -23,11 +23,7 @@ namespace {
 
 /// A mesh at the origin seen by a camera at (0, 0, 5) looking down -z, with color / albedo / normal
 /// buffers of odd size (the centre pixel's ray goes through the origin).
-struct Scene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
+struct Scene : test::RenderStack {
   static constexpr int kSize = 9;
 
   Scene(const MeshTopology& topology, const std::vector<Vec3f>& points) {
@@ -40,7 +36,6 @@ struct Scene {
     for (const char* b : {"/color", "/albedo", "/normal"}) Buffer(b).Clear();
     return pass.Execute("/cam", {{"color", "/color"}, {"albedo", "/albedo"}, {"normal", "/normal"}});
   }
-  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
   glm::dvec3 Pixel(const PrimId& id, int x, int y) {
     const RenderBuffer& b = Buffer(id);
     return {b.Resolved(x, y, 0), b.Resolved(x, y, 1), b.Resolved(x, y, 2)};

@@ -16,13 +16,7 @@ using namespace hdeye;
 
 namespace {
 
-struct Scene {
-  RenderDelegate delegate;
-  RenderIndex index{&delegate};
-  InMemorySceneDelegate scene{&index};
-  RenderPass pass{&index};
-
-  RenderBuffer& Buffer(const PrimId& id) { return *static_cast<RenderBuffer*>(index.GetBprim(id)); }
+struct Scene : test::RenderStack {
   RenderStats Render(const PrimId& buffer = "/color") { return pass.Execute("/cam", {{"color", buffer}}); }
 };
 
