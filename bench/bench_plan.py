@@ -14,7 +14,13 @@ mean(ref) over RGB, with the worst 0.1% of pixels dropped (single-sample firefli
 methods' efficiencies is their equal-error time ratio (both estimators are unbiased up to MNEE's missed second paths).
 The reference's own noise is subtracted from the MSE (estimated from the feature-on run at spp/ref_spp of its MSE).
 
-Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4]
+  sclera. eye size x side/front key: random-walk sclera + limbal arc vs walk alone vs Lambert, equal time
+     -> PlanRules::sssMinPixels, sssMinLimbusPixels, limbalArcMinLightAngleDeg
+  refine. eye size x Catmull-Clark level 0-3 of the eye mesh: image and outline error vs level 3, sync cost
+     -> PlanRules::refinePixelsLevel1
+The last two render usd_samples/assets/eye.usda (an eye mesh with the sclera walk), not the analytic eye.
+
+Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4] [--sweep sclera]
 Single-threaded renders by default (--threads), so times compare; the machine is shared.
 """
 import argparse
@@ -253,6 +259,184 @@ def sweep_depth(b, out):
     out["depth"] = rows_out
 
 
+# -- eye-mesh sweeps (sclera, refine): the referenced eye asset, not the analytic eye ------------------------------
+
+EYE_ASSET = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "usd_samples", "assets", "eye.usda")
+MESH_CAMERA_DISTANCE = 150.0  # mm from the corneal apex; the eye's size on screen is set by the focal length
+MESH_IRIS_Z = -3.735  # mm: the iris plane below the apex (the asset's canonical frame)
+
+
+def make_mesh_stage(*, pixels, width, angle_deg, limbal_arc=True, radius=2.0, aim_x=0.0):
+    """usd_samples/assets/eye.usda (centimetres) referenced under /World/Eye, scaled to millimetres, corneal apex at
+    the origin, gaze +z; a camera on the axis at MESH_CAMERA_DISTANCE whose focal length makes the 15.08 mm iris
+    circle `pixels` wide in a `width` px frame; a grey card 30 mm behind; a `radius` mm sphere key at LIGHT_DISTANCE,
+    angle_deg off the gaze. limbal_arc: eye:limbalArc authored on the eyeball (the cylinder of the walk). aim_x: the
+    camera moved sideways (mm, -x: away from the key) so that a close-up frames the shadowed limbus or the outline."""
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageMetersPerUnit(stage, 0.001)
+    focal = pixels * 24.0 * (MESH_CAMERA_DISTANCE - MESH_IRIS_Z) / (width * 15.08)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateFocalLengthAttr(focal)
+    cam.CreateHorizontalApertureAttr(24.0)
+    cam.CreateVerticalApertureAttr(24.0)
+    cam.CreateClippingRangeAttr(Gf.Vec2f(0.1, 1e6))
+    cam.AddTranslateOp().Set(Gf.Vec3d(aim_x, 0, MESH_CAMERA_DISTANCE))
+    eye = UsdGeom.Xform.Define(stage, "/World/Eye")
+    eye.GetPrim().GetReferences().AddReference(os.path.abspath(EYE_ASSET))
+    eye.AddTranslateOp().Set(Gf.Vec3d(0, 0, -13.03270723))  # the asset's eyeball centre is 1.3033 cm behind the apex
+    eye.AddScaleOp().Set(Gf.Vec3f(10, 10, 10))  # cm -> mm
+    stage.OverridePrim("/World/Eye/Eyeball").CreateAttribute("eye:limbalArc", Sdf.ValueTypeNames.Bool).Set(limbal_arc)
+    half = (MESH_CAMERA_DISTANCE + 30) * 12.0 / focal * 1.2 + 20 + abs(aim_x)  # the card fills the view at any focal length
+    card = UsdGeom.Mesh.Define(stage, "/World/card")
+    card.CreatePointsAttr([(-half, -half, -30), (half, -half, -30), (half, half, -30), (-half, half, -30)])
+    card.CreateFaceVertexCountsAttr([4])
+    card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    card.CreateSubdivisionSchemeAttr("none")
+    sphere = UsdLux.SphereLight.Define(stage, "/World/key")
+    sphere.CreateRadiusAttr(radius)
+    sphere.CreateIntensityAttr(3000.0)
+    a = math.radians(angle_deg)
+    sphere.AddTranslateOp().Set(Gf.Vec3d(LIGHT_DISTANCE * math.sin(a), 0, MESH_IRIS_Z + LIGHT_DISTANCE * math.cos(a)))
+    return stage
+
+
+def render_session(stage, width, settings, threads, seed, refine_level=2):
+    s = dict(settings)
+    s.update(threads=threads, seed=seed)
+    return RenderSession(stage, width=width, aovs=("color", "primId"), settings=s, refine_level=refine_level)
+
+
+def session_render(session, spp, time_limit=0.0):
+    t0 = time.perf_counter()
+    stats = session.render(spp=spp, time_limit=time_limit)
+    return session.image("color"), session.image("primId")[:, :, 0], time.perf_counter() - t0, stats["samples_per_pixel"]
+
+
+def eye_pixels_mask(session, prim_image, prefix="/World/Eye"):
+    ids = [i for i, p in enumerate(session.index.rprim_ids()) if p.startswith(prefix)]
+    return np.isin(np.rint(prim_image).astype(int), ids)
+
+
+WALK_ARC = {"mnee": True, "sclera_scattering": True}  # + eye:limbalArc authored true
+SCLERA_VARIANTS = (("walk + arc", True, True), ("walk, no arc", True, False), ("Lambert", False, True))
+
+
+def sweep_sclera(b, out):
+    """Sclera: random walk + limbal-arc cylinder vs walk without the cylinder vs a Lambertian sclera, by eye size,
+    side-lit and front-lit, at equal time."""
+    sizes = b.args.sizes or ([2, 8, 32, 128] if b.args.quick else [2, 4, 8, 16, 32, 64, 128, 200])
+    lights = [("side 70 deg", 70), ("front 15 deg", 15)]
+    width, spp = b.args.width, b.args.spp
+    print("## Sweep sclera: random-walk sclera and limbal arc vs a Lambertian sclera, by eye size\n")
+    print(f"usd_samples/assets/eye.usda (Catmull-Clark level 2) in a {width} px frame, camera 150 mm away on the gaze "
+          f"axis (the iris size set by the focal length), a 2 mm key at {LIGHT_DISTANCE:g} mm. Reference: walk + arc at "
+          f"{b.args.ref_spp} spp (another seed). The walk + arc test renders {spp} spp; the other two render for the "
+          f"same wall time (equal-time). Errors over the eye's pixels (primId), worst 0.1% trimmed, the reference's "
+          f"noise subtracted; bias = mean over the eye vs the reference. 'MSE / walk+arc' < 1: the variant is closer "
+          f"to the reference than the full model at equal time (its bias hides in that render's noise).\n")
+    rows_out = []
+    for light_name, angle in lights:
+        for px in sizes:
+            progress(f"sweep sclera: {light_name}, {px} px")
+            # An iris wider than 0.6 of the frame: a close-up framed on the limbus away from the key (x = -6 mm, the
+            # outer limbus radius is 6.445 mm), where the walk and the arc show; else the whole eye is in frame.
+            aim = -6.0 if px > 0.6 * width else 0.0
+            ref_stage = make_mesh_stage(pixels=px, width=width, angle_deg=angle, limbal_arc=True, aim_x=aim)
+            ref_session = render_session(ref_stage, width, WALK_ARC, b.args.threads, seed=1000)
+            ref, prim, ref_secs, _ = session_render(ref_session, b.args.ref_spp)
+            mask = eye_pixels_mask(ref_session, prim)
+            if mask.sum() == 0:
+                raise RuntimeError(f"sclera sweep: the eye covers no pixel at {px} px")
+            row = {"light": light_name, "angle": angle, "eye_px": px, "eye_pixels": int(mask.sum()), "aim_x": aim}
+            budget = None
+            for label, walk, arc in SCLERA_VARIANTS:
+                stage = make_mesh_stage(pixels=px, width=width, angle_deg=angle, limbal_arc=arc, aim_x=aim)
+                session = render_session(stage, width, {"mnee": True, "sclera_scattering": walk}, b.args.threads, 0)
+                if budget is None:
+                    img, _, secs, done = session_render(session, spp)
+                    budget = secs
+                else:
+                    img, _, secs, done = session_render(session, 100000, time_limit=budget)
+                eye_mse, _, bias = errors(img, ref, mask)
+                row[label] = {"seconds": secs, "spp": done, "eye_mse": eye_mse, "bias": bias}
+            # The reference's own noise: the walk + arc test's MSE x spp / ref_spp (same estimator).
+            ref_noise = row["walk + arc"]["eye_mse"] * spp / b.args.ref_spp
+            for label, _, _ in SCLERA_VARIANTS:
+                v = row[label]
+                v["eye_rmse"] = math.sqrt(max(v["eye_mse"] - ref_noise, 1e-12))
+            for label in ("walk, no arc", "Lambert"):
+                row[label]["mse_ratio"] = row[label]["eye_rmse"] ** 2 / row["walk + arc"]["eye_rmse"] ** 2
+            rows_out.append(row)
+    table(["light", "eye px", "framing", "eye pixels", "s (each)", "spp walk+arc / no arc / Lambert",
+           "rRMSE walk+arc", "rRMSE no arc", "rRMSE Lambert", "bias no arc", "bias Lambert",
+           "MSE / walk+arc: no arc", "MSE / walk+arc: Lambert"],
+          [[r["light"], f"{r['eye_px']:g}", "limbus close-up" if r["aim_x"] else "whole eye", str(r["eye_pixels"]), f"{r['walk + arc']['seconds']:.2f}",
+            f"{r['walk + arc']['spp']} / {r['walk, no arc']['spp']} / {r['Lambert']['spp']}",
+            f"{r['walk + arc']['eye_rmse']:.3f}", f"{r['walk, no arc']['eye_rmse']:.3f}", f"{r['Lambert']['eye_rmse']:.3f}",
+            f"{100 * r['walk, no arc']['bias']:+.1f}%", f"{100 * r['Lambert']['bias']:+.1f}%",
+            f"{r['walk, no arc']['mse_ratio']:.2f}", f"{r['Lambert']['mse_ratio']:.2f}"] for r in rows_out])
+    out["sclera"] = [{"light": r["light"], "angle": r["angle"], "eye_px": r["eye_px"], "eye_pixels": r["eye_pixels"],
+                      "aim_x": r["aim_x"],
+                      **{f"{k.replace(' ', '').replace(',', '_').replace('+', 'plus')}_{m}": r[k][m]
+                         for k, _, _ in SCLERA_VARIANTS for m in ("seconds", "spp", "eye_rmse", "bias")},
+                      "noarc_mse_ratio": r["walk, no arc"]["mse_ratio"], "lambert_mse_ratio": r["Lambert"]["mse_ratio"]}
+                     for r in rows_out]
+
+
+def sweep_refine(b, out):
+    """Subdivision level of the eye mesh by eye size: image error against level 3 (the --complexity ceiling), the
+    eye silhouette's pixel error, and the sync (refinement) cost."""
+    sizes = b.args.sizes or ([16, 64, 200] if b.args.quick else [8, 16, 32, 64, 128, 200])
+    levels = [0, 1, 2, 3]
+    width, spp = b.args.width, b.args.spp
+    print("## Sweep refine: eye-mesh subdivision level by eye size\n")
+    print(f"The same stage (side key at 70 deg), Lambertian sclera (the walk's noise would hide geometry), {width} px, "
+          f"{spp} spp per level; reference: level 3 at {b.args.ref_spp} spp (another seed). 'silhouette px': pixels "
+          f"covered by the eye at one level and not at level 3, summed (primId coverage, every level rendered "
+          f"with the same seed: the same camera rays, so no noise), a measure of the outline; 'rRMSE': eye pixels vs the reference, noise "
+          f"subtracted (the level-3 test's MSE x spp/ref_spp); 'sync s': building the session (populate + first sync, "
+          f"the refinement) at that level.\n")
+    rows_out = []
+    settings = {"mnee": True, "sclera_scattering": False}
+    for px in sizes:
+        progress(f"sweep refine: {px} px")
+        # The eyeball is ~1.6x the iris circle: once it overfills the frame, aim at its outline away from the key.
+        stage = make_mesh_stage(pixels=px, width=width, angle_deg=70, aim_x=-11.0 if 1.6 * px > width else 0.0)
+        ref_session = render_session(stage, width, settings, b.args.threads, 1000, refine_level=3)
+        ref, ref_prim, _, _ = session_render(ref_session, b.args.ref_spp)
+        ref_mask = eye_pixels_mask(ref_session, ref_prim)
+        rows, coverage = [], {}
+        for level in levels:
+            t0 = time.perf_counter()
+            session = render_session(stage, width, settings, b.args.threads, 0, refine_level=level)
+            session.index.sync_all()
+            sync_s = time.perf_counter() - t0
+            img, prim, secs, _ = session_render(session, spp)
+            ids = session.index.rprim_ids()
+            if ids != ["/World/Eye/Eyeball", "/World/card"]:
+                raise RuntimeError(f"refine sweep: unexpected rprims {ids}")
+            # primId resolves to the mean id over a pixel's samples: eye 0, card 1 (the card fills the view), so
+            # 1 - mean is the eye's coverage of the pixel. Every level renders with seed 0: the same camera rays.
+            coverage[level] = 1.0 - prim
+            eye_mse, _, bias = errors(img, ref, ref_mask)
+            tri = session.index.mesh_stats("/World/Eye/Eyeball")["triangles"]
+            rows.append({"eye_px": px, "level": level, "triangles": tri, "sync_s": sync_s, "render_s": secs,
+                         "eye_pixels": int(ref_mask.sum()), "eye_mse": eye_mse, "bias": bias})
+        for r in rows:
+            # Outline error in pixels: the summed coverage difference against level 3 for the same rays.
+            r["silhouette_px"] = float(np.abs(coverage[r["level"]] - coverage[levels[-1]]).sum())
+        ref_noise = rows[-1]["eye_mse"] * spp / b.args.ref_spp
+        for r in rows:
+            r["eye_rmse"] = math.sqrt(max(r["eye_mse"] - ref_noise, 1e-12))
+        rows_out += rows
+    table(["eye px", "level", "triangles", "sync s", "render s", "eye pixels", "silhouette px", "eye rRMSE",
+           "eye bias"],
+          [[f"{r['eye_px']:g}", str(r["level"]), str(r["triangles"]), f"{r['sync_s']:.2f}", f"{r['render_s']:.2f}",
+            str(r["eye_pixels"]), f"{r['silhouette_px']:.2f}", f"{r['eye_rmse']:.3f}", f"{100 * r['bias']:+.2f}%"]
+           for r in rows_out])
+    out["refine"] = rows_out
+
+
 def plot(out, out_dir):
     try:
         import matplotlib
@@ -333,10 +517,13 @@ def write_csv(prefix, out):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="fewer points and samples: a smoke run (about a minute)")
-    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated numbers)")
+    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated: 1-4, sclera, refine)")
+    p.add_argument("--sweep", help="one sweep by name (sclera, refine) or number; overrides --sweeps")
     p.add_argument("--width", type=int, default=None, help="frame width in pixels (default 64; quick 48)")
     p.add_argument("--spp", type=int, default=None, help="samples per pixel of each test render (default 32)")
     p.add_argument("--ref-spp", type=int, default=None, help="reference samples per pixel (default 512)")
+    p.add_argument("--sizes", type=lambda v: [float(x) for x in v.split(",")],
+                   help="sweeps sclera and refine: the iris sizes on screen (px, comma-separated)")
     p.add_argument("--threads", type=int, default=1, help="render threads (default 1: comparable times)")
     p.add_argument("--out-dir", default=os.path.join(os.path.dirname(__file__), "..", "docs"),
                    help="where the plots go (default docs/)")
@@ -348,7 +535,10 @@ def main(argv=None):
     b = Bench(args)
     out = {}
     start = time.perf_counter()
-    sweeps = {"1": sweep_pixels, "2": sweep_solid_angle, "3": sweep_all_solutions, "4": sweep_depth}
+    sweeps = {"1": sweep_pixels, "2": sweep_solid_angle, "3": sweep_all_solutions, "4": sweep_depth,
+              "sclera": sweep_sclera, "refine": sweep_refine}
+    if args.sweep:
+        args.sweeps = args.sweep
     print(f"# bench_plan ({'quick' if args.quick else 'full'}): {args.width} px frames, {args.spp} spp tests, "
           f"{args.ref_spp} spp references, {args.threads} thread(s)\n")
     for key in args.sweeps.split(","):

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -93,6 +94,11 @@ void EyeMesh::ConfigureTriangles(RTCGeometry triangles) {
   rtcSetGeometryUserData(triangles, Context());
   rtcSetGeometryIntersectFilterFunction(triangles, RejectInsideHits);
   rtcSetGeometryOccludedFilterFunction(triangles, RejectInsideHits);
+}
+
+int EyeMesh::RefineLevelFor(int sceneLevel) {
+  const EyeRenderOptions& o = Context()->eyeOptions;
+  return o.planned && o.refineLevel >= 0 ? std::min(sceneLevel, o.refineLevel) : sceneLevel;
 }
 
 void EyeMesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {

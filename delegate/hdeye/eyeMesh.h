@@ -20,6 +20,9 @@ class EyeMesh final : public Mesh {
   /// RenderParam::Textures()), the eye's transforms whenever params or the transform change.
   void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
   const EyeGeometry& Eye() const { return eye_; }
+  /// The scene's level, capped by the render plan's (EyeRenderOptions::refineLevel) when one is applied: the
+  /// plan subdivides an eye only as far as its size on screen needs (docs/render_plan.md, sweep refine).
+  int RefineLevelFor(int sceneLevel) override;
 
  private:
   void ConfigureTriangles(RTCGeometry triangles) override;

@@ -25,6 +25,11 @@ struct EyeRenderOptions {
   int maxChamberEvents = 64;
   bool scleraScattering = true;  ///< eye meshes: the sclera random walk (off: a Lambertian sclera)
   bool limbalArc = true;         ///< eye meshes: the walk's teleportation cylinder
+  /// Eye meshes: the planned Catmull-Clark level. The mesh renders min(this, the level the scene gave it at
+  /// populate: --complexity for catmullClark meshes, 0 for "none"), so the plan can only lower it. -1: the scene's
+  /// level. Unlike the switches above, which the renderer reads per ray, a level is geometry: ApplyRenderPlan
+  /// marks the mesh DirtyTopology when its rendered level would change, and the mesh re-refines at the next sync.
+  int refineLevel = -1;
 };
 
 }  // namespace hdeye

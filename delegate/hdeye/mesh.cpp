@@ -100,7 +100,11 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
 }
 
 void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount) {
+  const int previousLevel = sceneRefineLevel_ < 0 ? -1 : topology_.refineLevel;
   topology_ = sceneDelegate->GetMeshTopology(Id());
+  sceneRefineLevel_ = topology_.refineLevel;
+  topology_.refineLevel = RefineLevelFor(sceneRefineLevel_);
+  if (previousLevel >= 0 && previousLevel != topology_.refineLevel) ++stats_.refineLevelChanges;
   controlPointCount_ = controlPointCount;
   std::size_t expected = 0;
   for (std::size_t f = 0; f < topology_.faceVertexCounts.size(); ++f) {

@@ -38,6 +38,9 @@ struct MeshSyncStats {
   int transformUpdates = 0;
   int primvarSyncs = 0;            ///< primvars re-read and re-expanded (DirtyPrimvar or new topology)
   int faceVaryingRefinements = 0;  ///< face-varying channels refined (subdivided meshes)
+  /// Topology syncs that rendered another refinement level than the previous one (a render plan's level change
+  /// on an eye mesh, or new scene topology with another level).
+  int refineLevelChanges = 0;
 };
 
 /// Not final: EyeMesh is a Mesh that also carries an eye.
@@ -57,6 +60,14 @@ class Mesh : public Rprim {
   PrimId MaterialId() const override { return materialId_; }
   GeometryContext* Context() override { return &context_; }
   int TriangleCount() const { return int(triangles_.size() / 3); }
+  /// The Catmull-Clark level rendered now (0: the control polygons), and the level the scene delegate's
+  /// topology asked for at the last topology sync; they differ when RefineLevelFor lowers it (eye meshes).
+  int RefineLevel() const { return topology_.refineLevel; }
+  int SceneRefineLevel() const { return sceneRefineLevel_; }
+  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: that level. EyeMesh: capped by
+  /// its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
+  /// changes the rendered level, i.e. whether the mesh's topology is dirty.
+  virtual int RefineLevelFor(int sceneLevel) { return sceneLevel; }
   /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
   const std::vector<Vec2f>& St() const { return st_; }
   const std::vector<Vec3f>& DisplayColor() const { return displayColor_; }
@@ -81,7 +92,8 @@ class Mesh : public Rprim {
   void UploadPoints();
   void ReleaseGeometry(RenderParam* renderParam);
 
-  MeshTopology topology_;
+  MeshTopology topology_;    ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
+  int sceneRefineLevel_ = -1;  ///< the scene delegate's refineLevel at the last topology sync; -1 before it
   int controlPointCount_ = 0;
   std::unique_ptr<SubdivRefiner> refiner_;
   std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space

@@ -1,6 +1,7 @@
 #include "hdeye/renderPlan.h"
 
 #include "hdeye/light.h"
+#include "hdeye/mesh.h"
 #include "hdeye/renderContext.h"
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -271,12 +273,14 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
     why["sss"] = visibility;
   } else if (e->pixels >= rules.sssMinPixels) {
     e->sss = "randomWalk";
-    why["sss"] = "eye " + Num(e->pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) + " px" +
-                 (rules.sssProvisional ? " (provisional rule, one measured shot)" : "");
+    why["sss"] = "eye " + Num(e->pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
+                 " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.4-3.3x the walk's "
+                 "from 4 to 32 px)" + (rules.sssProvisional ? " (provisional)" : "");
   } else {
     e->sss = "diffuse";
-    why["sss"] = "eye " + Num(e->pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) + " px" +
-                 (rules.sssProvisional ? " (provisional rule, one measured shot)" : "");
+    why["sss"] = "eye " + Num(e->pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
+                 " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera)" +
+                 (rules.sssProvisional ? " (provisional)" : "");
   }
   const auto authored = ov.authored.find(e->prim);
   if (authored != ov.authored.end() && authored->second.limbalArc) {
@@ -292,6 +296,13 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
     e->limbalArc = false;
     why["limbalArc"] = "limbus band " + Num(e->limbusPixels, 3) + " px < " + Num(rules.sssMinLimbusPixels, 3) +
                        " px" + (rules.limbalArcProvisional ? " (provisional rule)" : "");
+  } else if (rules.limbalArcMinLightAngleDeg <= 0) {
+    // Sweep sclera: without the cylinder the eye lost 5-83% of its light side-lit and 2-17% front-lit from 8 px
+    // up, at the same cost per sample: the arc goes with the walk.
+    e->limbalArc = true;
+    why["limbalArc"] = "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
+                       "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera)" +
+                       std::string(rules.limbalArcProvisional ? " (provisional)" : "");
   } else {
     const LightFacts* side = nullptr;
     for (const LightFacts& l : e->lights)
@@ -304,20 +315,34 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   // Applied per eye (EyeRenderOptions::limbalArc) in place of the eye's EyeParams::limbalArc; an authored
   // eye:limbalArc wins above, so what the artist set still renders.
 
-  // Subdivision (eye meshes): reported, not yet applied (refinement is chosen at populate).
+  // Subdivision (eye meshes), applied: the mesh renders min(this, its populate level) and re-refines when it
+  // changes (EyeMesh::RefineLevelFor, ApplyRenderPlan). Sweep refine: below refinePixelsLevel1 level 0's image
+  // error equals level 3's within noise; one level per doubling keeps the outline within 2 px of level 3 up to
+  // 200 px. Level 3 (from 4x refinePixelsLevel1) never differed from level 2 up to 200 px: provisional there.
   if (e->geometry == "eyeMesh") {
     int level = 0;
     if (e->pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e->pixels / rules.refinePixelsLevel1)));
     e->refineLevel = std::min(level, ov.refineLevelCeiling);
-    why["refineLevel"] = Num(e->pixels, 4) + " px -> level " + std::to_string(e->refineLevel) + " (ceiling " +
-                         std::to_string(ov.refineLevelCeiling) + "; provisional rule, not applied yet: the " +
-                         "--complexity level is rendered)";
+    why["refineLevel"] = Num(e->pixels, 4) + " px -> level " + std::to_string(level) +
+                         (level > ov.refineLevelCeiling ? ", held at the --complexity ceiling " : " (ceiling ") +
+                         std::to_string(ov.refineLevelCeiling) + (level > ov.refineLevelCeiling ? "" : ")") +
+                         ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) +
+                         " px (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px)" +
+                         (level >= 3 ? "; level 3 provisional (not swept above 200 px)" : "");
   } else {
     e->refineLevel = -1;
     why["refineLevel"] = "analytic eye: no mesh";
   }
+  // Precision: always double (the renderer's only eye arithmetic); the reason says whether float would do.
   e->precision = "double";
-  why["precision"] = "the renderer's only eye arithmetic (no float path to choose)";
+  e->pixelFootprintMm = e->pixels > 0 ? eyelib::paper::kRimRadius * 2 / e->pixels : std::numeric_limits<double>::infinity();
+  const double floatErrorPixels = rules.floatHitErrorMm / e->pixelFootprintMm;
+  e->floatWouldSuffice = floatErrorPixels <= rules.floatMaxErrorPixels;
+  why["precision"] = "double (no float eye path); float's worst hit error " + Num(rules.floatHitErrorMm * 1000, 2) +
+                     " um (docs/intersection_benchmark.md) is " + Num(floatErrorPixels, 2) + " px at " +
+                     Num(e->pixelFootprintMm, 3) + " mm/px: float " +
+                     (e->floatWouldSuffice ? "would be enough (<= " : "would not be enough (> ") +
+                     Num(rules.floatMaxErrorPixels, 2) + " px)";
 }
 
 RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int width, int height,
@@ -395,6 +420,7 @@ EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) c
   o.maxChamberEvents = chamberEvents;
   o.scleraScattering = sss == "randomWalk";
   o.limbalArc = limbalArc;
+  o.refineLevel = refineLevel;  // -1 for analytic eyes: nothing to refine
   return o;
 }
 
@@ -405,14 +431,28 @@ std::vector<PrimId> RenderLightOrder(const RenderIndex& index) {
   return order;
 }
 
+namespace {
+
+/// Gives an eye rprim its options. The switches are read per ray; a refinement level is geometry: when the
+/// mesh would now render another level than it does, its topology is marked dirty (only this mesh's), and the
+/// next sync (Execute's) re-refines it. A mesh not synced yet refines with the options at its first sync.
+void SetEyeOptions(RenderIndex* index, const PrimId& id, Rprim* prim, const EyeRenderOptions& options) {
+  GeometryContext* context = prim->Context();
+  if (!context) return;
+  context->eyeOptions = options;
+  auto* mesh = dynamic_cast<Mesh*>(prim);
+  if (mesh && mesh->SceneRefineLevel() >= 0 && mesh->RefineLevelFor(mesh->SceneRefineLevel()) != mesh->RefineLevel())
+    index->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
+}
+
+}  // namespace
+
 void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings* settings) {
   const std::vector<PrimId> lightOrder = RenderLightOrder(*index);
   for (const auto& [id, entry] : index->Rprims()) {
     if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
-    GeometryContext* context = entry.prim->Context();
-    if (!context) continue;
     const auto e = std::find_if(plan.eyes.begin(), plan.eyes.end(), [&](const EyePlan& p) { return p.prim == id; });
-    context->eyeOptions = e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder);
+    SetEyeOptions(index, id, entry.prim.get(), e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder));
   }
   ApplyRenderPlan(plan, settings);
 }
@@ -424,8 +464,8 @@ void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) {
 }
 
 void ClearRenderPlan(RenderIndex* index) {
-  for (const auto& [id, entry] : index->Rprims())
-    if (GeometryContext* context = entry.prim->Context()) context->eyeOptions = EyeRenderOptions{};
+  // Unplanned eye meshes go back to the scene's level (--complexity), re-refining if the plan had lowered it.
+  for (const auto& [id, entry] : index->Rprims()) SetEyeOptions(index, id, entry.prim.get(), EyeRenderOptions{});
 }
 
 std::string RenderPlan::ToJson() const {
@@ -451,7 +491,8 @@ std::string RenderPlan::ToJson() const {
       << ", \"limbusPixels\": " << Num(e.limbusPixels) << ", \"mnee\": " << boolean(e.mnee)
       << ", \"mneeAllSolutions\": " << boolean(e.mneeAllSolutions) << ", \"chamberEvents\": " << e.chamberEvents
       << ", \"sss\": " << JsonQuote(e.sss) << ", \"limbalArc\": " << boolean(e.limbalArc)
-      << ", \"refineLevel\": " << e.refineLevel << ", \"precision\": " << JsonQuote(e.precision);
+      << ", \"refineLevel\": " << e.refineLevel << ", \"precision\": " << JsonQuote(e.precision)
+      << ", \"pixelFootprintMm\": " << Num(e.pixelFootprintMm) << ", \"floatWouldSuffice\": " << boolean(e.floatWouldSuffice);
     // What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
     std::string mneeLights;
     for (const LightFacts& l : e.lights)
@@ -459,7 +500,7 @@ std::string RenderPlan::ToJson() const {
     o << ", \"applied\": {\"mnee\": " << boolean(e.mnee) << ", \"mneeLights\": [" << mneeLights
       << "], \"allSolutions\": " << boolean(e.mneeAllSolutions) << ", \"maxChamberEvents\": " << e.chamberEvents
       << ", \"scleraScattering\": " << boolean(e.sss == "randomWalk") << ", \"limbalArc\": " << boolean(e.limbalArc)
-      << "}, \"lights\": [";
+      << ", \"refineLevel\": " << e.refineLevel << "}, \"lights\": [";
     for (std::size_t k = 0; k < e.lights.size(); ++k) {
       const LightFacts& l = e.lights[k];
       o << (k ? ", " : "") << "{\"light\": " << JsonQuote(l.light) << ", \"kind\": " << JsonQuote(l.kind)

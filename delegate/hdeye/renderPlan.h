@@ -17,7 +17,8 @@
 // frame render each with its own plan; a dome and a key at one eye split between BSDF sampling and MNEE,
 // each light counted by exactly one of them. The global RenderSettings switches stay the defaults of eyes
 // no plan reached (and of renders without a plan); flags reach the plan through PlanOverrides and win there.
-// Reported, not applied: refineLevel (chosen at populate) and precision (one arithmetic exists).
+// Eye meshes' refineLevel is applied too (the mesh re-refines when its level changes: a topology change for that
+// mesh only). Reported, not applied: precision (one arithmetic exists; the plan says when float would do).
 #include "hdeye/camera.h"
 #include "hdeye/eyeGeometry.h"
 #include "hdeye/eyeRenderOptions.h"
@@ -57,20 +58,35 @@ struct PlanRules {
   double allSolutionsMinAngleDeg = 80;
   double allSolutionsMinPixels = 400;
   /// Sclera random-walk SSS on eye meshes whose iris circle is at least this wide (pixels); below it, a
-  /// Lambertian sclera. PROVISIONAL (not swept): one measured point -- on two_eyes (10.5 px eyes) the
-  /// Lambertian sclera left the eyes' pixels at 0.67 relative RMSE against the walk's reference while the walk
-  /// reached 0.22 in the same 4 s (eyestudy), so the walk's difference shows far below the limbus band's size.
-  double sssMinPixels = 2;
+  /// Lambertian sclera. Sweep sclera (eye.usda, 64 px frames, equal time, key at 70 and 15 deg): Lambert's
+  /// eye MSE against the full model's reference was 1.09x (side) and 0.15x (front) the walk's at 2 px -- within
+  /// noise -- and 2.7x / 1.4x at 4 px, 2.1-3.3x from 8 to 32 px. 3 px: between the two measured points.
+  double sssMinPixels = 3;
   /// The limbal arc (teleportation cylinder) needs the limbus band ((outer - inner limbus diameter) / 2,
-  /// projected) at least this wide, pixels. PROVISIONAL (not swept).
-  double sssMinLimbusPixels = 1.5;
-  /// The limbal arc shows on the shadowed side of a side-lit limbus: some light at least this far off
-  /// the gaze (degrees). PROVISIONAL, as above.
-  double limbalArcMinLightAngleDeg = 30;
-  /// Subdivision of eye meshes: one level per doubling of the eye's size above this many pixels,
-  /// capped by the --complexity ceiling. PROVISIONAL (not swept); reported, not yet applied.
+  /// projected) at least this wide, pixels. 0: no band condition. Sweep sclera: the arc mattered on eyes whose
+  /// band is 0.13 px (an 8 px eye): it lights the whole shadowed sclera, not only the band.
+  double sssMinLimbusPixels = 0;
+  /// The limbal arc only with some light at least this far off the gaze (degrees); 0: the arc goes with the
+  /// walk. Sweep sclera: without the cylinder the eye's equal-time MSE was 1.3-4.5x the full model's side-lit
+  /// (70 deg) and 1.2-1.8x front-lit (15 deg) from 8 px up, at the same samples per second: no light direction
+  /// where dropping it pays was found. A dome alone was not swept.
+  double limbalArcMinLightAngleDeg = 0;
+  /// Subdivision of eye meshes: one level per doubling of the eye's size above this many pixels, capped by
+  /// the --complexity ceiling and the mesh's populate level. Sweep refine (eye.usda, 64 px frames): level 0's
+  /// eye error equalled level 3's within noise at 16 and 64 px; its outline was off by 3 px (summed coverage)
+  /// at 16 px, 6 px at 64 px, 34 px at 200 px, where level 1 was off by 2 px and level 2 by 0. Refinement to
+  /// level 3 costs 0.26-0.62 s per sync against 0.03 s at level 0 (197 k vs 3 k triangles).
   double refinePixelsLevel1 = 64;
-  bool sssProvisional = true, limbalArcProvisional = true, refineProvisional = true;
+  bool sssProvisional = false, limbalArcProvisional = false, refineProvisional = false;
+  /// Precision. Eyes are traced in double: there is no float eye path, and the plan adds none. It reports
+  /// whether float WOULD be enough: the analytic intersection's worst float hit-position error, measured
+  /// against double over 200 000 rays per cornea model (docs/intersection_benchmark.md: 0.207 um
+  /// ellipsoid-cone, 0.3 um paraboloid; p99 0.0054 um), against the eye's pixel footprint. The tolerance (a
+  /// hundredth of a pixel: a silhouette or highlight moved by it changes a pixel's coverage by at most 1%,
+  /// below the sweeps' noise) is a stated criterion, not a sweep; the benchmark covers camera-ray hits on the
+  /// anterior surface, not MNEE's Newton solve or the chamber walk.
+  double floatHitErrorMm = 3.0e-4;   ///< mm, the worst of the two models' worst float position errors
+  double floatMaxErrorPixels = 0.01;  ///< pixels
 };
 
 /// What the user set explicitly: each set value wins over the planner. Flags and render settings are
@@ -123,7 +139,12 @@ struct EyePlan {
   std::string sss = "diffuse";  ///< "randomWalk" (path-traced sclera SSS) or "diffuse" (Lambert)
   bool limbalArc = false;       ///< the teleportation cylinder in the sclera walk
   int refineLevel = -1;         ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
-  std::string precision = "double";  ///< the eye's analytic intersection and MNEE arithmetic
+  std::string precision = "double";  ///< the eye's analytic intersection and MNEE arithmetic (always double)
+  /// Millimetres of the eye per pixel: the 15.08 mm iris circle over `pixels` (infinite when not projected).
+  double pixelFootprintMm = 0;
+  /// Float's measured worst hit error is under PlanRules::floatMaxErrorPixels of a pixel here: float would be
+  /// enough for this eye's intersections. Reported only: the renderer has no float eye path.
+  bool floatWouldSuffice = false;
   std::map<std::string, std::string> why;  ///< decision name -> short reason
 
   /// The switches ApplyRenderPlan gives this eye. `lightOrder`: the render's light list (light prim ids in

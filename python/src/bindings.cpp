@@ -249,6 +249,7 @@ NB_MODULE(_hdeye, m) {
             d["stencil_evaluations"] = s.stencilEvaluations, d["point_uploads"] = s.pointUploads;
             d["normal_evaluations"] = s.normalEvaluations, d["transform_updates"] = s.transformUpdates;
             d["triangles"] = mesh->TriangleCount();
+            d["refine_level"] = mesh->RefineLevel(), d["refine_level_changes"] = s.refineLevelChanges;
             return d;
           },
           "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
@@ -354,7 +355,10 @@ NB_MODULE(_hdeye, m) {
       .def_rw("all_solutions_min_pixels", &PlanRules::allSolutionsMinPixels, "pixels")
       .def_rw("sss_min_pixels", &PlanRules::sssMinPixels, "pixels")
       .def_rw("sss_min_limbus_pixels", &PlanRules::sssMinLimbusPixels, "pixels")
-      .def_rw("limbal_arc_min_light_angle_deg", &PlanRules::limbalArcMinLightAngleDeg, "degrees");
+      .def_rw("limbal_arc_min_light_angle_deg", &PlanRules::limbalArcMinLightAngleDeg, "degrees")
+      .def_rw("refine_pixels_level1", &PlanRules::refinePixelsLevel1, "pixels")
+      .def_rw("float_hit_error_mm", &PlanRules::floatHitErrorMm, "mm")
+      .def_rw("float_max_error_pixels", &PlanRules::floatMaxErrorPixels, "pixels");
 
   nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
       .def("to_json", &RenderPlan::ToJson, "The plan as a JSON object string (docs/render_plan.md).")

@@ -3,6 +3,7 @@
 #include "delegate/scene_helpers.h"
 
 #include "hdeye/imageWriter.h"
+#include "hdeye/mesh.h"
 #include "hdeye/renderBuffer.h"
 #include "hdeye/renderContext.h"
 #include "hdeye/inMemorySceneDelegate.h"
@@ -176,7 +177,7 @@ TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk 
   frontal.SphereLight("/key", 2, 5);
   const EyePlan& f = OnlyEye(frontal.Plan(512));
   CHECK(f.sss == "randomWalk");
-  CHECK_FALSE(f.limbalArc);  // no shadowed side of the limbus
+  CHECK(f.limbalArc);  // sweep sclera: front-lit, dropping the cylinder still cost 2-17% of the eye's light
 }
 
 TEST_CASE("an analytic eye has no sclera volume to walk", "[plan]") {
@@ -342,17 +343,24 @@ TEST_CASE("a large light keeps MNEE near the gaze and loses it at grazing angles
   CHECK(e.lights[2].strategy == "mnee");
 }
 
-TEST_CASE("a small eye mesh keeps the sclera walk but not the limbal arc when its limbus band is under a pixel",
+TEST_CASE("a small eye mesh keeps the sclera walk and the limbal arc even when its limbus band is under a pixel",
           "[plan]") {
-  Scene s(300, /*mesh=*/true);  // about 16 px: limbus band about 0.7 px
+  // Sweep sclera: the arc mattered on 8 px eyes (a 0.13 px band): it lights the shadowed sclera, not only the band.
+  Scene s(300, /*mesh=*/true);
   s.SphereLight("/key", 2, 60);
   const EyePlan& e = OnlyEye(s.Plan(64));
   INFO(e.pixels << " px, limbus " << e.limbusPixels << " px");
   REQUIRE(e.pixels > PlanRules{}.sssMinPixels);
-  REQUIRE(e.limbusPixels < PlanRules{}.sssMinLimbusPixels);
+  REQUIRE(e.limbusPixels < 1);
   CHECK(e.sss == "randomWalk");
-  CHECK_FALSE(e.limbalArc);
-  CHECK(e.why.at("limbalArc").find("limbus band") != std::string::npos);
+  CHECK(e.limbalArc);
+  CHECK(e.why.at("limbalArc").find("sweep sclera") != std::string::npos);
+  // The band rule still works when a user sets it.
+  PlanRules band;
+  band.sssMinLimbusPixels = 1.5;
+  const EyePlan b = OnlyEye(s.pass.Plan("/cam", 64, 64, {}, band));
+  CHECK_FALSE(b.limbalArc);
+  CHECK(b.why.at("limbalArc").find("limbus band") != std::string::npos);
 }
 
 // ---- Application: the renderer reads each eye's plan, per light for MNEE --------------------------------------
@@ -540,4 +548,145 @@ TEST_CASE("an eye mesh walks its sclera by its own plan, whatever the global swi
   INFO("walks: plan randomWalk " << walked.scleraWalks << ", plan diffuse " << flat.scleraWalks);
   CHECK(walked.scleraWalks > 0);
   CHECK(flat.scleraWalks == 0);
+}
+
+// Sweeps "sclera" and "refine" (docs/render_plan.md): the measured rules on synthetic cases.
+
+TEST_CASE("a tiny eye mesh gets a Lambertian sclera, no limbal arc and refine level 0", "[plan]") {
+  Scene s(2000, /*mesh=*/true);
+  s.SphereLight("/key", 2, 70);
+  const PlanRules rules;
+  const EyePlan e = OnlyEye(s.Plan(64));
+  INFO("eye " << e.pixels << " px; sssMinPixels " << rules.sssMinPixels);
+  REQUIRE(e.pixels < rules.sssMinPixels);
+  CHECK(e.sss == "diffuse");
+  CHECK_FALSE(e.limbalArc);
+  CHECK(e.refineLevel == 0);
+  CHECK(e.why.at("sss").find("sweep sclera") != std::string::npos);
+  CHECK(e.why.at("refineLevel").find("sweep refine") != std::string::npos);
+}
+
+TEST_CASE("a large side-lit eye mesh gets the walk, the limbal arc and the ceiling level; a front light keeps the arc",
+          "[plan]") {
+  Scene s(60, /*mesh=*/true);
+  s.SphereLight("/key", 2, 70);
+  PlanOverrides overrides;
+  overrides.refineLevelCeiling = 2;
+  const EyePlan e = OnlyEye(s.Plan(1024, overrides));
+  INFO(e.pixels << " px; why: " << e.why.at("refineLevel"));
+  CHECK(e.sss == "randomWalk");
+  CHECK(e.limbalArc);
+  CHECK(e.refineLevel == 2);  // the planner's level would be higher: the ceiling holds it
+  CHECK(e.why.at("refineLevel").find("ceiling") != std::string::npos);
+  // Sweep sclera: without the cylinder a front-lit close-up loses 16% of the eye's light: the arc stays on.
+  Scene frontal(60, /*mesh=*/true);
+  frontal.SphereLight("/key", 2, 15);
+  const EyePlan f = OnlyEye(frontal.Plan(512));
+  CHECK(f.sss == "randomWalk");
+  CHECK(f.limbalArc);
+}
+
+TEST_CASE("the refine ceiling wins over the planner at any size, down to level 0", "[plan]") {
+  Scene s(60, /*mesh=*/true);
+  s.SphereLight("/key", 2, 70);
+  for (int ceiling : {0, 1, 3}) {
+    PlanOverrides o;
+    o.refineLevelCeiling = ceiling;
+    const EyePlan e = OnlyEye(s.Plan(2048, o));
+    INFO("ceiling " << ceiling << ", " << e.pixels << " px -> " << e.refineLevel);
+    CHECK(e.refineLevel == ceiling);
+  }
+}
+
+TEST_CASE("an authored eye:limbalArc wins on a tiny eye and on a large one", "[plan]") {
+  Scene tiny(2000, /*mesh=*/true);
+  tiny.SphereLight("/key", 2, 70);
+  PlanOverrides on;
+  on.authored["/Eye"].limbalArc = true;
+  const EyePlan t = OnlyEye(tiny.Plan(64, on));
+  CHECK(t.sss == "diffuse");
+  CHECK(t.limbalArc);  // the artist's value, even with no walk for it to change
+  CHECK(t.why.at("limbalArc").rfind("authored", 0) == 0);
+  Scene large(60, /*mesh=*/true);
+  large.SphereLight("/key", 2, 70);
+  PlanOverrides off;
+  off.authored["/Eye"].limbalArc = false;
+  const EyePlan l = OnlyEye(large.Plan(512, off));
+  CHECK(l.sss == "randomWalk");
+  CHECK_FALSE(l.limbalArc);
+}
+
+TEST_CASE("the precision decision states float's measured error against the eye's pixel footprint", "[plan]") {
+  const PlanRules rules;
+  for (double distance : {60.0, 2000.0}) {
+    Scene s(distance, /*mesh=*/true);
+    const EyePlan e = OnlyEye(s.Plan(256));
+    INFO(e.pixels << " px: " << e.why.at("precision"));
+    CHECK(e.precision == "double");
+    CHECK(e.pixelFootprintMm == Approx(15.08 / e.pixels).epsilon(1e-3));
+    CHECK(e.floatWouldSuffice == (rules.floatHitErrorMm / e.pixelFootprintMm <= rules.floatMaxErrorPixels));
+    CHECK(e.why.at("precision").find("intersection_benchmark") != std::string::npos);
+  }
+  // An extreme close-up (a 10 000 px iris): float's 0.3 um is then 0.2 px, and the plan says float would not do.
+  Scene macro(60, /*mesh=*/true);
+  const EyePlan m = OnlyEye(macro.Plan(20000));
+  INFO(m.pixels << " px: " << m.why.at("precision"));
+  CHECK_FALSE(m.floatWouldSuffice);
+  CHECK(m.why.at("precision").find("would not be enough") != std::string::npos);
+  CHECK(m.precision == "double");
+}
+
+TEST_CASE("applying a plan that changes one eye mesh's refine level re-refines that mesh only", "[plan]") {
+  test::RenderStack s;
+  CameraParams camera;
+  camera.focalLength = 50, camera.horizontalAperture = 24, camera.verticalAperture = 24;
+  s.scene.AddCamera("/cam", camera, test::LookDownZ(60));
+  MeshTopology topology;
+  std::vector<Vec3f> points;
+  test::UvSphere(12, 12, 24, &topology, &points);
+  topology.refineLevel = 2;  // the populate (--complexity) level
+  EyeParams eye;
+  eye.modelTransform = Translate(0, 0, 12);
+  s.scene.AddEyeMesh("/Near", topology, points, eye);                              // a close-up
+  s.scene.AddEyeMesh("/Far", topology, points, eye, Translate(30, 0, -20000));      // a few pixels wide
+  PlanRules rules;
+  rules.refinePixelsLevel1 = 16;  // the mechanics, not the thresholds: the near eye plans >= 2, the far one 0
+  PlanOverrides overrides;
+  overrides.refineLevelCeiling = 3;
+  const RenderPlan plan = s.pass.Plan("/cam", 256, 256, overrides, rules);
+  REQUIRE(plan.eyes.size() == 2);
+  auto* near = dynamic_cast<Mesh*>(s.index.GetRprim("/Near"));
+  auto* far = dynamic_cast<Mesh*>(s.index.GetRprim("/Far"));
+  REQUIRE((near && far));
+  const MeshSyncStats nearBefore = near->Stats(), farBefore = far->Stats();
+  const int farTriangles = far->TriangleCount();
+  REQUIRE(near->RefineLevel() == 2);
+  REQUIRE(far->RefineLevel() == 2);
+
+  RenderSettings& settings = s.delegate.Settings();
+  ApplyRenderPlan(plan, &s.index, &settings);
+  INFO(plan.ToJson());
+  CHECK((s.index.GetChangeTracker().GetDirtyBits("/Far") & dirty::DirtyTopology) != 0);
+  CHECK(s.index.GetChangeTracker().GetDirtyBits("/Near") == dirty::Clean);  // planned >= 2, renders 2: unchanged
+  s.index.SyncAll();
+  CHECK(far->RefineLevel() == 0);
+  CHECK(far->SceneRefineLevel() == 2);
+  CHECK(far->TriangleCount() * 8 < farTriangles);  // two levels fewer: 16x fewer quads (minus the pole fans)
+  CHECK(far->Stats().topologyBuilds == farBefore.topologyBuilds + 1);
+  CHECK(far->Stats().refineLevelChanges == farBefore.refineLevelChanges + 1);
+  CHECK(near->Stats().topologyBuilds == nearBefore.topologyBuilds);
+  CHECK(near->Stats().refinements == nearBefore.refinements);
+  CHECK(near->Stats().pointUploads == nearBefore.pointUploads);
+
+  // The same plan again changes nothing; clearing it restores the scene's level on the far eye alone.
+  ApplyRenderPlan(plan, &s.index, &settings);
+  CHECK(s.index.GetChangeTracker().GetDirtyBits("/Far") == dirty::Clean);
+  ClearRenderPlan(&s.index);
+  CHECK((s.index.GetChangeTracker().GetDirtyBits("/Far") & dirty::DirtyTopology) != 0);
+  CHECK(s.index.GetChangeTracker().GetDirtyBits("/Near") == dirty::Clean);
+  s.index.SyncAll();
+  CHECK(far->RefineLevel() == 2);
+  CHECK(far->TriangleCount() == farTriangles);
+  CHECK(far->Stats().refinements == farBefore.refinements + 1);
+  CHECK(near->Stats().topologyBuilds == nearBefore.topologyBuilds);
 }

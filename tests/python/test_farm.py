@@ -127,9 +127,24 @@ def test_local_cluster_of_two_workers_renders_frames_bit_identical_to_the_local_
 def test_a_frame_split_into_sample_ranges_is_bit_identical_to_the_unsplit_frame(local_farm, tmp_path):
     spp, frame = 7, 9.0  # 7 samples in 3 ranges: 3 + 2 + 2
     expected = render_local(tmp_path, [frame], spp=spp, width=32)[frame]
+    # exact=False keeps the merged sums whatever the certificates say: this checks the merge itself. Certified values
+    # must be bit-identical; the few a certificate cannot vouch for (a sum near a float32 rounding boundary) must
+    # still be within one float32 step.
+    stats = local_farm.submit_frame(job_for(tmp_path, "merged", spp=spp, width=32), frame, split=3,
+                                    exact=False).result()
+    assert stats["tasks"] == 4 and stats["samples_per_pixel"] == spp and not stats["rerendered_unsplit"]
+    merged = eyerender.read_exr(str(tmp_path / "merged_0009.exr"))
+    total = sum(p.size for p in expected.values())
+    assert stats["uncertified_values"] <= total // 1000, f"{stats['uncertified_values']} of {total} uncertified"
+    differ = 0
+    for channel, pixels in expected.items():
+        got = merged[channel]
+        differ += np.count_nonzero(pixels.view(np.uint32) != got.view(np.uint32))
+        assert np.all(np.abs(got - pixels) <= np.spacing(np.abs(pixels).astype(np.float32))), channel
+    assert differ <= stats["uncertified_values"]
+    # exact=True (the default): bit for bit, re-rendering unsplit if any value was not certified.
     stats = local_farm.submit_frame(job_for(tmp_path, "split", spp=spp, width=32), frame, split=3).result()
-    assert stats["tasks"] == 4 and stats["samples_per_pixel"] == spp
-    assert not stats["rerendered_unsplit"], f"{stats['uncertified_values']} values were not certified"
+    assert stats["rerendered_unsplit"] == (stats["uncertified_values"] > 0)
     assert_same_bits(expected, tmp_path / "split_0009.exr", "split frame")
 
 

@@ -111,7 +111,8 @@ def test_a_dome_and_a_key_are_applied_per_light_and_the_json_says_so():
     assert {light["light"]: light["strategy"] for light in eye["lights"]} == {"/World/dome": "bsdf",
                                                                              "/World/key1": "mnee"}
     assert eye["applied"] == {"mnee": True, "mneeLights": ["/World/key1"], "allSolutions": False,
-                              "maxChamberEvents": 64, "scleraScattering": False, "limbalArc": eye["limbalArc"]}
+                              "maxChamberEvents": 64, "scleraScattering": False, "limbalArc": eye["limbalArc"],
+                              "refineLevel": eye["refineLevel"]}
 
 
 def test_session_renders_each_eye_with_its_plan_and_clears_it_without_one():
@@ -197,3 +198,26 @@ def test_eyestudy_writes_table_reference_and_image_and_reuses_the_reference(tmp_
     stamp = (tmp_path / "shot.reference.exr").stat().st_mtime_ns
     assert study(args) == 0
     assert (tmp_path / "shot.reference.exr").stat().st_mtime_ns == stamp  # reused, not re-rendered
+
+
+def test_session_renders_a_tiny_eye_mesh_at_the_planned_level_and_restores_it_without_a_plan():
+    """Sweep refine's rule, applied: a ~6 px eye mesh renders at level 0 under a --complexity high (2) populate,
+    re-refined once; a session without a plan renders it at the populate level."""
+    import os
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "bench"))
+    import bench_plan
+    from eyerender.plan import make_overrides
+    from eyerender.render_session import RenderSession
+
+    stage = bench_plan.make_mesh_stage(pixels=6, width=32, angle_deg=70)
+    planned = RenderSession(stage, width=32, aovs=("color", "primId"), refine_level=2, settings={"threads": 1},
+                            plan_overrides=make_overrides(refine_level_ceiling=2))
+    planned.render(spp=1)
+    eye = plan_dict(planned.last_plan)["eyes"][0]
+    assert eye["refineLevel"] == 0 and eye["applied"]["refineLevel"] == 0
+    stats = planned.index.mesh_stats("/World/Eye/Eyeball")
+    assert stats["refine_level"] == 0 and stats["refine_level_changes"] == 1, stats
+    plain = RenderSession(stage, width=32, refine_level=2, settings={"threads": 1})
+    plain.render(spp=1)
+    assert plain.index.mesh_stats("/World/Eye/Eyeball")["refine_level"] == 2
