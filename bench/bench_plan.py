@@ -18,9 +18,14 @@ The reference's own noise is subtracted from the MSE (estimated from the feature
      -> PlanRules::sssMinPixels, sssMinLimbusPixels, limbalArcMinLightAngleDeg
   refine. eye size x Catmull-Clark level 0-3 of the eye mesh: image and outline error vs level 3, sync cost
      -> PlanRules::refinePixelsLevel1
-The last two render usd_samples/assets/eye.usda (an eye mesh with the sclera walk), not the analytic eye.
+  chamber. the chamber walk's bound (1-64 events per eye, through PlanOverrides.chamber_events), side/front key
+     -> PlanRules::chamberEvents
+  allsol-size. eye size (close-ups on the caustic fold) x 80-89 deg key: all-solutions MNEE on vs off
+     -> PlanRules::allSolutionsMinPixels
+  dome-arc. eye size, a dome alone: walk + limbal arc vs walk without it, equal time -> PlanRules::limbalArc*
+sclera, refine and dome-arc render usd_samples/assets/eye.usda (an eye mesh with the sclera walk), not the analytic eye.
 
-Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4] [--sweep sclera]
+Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4] [--sweep NAME]
 Single-threaded renders by default (--threads), so times compare; the machine is shared.
 """
 import argparse
@@ -35,24 +40,27 @@ import numpy as np
 import eyerender  # noqa: F401  (registers the EyeAPI schema before stages are made)
 from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade, Sdf
 
+from eyerender.plan import make_overrides
 from eyerender.render_session import RenderSession
 
 LIGHT_DISTANCE = 200.0  # mm, from the iris centre to the key's centre
 IRIS_Z = -3.735  # mm: the iris plane in the canonical frame (lights are placed from the iris centre)
 
 
-def make_stage(*, camera_distance=40.0, light="sphere", angle_deg=45.0, radius=2.0, intensity=None):
+def make_stage(*, camera_distance=40.0, light="sphere", angle_deg=45.0, radius=2.0, intensity=None, focal=50.0,
+               aim_x=0.0, aim_y=0.0):
     """An analytic eye at the origin (gaze +z), a camera on the axis at camera_distance mm, a backdrop card 30 mm
     behind, and one light: a sphere of `radius` mm at LIGHT_DISTANCE, angle_deg off the gaze in the xz-plane, or a
-    constant dome. Sphere radiance is scaled so the iris irradiance stays about constant across radii."""
+    constant dome. Sphere radiance is scaled so the iris irradiance stays about constant across radii. focal: the
+    camera's focal length (mm, 24 mm film); aim_x, aim_y: the camera moved sideways (mm) for a close-up off the axis."""
     stage = Usd.Stage.CreateInMemory()
     UsdGeom.SetStageMetersPerUnit(stage, 0.001)
     cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
-    cam.CreateFocalLengthAttr(50.0)
+    cam.CreateFocalLengthAttr(focal)
     cam.CreateHorizontalApertureAttr(24.0)
     cam.CreateVerticalApertureAttr(24.0)
     cam.CreateClippingRangeAttr(Gf.Vec2f(0.1, 1e6))
-    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, camera_distance))
+    cam.AddTranslateOp().Set(Gf.Vec3d(aim_x, aim_y, camera_distance))
     eye = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
     eye.AddAppliedSchema("EyeAPI")
     half = 0.6 * camera_distance + 20  # the card fills the view at any distance
@@ -81,10 +89,16 @@ def solid_angle(radius):
 
 
 def render(stage, width, spp, settings, threads, seed=0):
-    """(color image (h, w, 4), primId image, seconds of rendering)."""
+    """(color image (h, w, 4), primId image, seconds of rendering). settings["chamber_events"] (if present) renders
+    with the render plan, every other decision fixed by the settings' switches (PlanOverrides): the chamber walk's
+    bound is a per-eye switch, only the plan sets it."""
     s = dict(settings)
     s.update(threads=threads, seed=seed)
-    session = RenderSession(stage, width=width, aovs=("color", "primId"), settings=s)
+    plan = None
+    if "chamber_events" in s:
+        plan = make_overrides(mnee=s.get("mnee", True), mnee_all_solutions=s.get("mnee_all_solutions", False),
+                              chamber_events=s.pop("chamber_events"))
+    session = RenderSession(stage, width=width, aovs=("color", "primId"), settings=s, plan_overrides=plan)
     t0 = time.perf_counter()
     session.render(spp=spp)
     return session.image("color"), session.image("primId")[:, :, 0], time.perf_counter() - t0
@@ -186,7 +200,7 @@ def sweep_pixels(b, out):
 def sweep_solid_angle(b, out):
     """2. Light solid angle at 30 and 75 degrees (and a dome): MNEE on vs off."""
     radii = [2, 20, 100] if b.args.quick else [1, 4, 16, 50, 100, 150, 190]
-    angles = [45] if b.args.quick else [30, 75]
+    angles = b.args.angles or ([45] if b.args.quick else [30, 75])
     width = b.args.width
     print("## Sweep 2: light solid angle (MNEE on vs off)\n")
     print(f"Sphere lights at {LIGHT_DISTANCE:g} mm (radiance scaled to keep the iris irradiance), and a constant dome; "
@@ -259,6 +273,107 @@ def sweep_depth(b, out):
     out["depth"] = rows_out
 
 
+CHAMBER_EVENTS = [1, 2, 4, 8, 16, 64]
+
+
+def sweep_chamber(b, out):
+    """Chamber walk bound (EyeRenderOptions::maxChamberEvents, per eye through the plan): side- and front-lit."""
+    events = b.args.events or CHAMBER_EVENTS
+    lights = [("side 75 deg", 75), ("front 15 deg", 15)]
+    width = b.args.width
+    print("## Sweep chamber: the chamber walk's bound (events per path)\n")
+    print(f"A 2 mm sphere key at {LIGHT_DISTANCE:g} mm, 75 deg (side) or 15 deg (front) off the gaze; analytic eye, "
+          f"camera at 40 mm, {width} px; MNEE on, one path; the bound set per eye through the plan "
+          f"(PlanOverrides.chamber_events). {b.args.spp} spp per test (seed 0); reference: 64 events at "
+          f"{b.args.ref_spp} spp (seed 1000), its noise subtracted. 'eye bias': mean over the eye's pixels vs the "
+          f"reference: the light the cut walk loses; the 64-event row's bias is the noise floor. 'ms/spp': "
+          f"render seconds per sample per pixel of the whole frame.\n")
+    rows_out = []
+    for light_name, angle in lights:
+        progress(f"sweep chamber: {light_name}")
+        stage = make_stage(angle_deg=angle)
+        variants = [(f"{n}", {"mnee": True, "mnee_all_solutions": False, "chamber_events": n}) for n in events]
+        ref_settings = variants[-1][1] if events[-1] == 64 else {"mnee": True, "mnee_all_solutions": False,
+                                                                 "chamber_events": 64}
+        rows = b.compare("chamber", stage, width, variants, ref_settings, b.args.spp)
+        full = 1 + rows[-1]["bias"]  # the longest walk's test (same seed): what the cut changes, paired
+        for n, r in zip(events, rows):
+            rows_out.append({"light": light_name, "angle": angle, "events": n, "seconds": r["seconds"],
+                             "ms_per_spp": 1000 * r["seconds"] / r["spp"], "eye_rmse": r["eye_rmse"],
+                             "frame_rmse": r["frame_rmse"], "bias": r["bias"], "eye_pixels": r["eye_pixels"],
+                             "change": (1 + r["bias"]) / full - 1})
+    table(["light", "events", "eye pixels", "s", "ms/spp", "eye rRMSE", "frame rRMSE", "eye bias",
+           f"eye mean vs {events[-1]} events (same seed)"],
+          [[r["light"], str(r["events"]), str(r["eye_pixels"]), f"{r['seconds']:.2f}", f"{r['ms_per_spp']:.1f}",
+            f"{r['eye_rmse']:.3f}", f"{r['frame_rmse']:.4f}", f"{100 * r['bias']:+.2f}%", f"{100 * r['change']:+.2f}%"]
+           for r in rows_out])
+    out["chamber"] = rows_out
+
+
+FOLD_AIM = (-1.5, 3.0)  # mm: where one-path MNEE misses light under 80-89 deg light (paired one/all difference, 90 px)
+
+
+def sweep_all_solutions_size(b, out):
+    """All-solutions MNEE on vs off by eye size (close-ups through the focal length) and grazing light angle."""
+    sizes = b.args.sizes or ([48, 200, 800] if b.args.quick else [48, 100, 200, 400, 800])
+    angles = b.args.angles or ([80, 89] if b.args.quick else [80, 85, 89])
+    width, spp = b.args.width, b.args.spp
+    cam = 40.0
+    print("## Sweep allsol-size: all-solutions MNEE on vs off by eye size and grazing light angle\n")
+    print(f"A 2 mm sphere key at {LIGHT_DISTANCE:g} mm, 80-89 deg off the gaze (+x); analytic eye; camera {cam:g} mm "
+          f"away, the focal length setting the iris circle's size on screen; {width} px frames. An eye wider than the "
+          f"frame is a close-up of the caustic fold where one path misses light, at x {FOLD_AIM[0]:g}, y "
+          f"{FOLD_AIM[1]:g} mm (found from a paired one/all difference at 90 px). {spp} spp per test; reference: all "
+          f"solutions at {b.args.ref_spp} spp (another seed), its noise subtracted. rRMSE over the eye's pixels, "
+          f"untrimmed (second paths make a thin caustic: trimming the worst 0.1% would drop it). 'eff one/all': "
+          f"equal-error time ratio at this budget (> 1: one path wins). 'missed': the one-path test against the "
+          f"all-solutions test with the same seed (paired: the same paths up to the extra solutions): the eye's "
+          f"mean, the worst pixel, and the share of eye pixels missing more than 5% -- a bias no budget removes.\n")
+    rows_out = []
+    for angle in angles:
+        for px in sizes:
+            aim = (0.0, 0.0) if px <= width else FOLD_AIM
+            focal = px * 24.0 * (cam - IRIS_Z) / (width * 15.08)
+            progress(f"sweep allsol-size: {angle} deg, {px} px")
+            stage = make_stage(camera_distance=cam, angle_deg=angle, focal=focal, aim_x=aim[0], aim_y=aim[1])
+            ref_set = {"mnee": True, "mnee_all_solutions": True}
+            ref, prim, _ = render(stage, width, b.args.ref_spp, ref_set, b.args.threads, seed=1000)
+            mask = prim == 0
+            if mask.sum() == 0:
+                raise RuntimeError(f"allsol-size: the eye covers no pixel at {px} px")
+            row = {"angle": angle, "eye_px": px, "aim": aim, "eye_pixels": int(mask.sum())}
+            imgs = {}
+            for label, alls in (("one", False), ("all", True)):
+                img, _, secs = render(stage, width, spp, {"mnee": True, "mnee_all_solutions": alls},
+                                      b.args.threads, seed=0)
+                imgs[label] = img[:, :, :3].mean(axis=2)
+                mse_u, _, bias = errors(img, ref, mask, trim=0.0)
+                row[label] = {"seconds": secs, "mse_u": mse_u, "bias": bias}
+            noise = row["all"]["mse_u"] * spp / b.args.ref_spp
+            for label in ("one", "all"):
+                row[label]["rmse_u"] = math.sqrt(max(row[label]["mse_u"] - noise, 1e-12))
+            row["eff_u"] = (row["all"]["rmse_u"] ** 2 * row["all"]["seconds"]) / (
+                row["one"]["rmse_u"] ** 2 * row["one"]["seconds"])
+            one, alls = imgs["one"][mask], imgs["all"][mask]
+            missed = (alls - one) / np.maximum(alls, 1e-9)
+            row["missed_mean"] = (alls.sum() - one.sum()) / alls.sum()
+            row["missed_max"] = float(missed.max())
+            row["missed_5pct"] = float((missed > 0.05).mean())
+            rows_out.append(row)
+    table(["light (deg)", "eye px", "framing", "eye pixels", "one s", "all s", "one rRMSE", "all rRMSE",
+           "eff one/all", "missed: eye mean", "missed: worst pixel", "eye pixels missing > 5%"],
+          [[f"{r['angle']:g}", f"{r['eye_px']:g}", "whole eye" if r["aim"] == (0.0, 0.0) else "fold close-up",
+            str(r["eye_pixels"]), f"{r['one']['seconds']:.2f}", f"{r['all']['seconds']:.2f}",
+            f"{r['one']['rmse_u']:.3f}", f"{r['all']['rmse_u']:.3f}", f"{r['eff_u']:.2f}",
+            f"{100 * r['missed_mean']:.2f}%", f"{100 * r['missed_max']:.0f}%", f"{100 * r['missed_5pct']:.1f}%"]
+           for r in rows_out])
+    out["allsol_size"] = [{"angle": r["angle"], "eye_px": r["eye_px"], "closeup": r["aim"] != (0.0, 0.0),
+                           "eye_pixels": r["eye_pixels"],
+                           **{f"{m}_{k}": r[m][k] for m in ("one", "all") for k in ("seconds", "rmse_u", "bias")},
+                           "eff_u": r["eff_u"], "missed_mean": r["missed_mean"], "missed_max": r["missed_max"],
+                           "missed_5pct": r["missed_5pct"]} for r in rows_out]
+
+
 # -- eye-mesh sweeps (sclera, refine): the referenced eye asset, not the analytic eye ------------------------------
 
 EYE_ASSET = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "usd_samples", "assets", "eye.usda")
@@ -266,12 +381,13 @@ MESH_CAMERA_DISTANCE = 150.0  # mm from the corneal apex; the eye's size on scre
 MESH_IRIS_Z = -3.735  # mm: the iris plane below the apex (the asset's canonical frame)
 
 
-def make_mesh_stage(*, pixels, width, angle_deg, limbal_arc=True, radius=2.0, aim_x=0.0):
+def make_mesh_stage(*, pixels, width, angle_deg, limbal_arc=True, radius=2.0, aim_x=0.0, light="sphere"):
     """usd_samples/assets/eye.usda (centimetres) referenced under /World/Eye, scaled to millimetres, corneal apex at
     the origin, gaze +z; a camera on the axis at MESH_CAMERA_DISTANCE whose focal length makes the 15.08 mm iris
     circle `pixels` wide in a `width` px frame; a grey card 30 mm behind; a `radius` mm sphere key at LIGHT_DISTANCE,
     angle_deg off the gaze. limbal_arc: eye:limbalArc authored on the eyeball (the cylinder of the walk). aim_x: the
-    camera moved sideways (mm, -x: away from the key) so that a close-up frames the shadowed limbus or the outline."""
+    camera moved sideways (mm, -x: away from the key) so that a close-up frames the shadowed limbus or the outline.
+    light "dome": a constant dome (intensity 1) and no key."""
     stage = Usd.Stage.CreateInMemory()
     UsdGeom.SetStageMetersPerUnit(stage, 0.001)
     focal = pixels * 24.0 * (MESH_CAMERA_DISTANCE - MESH_IRIS_Z) / (width * 15.08)
@@ -292,6 +408,9 @@ def make_mesh_stage(*, pixels, width, angle_deg, limbal_arc=True, radius=2.0, ai
     card.CreateFaceVertexCountsAttr([4])
     card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
     card.CreateSubdivisionSchemeAttr("none")
+    if light == "dome":
+        UsdLux.DomeLight.Define(stage, "/World/dome").CreateIntensityAttr(1.0)
+        return stage
     sphere = UsdLux.SphereLight.Define(stage, "/World/key")
     sphere.CreateRadiusAttr(radius)
     sphere.CreateIntensityAttr(3000.0)
@@ -381,6 +500,55 @@ def sweep_sclera(b, out):
                          for k, _, _ in SCLERA_VARIANTS for m in ("seconds", "spp", "eye_rmse", "bias")},
                       "noarc_mse_ratio": r["walk, no arc"]["mse_ratio"], "lambert_mse_ratio": r["Lambert"]["mse_ratio"]}
                      for r in rows_out]
+
+
+def sweep_dome_arc(b, out):
+    """The limbal arc under a dome alone (no key light): walk + arc vs walk without the arc, equal time."""
+    sizes = b.args.sizes or ([8, 32, 128] if b.args.quick else [4, 8, 16, 32, 64, 128])
+    width, spp = b.args.width, b.args.spp
+    print("## Sweep dome-arc: the limbal arc on an eye lit by a dome alone\n")
+    print(f"usd_samples/assets/eye.usda (level 2), camera 150 mm on the gaze axis, a constant dome (intensity 1) and no "
+          f"key; {width} px; an iris wider than 0.6 of the frame is a close-up of the limbus at x = -6 mm. Reference: "
+          f"walk + arc at {b.args.ref_spp} spp (another seed). Walk + arc renders {spp} spp, walk without the arc the "
+          f"same wall time. Errors over the eye's pixels, worst 0.1% trimmed, the reference's noise subtracted; "
+          f"'MSE no arc / arc' < 1: dropping the arc is closer at equal time.\n")
+    rows_out = []
+    for px in sizes:
+        progress(f"sweep dome-arc: {px} px")
+        aim = -6.0 if px > 0.6 * width else 0.0
+        ref_stage = make_mesh_stage(pixels=px, width=width, angle_deg=0, limbal_arc=True, aim_x=aim, light="dome")
+        ref_session = render_session(ref_stage, width, WALK_ARC, b.args.threads, seed=1000)
+        ref, prim, _, _ = session_render(ref_session, b.args.ref_spp)
+        mask = eye_pixels_mask(ref_session, prim)
+        if mask.sum() == 0:
+            raise RuntimeError(f"dome-arc sweep: the eye covers no pixel at {px} px")
+        row = {"eye_px": px, "aim_x": aim, "eye_pixels": int(mask.sum())}
+        budget = None
+        for label, arc in (("arc", True), ("no arc", False)):
+            stage = make_mesh_stage(pixels=px, width=width, angle_deg=0, limbal_arc=arc, aim_x=aim, light="dome")
+            session = render_session(stage, width, WALK_ARC, b.args.threads, 0)
+            if budget is None:
+                img, _, secs, done = session_render(session, spp)
+                budget = secs
+            else:
+                img, _, secs, done = session_render(session, 100000, time_limit=budget)
+            eye_mse, _, bias = errors(img, ref, mask)
+            row[label] = {"seconds": secs, "spp": done, "eye_mse": eye_mse, "bias": bias}
+        ref_noise = row["arc"]["eye_mse"] * spp / b.args.ref_spp
+        for label in ("arc", "no arc"):
+            row[label]["eye_rmse"] = math.sqrt(max(row[label]["eye_mse"] - ref_noise, 1e-12))
+        row["mse_ratio"] = row["no arc"]["eye_rmse"] ** 2 / row["arc"]["eye_rmse"] ** 2
+        rows_out.append(row)
+    table(["eye px", "framing", "eye pixels", "s (each)", "spp arc / no arc", "rRMSE arc", "rRMSE no arc",
+           "bias arc", "bias no arc", "MSE no arc / arc"],
+          [[f"{r['eye_px']:g}", "limbus close-up" if r["aim_x"] else "whole eye", str(r["eye_pixels"]),
+            f"{r['arc']['seconds']:.2f}", f"{r['arc']['spp']} / {r['no arc']['spp']}", f"{r['arc']['eye_rmse']:.3f}",
+            f"{r['no arc']['eye_rmse']:.3f}", f"{100 * r['arc']['bias']:+.1f}%", f"{100 * r['no arc']['bias']:+.1f}%",
+            f"{r['mse_ratio']:.2f}"] for r in rows_out])
+    out["dome_arc"] = [{"eye_px": r["eye_px"], "aim_x": r["aim_x"], "eye_pixels": r["eye_pixels"],
+                        **{f"{k.replace(' ', '')}_{m}": r[k][m] for k in ("arc", "no arc")
+                           for m in ("seconds", "spp", "eye_rmse", "bias")}, "mse_ratio": r["mse_ratio"]}
+                       for r in rows_out]
 
 
 def sweep_refine(b, out):
@@ -483,6 +651,46 @@ def plot(out, out_dir):
         ax.set_title("Sweep 3: all-solutions MNEE")
         ax.legend()
         written.append(_save(fig, out_dir, "render_plan_all_solutions.png"))
+    if "chamber" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["chamber"]
+        ax2 = ax.twinx()
+        for i, light in enumerate(dict.fromkeys(r["light"] for r in rows)):
+            sel = [r for r in rows if r["light"] == light]
+            ax.semilogx([r["events"] for r in sel], [100 * r["change"] for r in sel], "o-", color=f"C{i}",
+                        label=f"{light}: eye mean vs longest walk (%)")
+            ax2.semilogx([r["events"] for r in sel], [r["ms_per_spp"] for r in sel], "s:", color=f"C{i}", alpha=0.6)
+        ax.axhline(0, color="grey", lw=0.8)
+        ax.set_xlabel("chamber events per path (bound)")
+        ax.set_ylabel("eye light vs 64 events (%)")
+        ax2.set_ylabel("ms per spp (dotted)")
+        ax.set_title("Sweep chamber: the walk's bound")
+        ax.legend(fontsize=7, loc="lower right")
+        written.append(_save(fig, out_dir, "render_plan_chamber.png"))
+    if "allsol_size" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["allsol_size"]
+        for i, angle in enumerate(sorted({r["angle"] for r in rows})):
+            sel = [r for r in rows if r["angle"] == angle]
+            ax.loglog([r["eye_px"] for r in sel], [r["eff_u"] for r in sel], "o-", color=f"C{i}",
+                      label=f"{angle:g} deg: efficiency one / all")
+            ax.loglog([r["eye_px"] for r in sel], [max(100 * r["missed_5pct"], 1e-2) for r in sel], "s--",
+                      color=f"C{i}", label=f"{angle:g} deg: % eye pixels missing > 5%")
+        ax.axhline(1, color="grey", lw=0.8)
+        ax.set_xlabel("iris circle on screen (px)")
+        ax.set_title("Sweep allsol-size: one path vs all solutions")
+        ax.legend(fontsize=7)
+        written.append(_save(fig, out_dir, "render_plan_allsol_size.png"))
+    if "dome_arc" in out:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        rows = out["dome_arc"]
+        ax.semilogx([r["eye_px"] for r in rows], [r["mse_ratio"] for r in rows], "o-", label="MSE no arc / arc")
+        ax.semilogx([r["eye_px"] for r in rows], [100 * r["noarc_bias"] for r in rows], "s--", label="no-arc bias (%)")
+        ax.axhline(1, color="grey", lw=0.8)
+        ax.set_xlabel("iris circle on screen (px)")
+        ax.set_title("Sweep dome-arc: limbal arc, dome only")
+        ax.legend(fontsize=7)
+        written.append(_save(fig, out_dir, "render_plan_dome_arc.png"))
     if "depth" in out:
         fig, ax = plt.subplots(figsize=(5, 3.5))
         rows = out["depth"]
@@ -517,13 +725,18 @@ def write_csv(prefix, out):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="fewer points and samples: a smoke run (about a minute)")
-    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated: 1-4, sclera, refine)")
-    p.add_argument("--sweep", help="one sweep by name (sclera, refine) or number; overrides --sweeps")
+    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated: 1-4, sclera, refine, chamber, allsol-size, dome-arc)")
+    p.add_argument("--sweep", help="one sweep by name (sclera, refine, chamber, allsol-size, dome-arc) or number; "
+                   "overrides --sweeps")
     p.add_argument("--width", type=int, default=None, help="frame width in pixels (default 64; quick 48)")
     p.add_argument("--spp", type=int, default=None, help="samples per pixel of each test render (default 32)")
     p.add_argument("--ref-spp", type=int, default=None, help="reference samples per pixel (default 512)")
     p.add_argument("--sizes", type=lambda v: [float(x) for x in v.split(",")],
                    help="sweeps sclera and refine: the iris sizes on screen (px, comma-separated)")
+    p.add_argument("--angles", type=lambda v: [float(x) for x in v.split(",")],
+                   help="sweeps 2 and allsol-size: light angles off the gaze (deg, comma-separated)")
+    p.add_argument("--events", type=lambda v: [int(x) for x in v.split(",")],
+                   help="sweep chamber: the walk bounds (events per path, comma-separated; the last one 64)")
     p.add_argument("--threads", type=int, default=1, help="render threads (default 1: comparable times)")
     p.add_argument("--out-dir", default=os.path.join(os.path.dirname(__file__), "..", "docs"),
                    help="where the plots go (default docs/)")
@@ -536,7 +749,8 @@ def main(argv=None):
     out = {}
     start = time.perf_counter()
     sweeps = {"1": sweep_pixels, "2": sweep_solid_angle, "3": sweep_all_solutions, "4": sweep_depth,
-              "sclera": sweep_sclera, "refine": sweep_refine}
+              "sclera": sweep_sclera, "refine": sweep_refine, "chamber": sweep_chamber,
+              "allsol-size": sweep_all_solutions_size, "dome-arc": sweep_dome_arc}
     if args.sweep:
         args.sweeps = args.sweep
     print(f"# bench_plan ({'quick' if args.quick else 'full'}): {args.width} px frames, {args.spp} spp tests, "

@@ -53,10 +53,19 @@ struct PlanRules {
   /// where second paths exist (the ellipsoid-cone junction fold under grazing light) -- and on eyes at least
   /// `allSolutionsMinPixels` wide. Sweep 3: at 0-85 deg one path per sample was 1.3-2.0x more efficient, and
   /// the all-solutions image differed in mean by +0.03% (60 deg) and +0.08% (85 deg) only (docs/mnee_benchmark.md:
-  /// second paths carry 0.05-0.19% of the iris flux, most at 85 deg). The pixel bound is PROVISIONAL: a close-up
-  /// large enough for 0.1% to rise above the noise was not rendered.
+  /// second paths carry 0.05-0.19% of the iris flux, most at 85 deg). Sweep allsol-size (close-ups framed on the
+  /// fold, 32 spp): at 89 deg one path's equal-time efficiency is 1.22x all-solutions' at 100 px, 0.94x at 200,
+  /// 0.55x at 400, 0.31x at 800; it misses 0.7-4.8% of the close-up's light there, up to 37-47% in a pixel, 2-16%
+  /// of the pixels by more than 5%: a bias no budget removes. At 80 deg one path stays 1.15-2.1x more efficient
+  /// at 32 spp but misses up to 34% in a pixel (4.8% of the pixels by more than 5% at 400 px). So 200 px.
   double allSolutionsMinAngleDeg = 80;
-  double allSolutionsMinPixels = 400;
+  double allSolutionsMinPixels = 200;
+  /// Chamber events followed per path (EyeRenderOptions::maxChamberEvents) for every eye. Sweep chamber (analytic
+  /// eye, 46 px, 2 mm key, same seed against the 64-event walk): bound 1-2 lose 1.55% (side, 75 deg) and 2.3%
+  /// (front, 15 deg) of the eye's light, 4 loses 0.22% / 0.34%, 8 loses 0.02% / 0.03%, 16 nothing; time per sample is the
+  /// same from 4 to 64 events within the machine's noise (the walk ends by itself: exit, pupil, or the iris's
+  /// albedo), so no bound pays: the full walk. (Events 1-2 are also every path that carries a dome to the iris.)
+  int chamberEvents = 64;
   /// Sclera random-walk SSS on eye meshes whose iris circle is at least this wide (pixels); below it, a
   /// Lambertian sclera. Sweep sclera (eye.usda, 64 px frames, equal time, key at 70 and 15 deg): Lambert's
   /// eye MSE against the full model's reference was 1.09x (side) and 0.15x (front) the walk's at 2 px -- within
@@ -69,7 +78,9 @@ struct PlanRules {
   /// The limbal arc only with some light at least this far off the gaze (degrees); 0: the arc goes with the
   /// walk. Sweep sclera: without the cylinder the eye's equal-time MSE was 1.3-4.5x the full model's side-lit
   /// (70 deg) and 1.2-1.8x front-lit (15 deg) from 8 px up, at the same samples per second: no light direction
-  /// where dropping it pays was found. A dome alone was not swept.
+  /// where dropping it pays was found. Sweep dome-arc (a dome alone, no key): without the cylinder the eye loses
+  /// 5.3-6.3% of its light and its equal-time MSE is 1.11x (8 px), 1.19x (32 px), 1.37x (a 128 px limbus
+  /// close-up) the full model's, at the same samples per second: no light condition either.
   double limbalArcMinLightAngleDeg = 0;
   /// Subdivision of eye meshes: one level per doubling of the eye's size above this many pixels, capped by
   /// the --complexity ceiling and the mesh's populate level. Sweep refine (eye.usda, 64 px frames): level 0's
@@ -96,6 +107,9 @@ struct PlanOverrides {
   std::optional<bool> mneeAllSolutions;  ///< flag: --mnee-all-solutions
   std::optional<bool> scleraScattering;  ///< flag / setting: random-walk sclera (true) or diffuse (false)
   std::optional<bool> limbalArc;         ///< flag
+  /// Events the chamber walk follows per path (EyeRenderOptions::maxChamberEvents), >= 1: set by hand (the
+  /// chamber sweep of bench/bench_plan.py drives it through this).
+  std::optional<int> chamberEvents;
   int refineLevelCeiling = 3;            ///< --complexity: the planner's subdivision level never exceeds it
   /// Schema values authored on an eye prim (HasAuthoredValue, not the fallback).
   struct Authored {

@@ -30,12 +30,14 @@ def authored_eye_values(stage, time=None):
 
 
 def make_overrides(*, mnee=None, mnee_all_solutions=None, sclera_scattering=None, limbal_arc=None,
-                   refine_level_ceiling=3, authored=None):
+                   chamber_events=None, refine_level_ceiling=3, authored=None):
     """PlanOverrides from explicit values (None: the planner decides) and authored eye values
-    ({prim path: {"limbalArc": bool}}, see authored_eye_values)."""
+    ({prim path: {"limbalArc": bool}}, see authored_eye_values). chamber_events: the chamber walk's bound (events
+    per path, >= 1)."""
     o = PlanOverrides()
     o.mnee, o.mnee_all_solutions = mnee, mnee_all_solutions
     o.sclera_scattering, o.limbal_arc = sclera_scattering, limbal_arc
+    o.chamber_events = None if chamber_events is None else int(chamber_events)
     o.refine_level_ceiling = int(refine_level_ceiling)
     for prim, values in (authored or {}).items():
         if "limbalArc" in values:

@@ -339,6 +339,8 @@ NB_MODULE(_hdeye, m) {
       .def_rw("mnee_all_solutions", &PlanOverrides::mneeAllSolutions, nb::arg("value").none())
       .def_rw("sclera_scattering", &PlanOverrides::scleraScattering, nb::arg("value").none())
       .def_rw("limbal_arc", &PlanOverrides::limbalArc, nb::arg("value").none())
+      .def_rw("chamber_events", &PlanOverrides::chamberEvents, nb::arg("value").none(),
+              "events the chamber walk follows per path (>= 1); None: the planner decides")
       .def_rw("refine_level_ceiling", &PlanOverrides::refineLevelCeiling, "the --complexity level")
       .def(
           "set_authored_limbal_arc",
@@ -353,6 +355,7 @@ NB_MODULE(_hdeye, m) {
       .def_rw("grazing_angle_deg", &PlanRules::grazingAngleDeg, "degrees")
       .def_rw("all_solutions_min_angle_deg", &PlanRules::allSolutionsMinAngleDeg, "degrees")
       .def_rw("all_solutions_min_pixels", &PlanRules::allSolutionsMinPixels, "pixels")
+      .def_rw("chamber_events", &PlanRules::chamberEvents, "events per path")
       .def_rw("sss_min_pixels", &PlanRules::sssMinPixels, "pixels")
       .def_rw("sss_min_limbus_pixels", &PlanRules::sssMinLimbusPixels, "pixels")
       .def_rw("limbal_arc_min_light_angle_deg", &PlanRules::limbalArcMinLightAngleDeg, "degrees")

@@ -107,6 +107,44 @@ TEST_CASE("a small key light seen through the cornea gets MNEE", "[plan]") {
   CHECK_FALSE(e.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
 }
 
+TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), and a flag sets it per eye",
+          "[plan]") {
+  Scene s(40);
+  s.SphereLight("/key", 2, 75);
+  const EyePlan planned = OnlyEye(s.Plan(64));
+  INFO(planned.why.at("chamberEvents"));
+  CHECK(planned.chamberEvents == 64);
+  CHECK(planned.RenderOptions({"/key"}).maxChamberEvents == 64);
+  CHECK(planned.why.at("chamberEvents").find("provisional") == std::string::npos);
+  PlanOverrides flag;
+  flag.chamberEvents = 4;
+  const EyePlan cut = OnlyEye(s.Plan(64, flag));
+  CHECK(cut.chamberEvents == 4);
+  CHECK(cut.RenderOptions({"/key"}).maxChamberEvents == 4);
+  CHECK(cut.why.at("chamberEvents").rfind("flag", 0) == 0);
+  flag.chamberEvents = 0;
+  CHECK_THROWS_AS(s.Plan(64, flag), std::invalid_argument);
+}
+
+TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size measured, and one path below",
+          "[plan]") {
+  // 89 deg: one path's equal-time efficiency 1.22x all-solutions' at 100 px, 0.94x at 200 px.
+  Scene s(40);
+  s.SphereLight("/key", 2, 85);
+  PlanRules rules;
+  CHECK(rules.allSolutionsMinPixels == 200);
+  const auto planFor = [&](int width) { return OnlyEye(s.pass.Plan("/cam", width, width, PlanOverrides{}, rules)); };
+  const EyePlan small = planFor(96);   // ~66 px
+  const EyePlan large = planFor(320);  // ~220 px
+  INFO(small.pixels << " px: " << small.why.at("mneeAllSolutions"));
+  INFO(large.pixels << " px: " << large.why.at("mneeAllSolutions"));
+  REQUIRE(small.pixels < 200);
+  REQUIRE(large.pixels >= 200);
+  CHECK_FALSE(small.mneeAllSolutions);
+  CHECK(large.mneeAllSolutions);
+  CHECK(large.why.at("mneeAllSolutions").find("allsol-size") != std::string::npos);
+}
+
 TEST_CASE("a dome light alone is left to BSDF sampling with MIS: no MNEE", "[plan]") {
   Scene s(40);
   s.Dome();

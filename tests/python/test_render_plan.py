@@ -221,3 +221,14 @@ def test_session_renders_a_tiny_eye_mesh_at_the_planned_level_and_restores_it_wi
     plain = RenderSession(stage, width=32, refine_level=2, settings={"threads": 1})
     plain.render(spp=1)
     assert plain.index.mesh_stats("/World/Eye/Eyeball")["refine_level"] == 2
+
+
+def test_the_chamber_walk_is_the_full_64_events_unless_set_and_the_bound_reaches_the_eye():
+    # Sweep chamber: the plan keeps the whole walk; chamber_events (what bench_plan.py's chamber sweep drives) wins
+    # and is what the eye renders with.
+    (eye,) = plan_of(make_stage(lights=(("sphere", 2.0, 75.0),)))["eyes"]
+    assert eye["chamberEvents"] == 64 and eye["applied"]["maxChamberEvents"] == 64
+    assert "provisional" not in eye["why"]["chamberEvents"], eye["why"]["chamberEvents"]
+    (cut,) = plan_of(make_stage(lights=(("sphere", 2.0, 75.0),)), chamber_events=2)["eyes"]
+    assert cut["chamberEvents"] == 2 and cut["applied"]["maxChamberEvents"] == 2
+    assert cut["why"]["chamberEvents"].startswith("flag")
