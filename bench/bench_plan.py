@@ -5,7 +5,8 @@ gazing +z, a grey backdrop card behind it, a camera on the gaze axis, and sphere
 eyerender package, and measures render time and error against a converged reference rendered with the feature on:
 
   1. eye size on screen (pixels): MNEE on vs off, small key light      -> PlanRules::mneeMinPixels
-  2. light solid angle (sr) at 30 and 75 degrees, and a dome: MNEE on vs off -> PlanRules::mneeMaxSolidAngleSr
+  2. light solid angle (sr) at 30 and 75 degrees (--angles, --radii), and a dome: MNEE on vs off
+     -> PlanRules::mneeMaxSolidAngleSr, mneeMaxSolidAngleSrGrazing, grazingAngleDeg
   3. light direction (degrees off the gaze): all-solutions MNEE on vs off -> PlanRules::allSolutions*
   4. path depth (maxDepth) on a side-lit eye: what cutting depth changes -> the chamber/depth decision
 
@@ -17,7 +18,7 @@ The reference's own noise is subtracted from the MSE (estimated from the feature
   sclera. eye size x side/front key: random-walk sclera + limbal arc vs walk alone vs Lambert, equal time
      -> PlanRules::sssMinPixels, sssMinLimbusPixels, limbalArcMinLightAngleDeg
   refine. eye size x Catmull-Clark level 0-3 of the eye mesh: image and outline error vs level 3, sync cost
-     -> PlanRules::refinePixelsLevel1
+     -> PlanRules::refinePixelsLevel1, refineMaxLevel
   chamber. the chamber walk's bound (1-64 events per eye, through PlanOverrides.chamber_events), side/front key
      -> PlanRules::chamberEvents
   allsol-size. eye size (close-ups on the caustic fold) x 80-89 deg key: all-solutions MNEE on vs off
@@ -199,7 +200,7 @@ def sweep_pixels(b, out):
 
 def sweep_solid_angle(b, out):
     """2. Light solid angle at 30 and 75 degrees (and a dome): MNEE on vs off."""
-    radii = [2, 20, 100] if b.args.quick else [1, 4, 16, 50, 100, 150, 190]
+    radii = b.args.radii or ([2, 20, 100] if b.args.quick else [1, 4, 16, 50, 100, 150, 190])
     angles = b.args.angles or ([45] if b.args.quick else [30, 75])
     width = b.args.width
     print("## Sweep 2: light solid angle (MNEE on vs off)\n")
@@ -735,6 +736,8 @@ def main(argv=None):
                    help="sweeps sclera and refine: the iris sizes on screen (px, comma-separated)")
     p.add_argument("--angles", type=lambda v: [float(x) for x in v.split(",")],
                    help="sweeps 2 and allsol-size: light angles off the gaze (deg, comma-separated)")
+    p.add_argument("--radii", type=lambda v: [float(x) for x in v.split(",")],
+                   help="sweep 2: sphere light radii (mm at 200 mm, comma-separated)")
     p.add_argument("--events", type=lambda v: [int(x) for x in v.split(",")],
                    help="sweep chamber: the walk bounds (events per path, comma-separated; the last one 64)")
     p.add_argument("--threads", type=int, default=1, help="render threads (default 1: comparable times)")

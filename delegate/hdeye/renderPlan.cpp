@@ -215,10 +215,14 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
                l.solidAngleSr > limit) {
       l.strategy = "bsdf";
       l.why = size + " > " + Num(limit, 3) + " sr" + (l.kind == "dome" ? "" : " at " + Num(l.angleOffGazeDeg, 3) + " deg") +
-              ": BSDF sampling with MIS";
+              (l.kind == "dome" ? std::string() : std::string(l.angleOffGazeDeg >= rules.grazingAngleDeg ? " (>= " : " (< ") +
+                                                      Num(rules.grazingAngleDeg, 3) + " deg)") +
+              ": BSDF sampling with MIS (sweep 2)";
     } else {
       l.strategy = "mnee";
-      l.why = size + " <= " + Num(limit, 3) + " sr at " + Num(l.angleOffGazeDeg, 3) + " deg: MNEE";
+      l.why = size + " <= " + Num(limit, 3) + " sr at " + Num(l.angleOffGazeDeg, 3) + " deg" +
+              (l.angleOffGazeDeg >= rules.grazingAngleDeg ? " (>= " : " (< ") + Num(rules.grazingAngleDeg, 3) +
+              " deg): MNEE (sweep 2)";
     }
     mneeLights += l.strategy == "mnee";
     bsdfLights += l.strategy == "bsdf";
@@ -283,12 +287,13 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   } else if (e->pixels >= rules.sssMinPixels) {
     e->sss = "randomWalk";
     why["sss"] = "eye " + Num(e->pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
-                 " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.4-3.3x the walk's "
-                 "from 4 to 32 px)" + (rules.sssProvisional ? " (provisional)" : "");
+                 " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.6-6.7x the walk's "
+                 "at 2.5 px, 2.0-10.5x at 3 px, 1.4-3.3x from 4 to 32 px)" + (rules.sssProvisional ? " (provisional)" : "");
   } else {
     e->sss = "diffuse";
     why["sss"] = "eye " + Num(e->pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
-                 " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera)" +
+                 " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera at 2 px: its MSE "
+                 "0.15-0.70x the walk's front-lit, 1.1-12x side-lit, on 4 eye pixels)" +
                  (rules.sssProvisional ? " (provisional)" : "");
   }
   const auto authored = ov.authored.find(e->prim);
@@ -328,17 +333,21 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   // Subdivision (eye meshes), applied: the mesh renders min(this, its populate level) and re-refines when it
   // changes (EyeMesh::RefineLevelFor, ApplyRenderPlan). Sweep refine: below refinePixelsLevel1 level 0's image
   // error equals level 3's within noise; one level per doubling keeps the outline within 2 px of level 3 up to
-  // 200 px. Level 3 (from 4x refinePixelsLevel1) never differed from level 2 up to 200 px: provisional there.
+  // 400 px. Level 3 never differed from level 2 (outline or image) from 200 to 1600 px: refineMaxLevel caps it.
   if (e->geometry == "eyeMesh") {
     int level = 0;
     if (e->pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e->pixels / rules.refinePixelsLevel1)));
+    const bool capped = level > rules.refineMaxLevel;
+    level = std::min(level, rules.refineMaxLevel);
     e->refineLevel = std::min(level, ov.refineLevelCeiling);
     why["refineLevel"] = Num(e->pixels, 4) + " px -> level " + std::to_string(level) +
                          (level > ov.refineLevelCeiling ? ", held at the --complexity ceiling " : " (ceiling ") +
                          std::to_string(ov.refineLevelCeiling) + (level > ov.refineLevelCeiling ? "" : ")") +
-                         ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) +
-                         " px (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px)" +
-                         (level >= 3 ? "; level 3 provisional (not swept above 200 px)" : "");
+                         ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) + " px, at most level " +
+                         std::to_string(rules.refineMaxLevel) +
+                         " (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px" +
+                         (capped ? "; level 3 never changed the outline or image vs level 2 from 200 to 1600 px)"
+                                 : ")");
   } else {
     e->refineLevel = -1;
     why["refineLevel"] = "analytic eye: no mesh";

@@ -45,10 +45,13 @@ struct PlanRules {
   /// Sweep 2 (efficiency MNEE / path tracing on the eye's pixels): at 30 deg off the gaze x29 at 0.02 sr, x3.3
   /// at 0.2, x1.7 at 0.84, then x0.80 at 2.1, x0.74 at 4.3 and x0.28 for a dome (4 pi sr); at 75 deg x4.7 at
   /// 0.02 sr, x1.03 at 0.2, x0.78 at 0.84, x0.51 at 2.1. So: 1 sr near the gaze, 0.2 sr at grazing angles.
-  /// The 60 deg split between the two measured angles (30, 75) is not itself swept.
+  /// The edge between them (sweep 2 at 45-75 deg, 64 spp): at 45 deg x1.59 at 0.84 sr, x0.94 at 2.1; at 60 deg
+  /// still x1.20 at 0.84 sr and x1.01 at 1.38 (the 1 sr bound holds there); at 65 deg x2.13 at 0.2 sr and even
+  /// (x0.97-1.02) from 0.46 to 1.38 sr; at 70 deg x1.31 at 0.2, x1.08 at 0.46, x0.83 at 0.84; at 75 deg x0.91-0.94
+  /// from 0.2 to 0.84. So the grazing bound starts at 65 deg (it was a provisional 60, where MNEE still paid at 0.84 sr).
   double mneeMaxSolidAngleSr = 1.0;
   double mneeMaxSolidAngleSrGrazing = 0.2;  ///< sr, for lights at least grazingAngleDeg off the gaze
-  double grazingAngleDeg = 60;              ///< degrees
+  double grazingAngleDeg = 65;              ///< degrees (sweep 2 at 60, 65, 70, 75 deg)
   /// All-solutions MNEE (every refraction path) only for lights at least this far off the gaze (degrees) --
   /// where second paths exist (the ellipsoid-cone junction fold under grazing light) -- and on eyes at least
   /// `allSolutionsMinPixels` wide. Sweep 3: at 0-85 deg one path per sample was 1.3-2.0x more efficient, and
@@ -69,8 +72,11 @@ struct PlanRules {
   /// Sclera random-walk SSS on eye meshes whose iris circle is at least this wide (pixels); below it, a
   /// Lambertian sclera. Sweep sclera (eye.usda, 64 px frames, equal time, key at 70 and 15 deg): Lambert's
   /// eye MSE against the full model's reference was 1.09x (side) and 0.15x (front) the walk's at 2 px -- within
-  /// noise -- and 2.7x / 1.4x at 4 px, 2.1-3.3x from 8 to 32 px. 3 px: between the two measured points.
-  double sssMinPixels = 3;
+  /// noise -- and 2.7x / 1.4x at 4 px, 2.1-3.3x from 8 to 32 px. The band between (sweep sclera at 2, 2.5, 3 and
+  /// 4 px, 16 and 64 spp): at 3 px Lambert's equal-time MSE is 2.6x / 2.0x (16 spp) and 10.5x / 3.1x (64 spp) the
+  /// walk's, at 2.5 px 1.8x / 1.6x and 6.7x / 5.1x (side / front); at 2 px it is mixed (side 1.1-12x, front
+  /// 0.15-0.70x: Lambert closer). So 2.5 px, the smallest size where the walk won every case (was a provisional 3).
+  double sssMinPixels = 2.5;
   /// The limbal arc (teleportation cylinder) needs the limbus band ((outer - inner limbus diameter) / 2,
   /// projected) at least this wide, pixels. 0: no band condition. Sweep sclera: the arc mattered on eyes whose
   /// band is 0.13 px (an 8 px eye): it lights the whole shadowed sclera, not only the band.
@@ -88,6 +94,12 @@ struct PlanRules {
   /// at 16 px, 6 px at 64 px, 34 px at 200 px, where level 1 was off by 2 px and level 2 by 0. Refinement to
   /// level 3 costs 0.26-0.62 s per sync against 0.03 s at level 0 (197 k vs 3 k triangles).
   double refinePixelsLevel1 = 64;
+  /// The planner never asks for more than this level. Sweep refine at 256, 400, 800 and 1600 px (64 spp, reference
+  /// level 3 at 1024 spp): level 2's outline equals level 3's (0 px at 256 and 400 px, where the frame holds the
+  /// eyeball's outline; level 1 is 2 px / 0 px off) and its image too (eye bias -1.42 vs -1.37%, +0.18 vs +0.09%,
+  /// rRMSE equal to 0.001), while level 3 costs 4x the triangles and 0.2-0.3 s per sync. So level 2 is the cap
+  /// (was a provisional step to level 3 at 256 px).
+  int refineMaxLevel = 2;
   bool sssProvisional = false, limbalArcProvisional = false, refineProvisional = false;
   /// Precision. Eyes are traced in double: there is no float eye path, and the plan adds none. It reports
   /// whether float WOULD be enough: the analytic intersection's worst float hit-position error, measured

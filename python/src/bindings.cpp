@@ -360,6 +360,7 @@ NB_MODULE(_hdeye, m) {
       .def_rw("sss_min_limbus_pixels", &PlanRules::sssMinLimbusPixels, "pixels")
       .def_rw("limbal_arc_min_light_angle_deg", &PlanRules::limbalArcMinLightAngleDeg, "degrees")
       .def_rw("refine_pixels_level1", &PlanRules::refinePixelsLevel1, "pixels")
+      .def_rw("refine_max_level", &PlanRules::refineMaxLevel, "Catmull-Clark level")
       .def_rw("float_hit_error_mm", &PlanRules::floatHitErrorMm, "mm")
       .def_rw("float_max_error_pixels", &PlanRules::floatMaxErrorPixels, "pixels");
 

@@ -209,7 +209,8 @@ TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk 
   CHECK(e.sss == "randomWalk");
   CHECK(e.limbalArc);
   CHECK(plan.scleraScattering);
-  CHECK(e.refineLevel == 3);  // large on screen: the complexity ceiling
+  CHECK(e.refineLevel == PlanRules{}.refineMaxLevel);  // large on screen: the planner's cap (sweep refine), under the ceiling 3
+  CHECK(e.refineLevel == 2);
 
   Scene frontal(60, /*mesh=*/true);
   frontal.SphereLight("/key", 2, 5);
@@ -378,6 +379,26 @@ TEST_CASE("a large light keeps MNEE near the gaze and loses it at grazing angles
   CHECK(e.lights[1].strategy == "bsdf");
   CHECK(e.lights[2].light == "/near");
   CHECK(e.lights[2].solidAngleSr == Approx(2 * kPi * (1 - std::sqrt(1 - 0.25))).epsilon(1e-6));
+  CHECK(e.lights[2].strategy == "mnee");
+}
+
+TEST_CASE("the grazing solid-angle bound starts at 65 deg, as sweep 2 at 60-75 deg measured", "[plan]") {
+  const PlanRules rules;
+  CHECK(rules.grazingAngleDeg == 65);
+  Scene s(40);
+  s.SphereLight("/a60", 100, 60);  // 0.84 sr, 60 deg: MNEE measured ahead (x1.20; x1.01 at 1.38 sr)
+  s.SphereLight("/b70", 100, 70);  // 0.84 sr, 70 deg: MNEE measured behind (x0.83)
+  s.SphereLight("/c70", 50, 70);   // 0.2 sr, 70 deg: MNEE measured ahead (x1.31)
+  const EyePlan& e = OnlyEye(s.Plan(64));
+  REQUIRE(e.lights.size() == 3);
+  INFO(e.lights[0].why << " | " << e.lights[1].why << " | " << e.lights[2].why);
+  CHECK(e.lights[0].light == "/a60");
+  CHECK(e.lights[0].strategy == "mnee");
+  CHECK(e.lights[1].light == "/b70");
+  CHECK(e.lights[1].strategy == "bsdf");
+  CHECK(e.lights[1].why.find(">= 65 deg") != std::string::npos);
+  CHECK(e.lights[2].light == "/c70");
+  CHECK(e.lights[2].solidAngleSr <= rules.mneeMaxSolidAngleSrGrazing);
   CHECK(e.lights[2].strategy == "mnee");
 }
 
@@ -627,13 +648,30 @@ TEST_CASE("a large side-lit eye mesh gets the walk, the limbal arc and the ceili
 TEST_CASE("the refine ceiling wins over the planner at any size, down to level 0", "[plan]") {
   Scene s(60, /*mesh=*/true);
   s.SphereLight("/key", 2, 70);
-  for (int ceiling : {0, 1, 3}) {
+  for (int ceiling : {0, 1, 2, 3}) {
     PlanOverrides o;
     o.refineLevelCeiling = ceiling;
     const EyePlan e = OnlyEye(s.Plan(2048, o));
-    INFO("ceiling " << ceiling << ", " << e.pixels << " px -> " << e.refineLevel);
-    CHECK(e.refineLevel == ceiling);
+    INFO("ceiling " << ceiling << ", " << e.pixels << " px -> " << e.refineLevel << ": " << e.why.at("refineLevel"));
+    CHECK(e.refineLevel == std::min(ceiling, PlanRules{}.refineMaxLevel));
   }
+}
+
+TEST_CASE("the planner caps eye meshes at level 2: sweep refine found level 3 never differs from it", "[plan]") {
+  Scene s(60, /*mesh=*/true);
+  s.SphereLight("/key", 2, 70);
+  PlanOverrides o;
+  o.refineLevelCeiling = 3;
+  const EyePlan e = OnlyEye(s.Plan(2048, o));  // thousands of px: one level per doubling would give 5
+  INFO(e.pixels << " px: " << e.why.at("refineLevel"));
+  REQUIRE(e.pixels >= 4 * PlanRules{}.refinePixelsLevel1);
+  CHECK(PlanRules{}.refineMaxLevel == 2);
+  CHECK(e.refineLevel == 2);
+  CHECK(e.why.at("refineLevel").find("at most level 2") != std::string::npos);
+  CHECK(e.why.at("refineLevel").find("provisional") == std::string::npos);
+  PlanRules rules;
+  rules.refineMaxLevel = 3;  // the cap is a rule: raising it gives level 3 back
+  CHECK(OnlyEye(s.pass.Plan("/cam", 2048, 2048, o, rules)).refineLevel == 3);
 }
 
 TEST_CASE("an authored eye:limbalArc wins on a tiny eye and on a large one", "[plan]") {

@@ -232,3 +232,14 @@ def test_the_chamber_walk_is_the_full_64_events_unless_set_and_the_bound_reaches
     (cut,) = plan_of(make_stage(lights=(("sphere", 2.0, 75.0),)), chamber_events=2)["eyes"]
     assert cut["chamberEvents"] == 2 and cut["applied"]["maxChamberEvents"] == 2
     assert cut["why"]["chamberEvents"].startswith("flag")
+
+
+def test_the_measured_thresholds_are_the_defaults_and_a_large_light_at_60_deg_keeps_mnee():
+    # Sweep 2 at 60-75 deg: MNEE still pays for a 0.84 sr light at 60 deg (x1.20) and loses at 70 deg (x0.83), so
+    # the grazing bound starts at 65 deg; sweep refine: level 3 never differed from level 2, the cap; sweep sclera
+    # at 2.5 and 3 px: the walk's equal-time MSE beats Lambert's in both lights, the cut is 2.5 px.
+    rules = eyerender._hdeye.PlanRules()
+    assert rules.grazing_angle_deg == 65 and rules.refine_max_level == 2 and rules.sss_min_pixels == 2.5
+    (eye,) = plan_of(make_stage(lights=(("sphere", 100.0, 60.0), ("sphere", 100.0, 70.0))))["eyes"]
+    strategies = {light["light"]: light["strategy"] for light in eye["lights"]}
+    assert strategies == {"/World/key0": "mnee", "/World/key1": "bsdf"}, eye["lights"]
