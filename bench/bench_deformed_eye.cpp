@@ -9,6 +9,7 @@
 //    rebuild of the same mesh (SetTopology: refinement, stencil tables, new Embree geometry and BVH).
 // 2. Per-hit cost of the mapping (EyeMeshHitToCanonical) with re-projection and with the affine-frame
 //    baseline, on random hits of a deformed eye, single thread; and a whole render with each, for scale.
+#include "bench_util.h"
 #include "hdeye/eyeMesh.h"
 #include "hdeye/eyeMeshMapping.h"
 
@@ -29,12 +30,10 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double Seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+using bench::Median;
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+
+double Seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 std::vector<Vec3f> Pose(const test::Eyeball& ball, double s) {
   const glm::dvec3 c(0, 0, ball.zCentre);

@@ -34,6 +34,7 @@
 //   --csv PREFIX  also write PREFIX_render.csv, PREFIX_embree.csv, PREFIX_sync.csv and
 //                 PREFIX_sync_reference.csv
 //   --threads N   the "all threads" count (default: std::thread::hardware_concurrency)
+#include "bench_util.h"
 #include "hdeye/camera.h"
 #include "hdeye/inMemorySceneDelegate.h"
 #include "hdeye/mesh.h"
@@ -70,6 +71,9 @@
 // rtcOccluded1 bind to these definitions at link time; they forward to libembree3's.
 
 namespace {
+
+using bench::Median;
+
 
 std::atomic<bool> gCountRays{false};
 std::atomic<std::int64_t> gClosestHitRays{0}, gShadowRays{0};
@@ -131,22 +135,13 @@ struct Options {
 
 Options ParseOptions(int argc, char** argv) {
   Options opt;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) Usage(argv[0], 2);
-        return argv[++i];
-      };
-      if (arg == "--quick") opt.quick = true;
-      else if (arg == "--csv") opt.csvPrefix = value();
-      else if (arg == "--threads") opt.threads = std::stoi(value());
-      else if (arg == "--help" || arg == "-h") Usage(argv[0], 0);
-      else Usage(argv[0], 2);
-    }
-  } catch (const std::exception&) {
-    Usage(argv[0], 2);
-  }
+  bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
+    if (arg == "--quick") opt.quick = true;
+    else if (arg == "--csv") opt.csvPrefix = value();
+    else if (arg == "--threads") opt.threads = std::stoi(value());
+    else return false;
+    return true;
+  });
   if (opt.threads < 1) Usage(argv[0], 2);
   if (opt.quick) opt.syncFrames = opt.renderRuns = opt.bareRuns = 3;
   return opt;
@@ -155,12 +150,6 @@ Options ParseOptions(int argc, char** argv) {
 // --------------------------------------------------------------------------------------- helpers
 
 double Seconds(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /// The 1-minute load average: other work on the machine skews the "all threads" numbers.
 double LoadAverage() {

@@ -22,6 +22,7 @@
 // is in nanoseconds, micrometres and degrees.
 //
 // Usage: bench_intersect [--rays N] [--reps K] [--csv PATH] [--quick]
+#include "bench_util.h"
 #include "eyelib/anterior_surface.h"
 #include "eyelib/vec.h"
 
@@ -83,23 +84,14 @@ Options ParseOptions(int argc, char** argv) {
   Options opt;
   std::optional<long long> rays;
   bool quick = false;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) Usage(argv[0], 2);
-        return argv[++i];
-      };
-      if (arg == "--rays") rays = std::stoll(value());
-      else if (arg == "--reps") opt.reps = std::stoi(value());
-      else if (arg == "--csv") opt.csvPath = value();
-      else if (arg == "--quick") quick = true;
-      else if (arg == "--help" || arg == "-h") Usage(argv[0], 0);
-      else Usage(argv[0], 2);
-    }
-  } catch (const std::exception&) {
-    Usage(argv[0], 2);
-  }
+  bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
+    if (arg == "--rays") rays = std::stoll(value());
+    else if (arg == "--reps") opt.reps = std::stoi(value());
+    else if (arg == "--csv") opt.csvPath = value();
+    else if (arg == "--quick") quick = true;
+    else return false;
+    return true;
+  });
   if (quick) {
     opt.rays = 20000;
     opt.rings = {8, 32, 128};

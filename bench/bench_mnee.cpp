@@ -25,6 +25,7 @@
 // single-threaded, std::chrono::steady_clock.
 //
 // Usage: bench_mnee [--quick] [--csv PREFIX] [--ref-rays N] [--reps K]
+#include "bench_util.h"
 #include "eyelib/anterior_chamber.h"
 #include "eyelib/eye_light.h"
 #include "eyelib/iris_light_tracer.h"
@@ -48,6 +49,9 @@
 #include <vector>
 
 namespace {
+
+using bench::Median;
+
 
 using eyelib::AnteriorChamber;
 using eyelib::ChamberParams;
@@ -100,23 +104,14 @@ Options ParseOptions(int argc, char** argv) {
   Options opt;
   std::optional<long long> refRays;
   std::optional<int> reps;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) Usage(argv[0], 2);
-        return argv[++i];
-      };
-      if (arg == "--quick") opt.quick = true;
-      else if (arg == "--csv") opt.csvPrefix = value();
-      else if (arg == "--ref-rays") refRays = std::llround(std::stod(value()));
-      else if (arg == "--reps") reps = std::stoi(value());
-      else if (arg == "--help" || arg == "-h") Usage(argv[0], 0);
-      else Usage(argv[0], 2);
-    }
-  } catch (const std::exception&) {
-    Usage(argv[0], 2);
-  }
+  bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
+    if (arg == "--quick") opt.quick = true;
+    else if (arg == "--csv") opt.csvPrefix = value();
+    else if (arg == "--ref-rays") refRays = std::llround(std::stod(value()));
+    else if (arg == "--reps") reps = std::stoi(value());
+    else return false;
+    return true;
+  });
   if (opt.quick) {
     opt.refRays = 2'000'000;
     opt.fluxRefRays = 1'000'000;
@@ -137,12 +132,6 @@ Options ParseOptions(int argc, char** argv) {
 // ---------------------------------------------------------------------------------- utilities
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
 
 std::string Format(const char* format, double value) {
   char buffer[64];

@@ -426,6 +426,26 @@ def render_session(stage, width, settings, threads, seed, refine_level=2):
     return RenderSession(stage, width=width, aovs=("color", "primId"), settings=s, refine_level=refine_level)
 
 
+def equal_time_variants(variants, spp, ref, mask, ref_spp):
+    """Renders each (label, make_session) in turn: the first for `spp` samples, the others for the same wall time.
+    Returns {label: {seconds, spp, eye_mse, bias, eye_rmse}}, eye_rmse with the reference's own noise subtracted
+    (estimated from the first variant, the same estimator: its MSE x spp / ref_spp)."""
+    result, budget = {}, None
+    for label, make_session in variants:
+        session = make_session()
+        if budget is None:
+            img, _, secs, done = session_render(session, spp)
+            budget = secs
+        else:
+            img, _, secs, done = session_render(session, 100000, time_limit=budget)
+        eye_mse, _, bias = errors(img, ref, mask)
+        result[label] = {"seconds": secs, "spp": done, "eye_mse": eye_mse, "bias": bias}
+    ref_noise = result[variants[0][0]]["eye_mse"] * spp / ref_spp
+    for v in result.values():
+        v["eye_rmse"] = math.sqrt(max(v["eye_mse"] - ref_noise, 1e-12))
+    return result
+
+
 def session_render(session, spp, time_limit=0.0):
     t0 = time.perf_counter()
     stats = session.render(spp=spp, time_limit=time_limit)
@@ -468,22 +488,11 @@ def sweep_sclera(b, out):
             if mask.sum() == 0:
                 raise RuntimeError(f"sclera sweep: the eye covers no pixel at {px} px")
             row = {"light": light_name, "angle": angle, "eye_px": px, "eye_pixels": int(mask.sum()), "aim_x": aim}
-            budget = None
-            for label, walk, arc in SCLERA_VARIANTS:
-                stage = make_mesh_stage(pixels=px, width=width, angle_deg=angle, limbal_arc=arc, aim_x=aim)
-                session = render_session(stage, width, {"mnee": True, "sclera_scattering": walk}, b.args.threads, 0)
-                if budget is None:
-                    img, _, secs, done = session_render(session, spp)
-                    budget = secs
-                else:
-                    img, _, secs, done = session_render(session, 100000, time_limit=budget)
-                eye_mse, _, bias = errors(img, ref, mask)
-                row[label] = {"seconds": secs, "spp": done, "eye_mse": eye_mse, "bias": bias}
-            # The reference's own noise: the walk + arc test's MSE x spp / ref_spp (same estimator).
-            ref_noise = row["walk + arc"]["eye_mse"] * spp / b.args.ref_spp
-            for label, _, _ in SCLERA_VARIANTS:
-                v = row[label]
-                v["eye_rmse"] = math.sqrt(max(v["eye_mse"] - ref_noise, 1e-12))
+            row.update(equal_time_variants(
+                [(label, lambda walk=walk, arc=arc: render_session(
+                    make_mesh_stage(pixels=px, width=width, angle_deg=angle, limbal_arc=arc, aim_x=aim), width,
+                    {"mnee": True, "sclera_scattering": walk}, b.args.threads, 0))
+                 for label, walk, arc in SCLERA_VARIANTS], spp, ref, mask, b.args.ref_spp))
             for label in ("walk, no arc", "Lambert"):
                 row[label]["mse_ratio"] = row[label]["eye_rmse"] ** 2 / row["walk + arc"]["eye_rmse"] ** 2
             rows_out.append(row)
@@ -524,20 +533,11 @@ def sweep_dome_arc(b, out):
         if mask.sum() == 0:
             raise RuntimeError(f"dome-arc sweep: the eye covers no pixel at {px} px")
         row = {"eye_px": px, "aim_x": aim, "eye_pixels": int(mask.sum())}
-        budget = None
-        for label, arc in (("arc", True), ("no arc", False)):
-            stage = make_mesh_stage(pixels=px, width=width, angle_deg=0, limbal_arc=arc, aim_x=aim, light="dome")
-            session = render_session(stage, width, WALK_ARC, b.args.threads, 0)
-            if budget is None:
-                img, _, secs, done = session_render(session, spp)
-                budget = secs
-            else:
-                img, _, secs, done = session_render(session, 100000, time_limit=budget)
-            eye_mse, _, bias = errors(img, ref, mask)
-            row[label] = {"seconds": secs, "spp": done, "eye_mse": eye_mse, "bias": bias}
-        ref_noise = row["arc"]["eye_mse"] * spp / b.args.ref_spp
-        for label in ("arc", "no arc"):
-            row[label]["eye_rmse"] = math.sqrt(max(row[label]["eye_mse"] - ref_noise, 1e-12))
+        row.update(equal_time_variants(
+            [(label, lambda arc=arc: render_session(
+                make_mesh_stage(pixels=px, width=width, angle_deg=0, limbal_arc=arc, aim_x=aim, light="dome"),
+                width, WALK_ARC, b.args.threads, 0))
+             for label, arc in (("arc", True), ("no arc", False))], spp, ref, mask, b.args.ref_spp))
         row["mse_ratio"] = row["no arc"]["eye_rmse"] ** 2 / row["arc"]["eye_rmse"] ** 2
         rows_out.append(row)
     table(["eye px", "framing", "eye pixels", "s (each)", "spp arc / no arc", "rRMSE arc", "rRMSE no arc",
