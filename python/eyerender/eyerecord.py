@@ -7,15 +7,21 @@ tone-mapped to sRGB. Bad input ends with a one-line error and exit status 1 (2 f
 outputs are written atomically, so a failed or interrupted render never leaves a half-written image.
 """
 import argparse
-import os
 import sys
 
+from .console import ProgressBar, describe_written, print_warnings, warn_non_finite
 from .errors import EyeRenderError, run_command
-from .frames import has_placeholder, output_path, parse_frames
-
-# usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
-COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
-AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
+from .frames import output_path
+from .job import (
+    AOV_NAMES,
+    COMPLEXITY_REFINE_LEVELS,
+    check_output_extension,
+    frames_to_render,
+    open_session,
+    open_stage,
+    output_patterns,
+    session_options,
+)
 
 
 def build_parser():
@@ -68,158 +74,81 @@ def build_parser():
     return p
 
 
-class ProgressBar:
-    """A one-line progress bar on a terminal's stderr; silent elsewhere (logs, CI)."""
-
-    def __init__(self, enabled):
-        self.enabled = enabled and sys.stderr.isatty()
-        self.label = ""
-
-    def __call__(self, done, total, seconds):
-        if not self.enabled:
-            return
-        width = 30
-        filled = int(width * done / max(total, 1))
-        eta = seconds / done * (total - done) if done else 0.0
-        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} spp "
-                         f"{seconds:6.1f} s  eta {eta:5.1f} s ")
-        sys.stderr.flush()
-
-    def finish(self):
-        if self.enabled:
-            sys.stderr.write("\n")
-
-
-def _open_stage(path):
-    from pxr import Tf, Usd
-
-    if not os.path.isfile(path):
-        raise EyeRenderError(f"{path}: no such file")
-    try:
-        stage = Usd.Stage.Open(path)
-    except Tf.ErrorException as e:
-        first = next((line.strip() for line in str(e).splitlines() if line.strip()), "unreadable")
-        raise EyeRenderError(f"{path}: cannot open stage: {first}") from None
-    if not stage:
-        raise EyeRenderError(f"{path}: cannot open stage")
-    return stage
-
-
-def _render_settings(stage, path):
-    """(width, height, camera path, AOV names) from a UsdRender.Settings prim."""
-    from pxr import UsdRender
-
-    settings = UsdRender.Settings(stage.GetPrimAtPath(path))
-    if not settings:
-        raise EyeRenderError(f"--renderSettingsPrimPath {path}: no RenderSettings prim there")
-    resolution = settings.GetResolutionAttr().Get()
-    cameras = settings.GetCameraRel().GetTargets()
-    aovs = []
-    products = settings.GetProductsRel().GetTargets()
-    if products:
-        product = UsdRender.Product(stage.GetPrimAtPath(products[0]))
-        for var_path in product.GetOrderedVarsRel().GetTargets() if product else []:
-            source = UsdRender.Var(stage.GetPrimAtPath(var_path)).GetSourceNameAttr().Get()
-            if source in AOV_NAMES:
-                aovs.append(source)
-    return resolution[0], resolution[1], str(cameras[0]) if cameras else None, aovs
-
-
-def plan_options(args):
-    """What the command line fixes for the render plan, as plain data (a farm job carries it to its workers);
-    None with --no-auto-plan."""
-    if args.mnee and args.no_mnee:
-        raise EyeRenderError("--mnee and --no-mnee contradict each other")
-    if args.no_auto_plan:
-        return None
-    return tuple((name, value) for name, value in (("mnee", False if args.no_mnee else True if args.mnee else None),
-                                                   ("mnee_all_solutions", True if args.mnee_all_solutions else None))
-                 if value is not None)
-
-
-def plan_overrides(options, stage, refine_level):
-    """PlanOverrides from plan_options(), the --complexity refinement level (the plan's subdivision ceiling) and
-    what the stage authors on its eyes: all three win over the planner. None for options None (no plan)."""
-    from .plan import authored_eye_values, make_overrides
-
-    if options is None:
-        return None
-    return make_overrides(**dict(options), refine_level_ceiling=refine_level, authored=authored_eye_values(stage))
-
-
 def run(argv=None):
+    """eyerecord with the command line `argv` (None: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
-    import eyerender  # registers the EyeAPI plugin before pxr loads stages
+    import eyerender  # noqa: F401  (registers the EyeAPI plugin before pxr loads stages)
 
-    from .render_session import RenderSession, check_writable
+    spp = samples_per_pixel(args)
+    if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
+        from .farm_cli import run_farm
 
+        return run_farm(args, spp)
+    return render_locally(args, spp)
+
+
+def samples_per_pixel(args):
+    """The samples per pixel to render, after checking the numeric options: --spp, else 32 (with --time-limit
+    alone: as many as the time allows)."""
     if args.spp is not None and args.spp < 1:
         raise EyeRenderError("--spp must be at least 1")
     if args.time_limit < 0 or (args.imageWidth or 1) < 1 or args.threads < 0 or args.max_depth < 1:
         raise EyeRenderError("--time-limit, --imageWidth, --threads and --max-depth must be positive")
-    spp = args.spp or (1 << 20 if args.time_limit else 32)
-    if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
-        from .farm_cli import run_farm
+    return args.spp or (1 << 20 if args.time_limit else 32)
 
-        return run_farm(args, spp, COMPLEXITY_REFINE_LEVELS)
-    stage = _open_stage(args.usdFilePath)
-    frames = parse_frames(args.frames) if args.frames else [None]
-    if len(frames) > 1 and not has_placeholder(args.outputImagePath):
-        raise EyeRenderError(f"{len(frames)} frames need a '#' placeholder in the output name "
-                             f"({args.outputImagePath})")
-    outputs = [args.outputImagePath]
-    if args.png and args.outputImagePath.lower().endswith(".exr"):
-        outputs.append(args.outputImagePath[:-4] + ".png")
-    for out in outputs if not args.plan else []:  # --plan writes nothing
-        if os.path.splitext(out)[1].lower() not in (".exr", ".png"):
-            raise EyeRenderError(f"output {out}: extension must be .exr or .png")
-        check_writable(out)
 
-    width, height, camera, aovs = args.imageWidth or 960, args.imageHeight, args.camera, list(args.aov or [])
-    if args.renderSettingsPrimPath:
-        rs_width, rs_height, rs_camera, rs_aovs = _render_settings(stage, args.renderSettingsPrimPath)
-        if not args.imageWidth:  # like usdrecord, an explicit width wins (and the height follows the camera)
-            width, height = rs_width, height or rs_height
-        camera, aovs = camera or rs_camera, aovs or rs_aovs
-    purposes = [p for group in (args.purposes or ["proxy"]) for p in group.split(",") if p]
-    from pxr import Usd
-
-    first_time = Usd.TimeCode(frames[0]) if frames[0] is not None else Usd.TimeCode.EarliestTime()
-    session = RenderSession(
-        stage, width=width, height=height, camera=camera, aovs=aovs, purposes=purposes,
-        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model, time=first_time,
-        settings={"seed": args.seed, "threads": args.threads, "max_depth": args.max_depth,
-                  "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions},
-        plan_overrides=plan_overrides(plan_options(args), stage, COMPLEXITY_REFINE_LEVELS[args.complexity]))
+def render_locally(args, spp):
+    """Renders (or with --plan, plans) the frames on this machine; returns the exit status."""
+    stage = open_stage(args.usdFilePath)
+    frames = frames_to_render(args.frames, args.outputImagePath)
+    outputs = output_patterns(args.outputImagePath, args.png)
+    if not args.plan:  # --plan writes nothing
+        check_outputs(outputs)
+    session = open_session(stage, session_options(args), frames[0])
     if args.plan:
         print(session.plan().to_json())
         return 0
-    if not args.no_auto_plan:
+    report_plan_and_warnings(session, planned=not args.no_auto_plan)
+    render_frames(session, frames, outputs, spp, args)
+    return 0
+
+
+def check_outputs(outputs):
+    """Fails before rendering if an output has the wrong extension or cannot be written."""
+    from .render_session import check_writable
+
+    for out in outputs:
+        check_output_extension(out)
+        check_writable(out)
+
+
+def report_plan_and_warnings(session, planned):
+    """Prints the render plan's summary (when the session plans) and the scene's warnings, each once."""
+    if planned:
         for line in session.plan().summary_lines():
             print(f"eyerecord: {line}")
-    for warning in dict.fromkeys(session.scene.warnings):
-        print(f"eyerecord: warning: {warning}", file=sys.stderr)
+    print_warnings(session.scene.warnings)
 
+
+def render_frames(session, frames, outputs, spp, args):
+    """Renders each frame and writes its outputs, then prints the summary line."""
     bar = ProgressBar(not args.quiet)
     total_seconds, total_rays, written = 0.0, 0, []
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
+        # The session was opened at the first frame's time.
         stats = session.render(None if frame is None or n == 0 else frame, spp=spp, time_limit=args.time_limit,
                                progress=bar)
         bar.finish()
-        if stats["non_finite_samples"]:
-            print(f"eyerecord: warning: {stats['non_finite_samples']} NaN/Inf samples were dropped (a renderer bug)",
-                  file=sys.stderr)
+        warn_non_finite(stats["non_finite_samples"])
         for out in outputs:
             path = output_path(out, frame) if frame is not None else out
             session.write(path, args.exposure)
             written.append(path)
         total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
-    shown = written[0] if len(written) == 1 else f"{written[0]} .. {written[-1]} ({len(written)} files)"
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp, "
-          f"{total_seconds:.1f} s, {rate:.2f} Mrays/s -> {shown}")
-    return 0
+          f"{total_seconds:.1f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
 
 
 def main(argv=None):

@@ -7,64 +7,42 @@ import logging
 import os
 import sys
 
+from .console import FarmProgressBar, describe_written, print_warnings, warn_non_finite
 from .errors import EyeRenderError
-from .frames import has_placeholder, parse_frames
+from .farm_job import RenderJob
+from .job import frames_to_render, output_patterns, session_options
 
 
-def _job_from_args(args, spp, COMPLEXITY_REFINE_LEVELS):
-    from .eyerecord import plan_options
-    from .farm_job import RenderJob
-
-    outputs = [args.outputImagePath]
-    if args.png and args.outputImagePath.lower().endswith(".exr"):
-        outputs.append(args.outputImagePath[:-4] + ".png")
-    purposes = [p for group in (args.purposes or ["proxy"]) for p in group.split(",") if p]
-    return RenderJob(
-        stage_path=args.usdFilePath, outputs=tuple(outputs), spp=spp, width=args.imageWidth,
-        height=args.imageHeight, camera=args.camera, aovs=tuple(args.aov or ()),
-        render_settings_prim=args.renderSettingsPrimPath, purposes=tuple(purposes),
-        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
-        settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
-                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
-        exposure=args.exposure, time_limit=args.time_limit, plan=plan_options(args))
+def run_farm(args, spp):
+    """eyerecord's run() for --scheduler/--workers, `spp` samples per pixel; returns the exit status."""
+    frames = frames_to_render(args.frames, args.outputImagePath)  # the same rules as the local path
+    split = farm_split(args)
+    job = RenderJob.from_options(args.usdFilePath, output_patterns(args.outputImagePath, args.png),
+                                 session_options(args), spp=spp, exposure=args.exposure, time_limit=args.time_limit)
+    if not os.path.isfile(job.stage_path) and args.workers:  # local workers see this machine's files
+        raise EyeRenderError(f"{args.usdFilePath}: no such file")
+    # Dask logs worker losses and reschedules as warnings; the report says what matters, once.
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+    report = render_on_farm(args, job, frames, split)
+    print_report(report, job, frames)
+    return 0 if report.ok else 1
 
 
-class _FarmProgressBar:
-    """The job's progress on a terminal's stderr: frames, samples, time, time left."""
-
-    def __init__(self, enabled):
-        self.enabled = enabled and sys.stderr.isatty()
-
-    def __call__(self, p):
-        if not self.enabled:
-            return
-        eta = f"{p.eta:5.1f} s" if p.eta is not None else "  ?"
-        sys.stderr.write(f"\rframes {p.frames_done}/{p.frames_total}  samples {p.samples_done}/{p.samples_total}  "
-                         f"{p.seconds:6.1f} s  eta {eta} ")
-        sys.stderr.flush()
-
-
-def run_farm(args, spp, complexity_levels):
-    """eyerecord's run() for --scheduler/--workers; returns the exit status."""
-    # Rendering the outputs of frames: same rules as the local path.
-    frames = parse_frames(args.frames) if args.frames else [None]
-    if len(frames) > 1 and not has_placeholder(args.outputImagePath):
-        raise EyeRenderError(f"{len(frames)} frames need a '#' placeholder in the output name "
-                             f"({args.outputImagePath})")
+def farm_split(args):
+    """Sample ranges per frame from --split (None: auto), after checking --workers and --split."""
     if args.workers is not None and args.workers < 1:
         raise EyeRenderError("--workers must be at least 1")
     split = None if args.split in (None, "auto") else _parse_split(args.split)
     if split and split > 1 and args.time_limit:
         raise EyeRenderError("--time-limit cannot be combined with --split: the sample ranges would not add up")
-    job = _job_from_args(args, spp, complexity_levels)
-    if not os.path.isfile(job.stage_path) and args.workers:  # local workers see this machine's files
-        raise EyeRenderError(f"{args.usdFilePath}: no such file")
-    # Dask logs worker losses and reschedules as warnings; the report says what matters, once.
-    logging.getLogger("distributed").setLevel(logging.ERROR)
+    return split
 
+
+def render_on_farm(args, job, frames, split):
+    """The FarmReport of `job`'s frames on the cluster the command line names, with its progress shown."""
     from .farm import Farm
 
-    bar = _FarmProgressBar(not args.quiet)
+    bar = FarmProgressBar(not args.quiet)
     logged = not args.quiet and not bar.enabled
 
     def on_frame(frame, stats, error):
@@ -73,21 +51,18 @@ def run_farm(args, spp, complexity_levels):
 
     with Farm(scheduler=args.scheduler, workers=args.workers, timeout=args.scheduler_timeout) as farm:
         report = farm.render(job, frames, split=split, overwrite=args.overwrite, progress=bar, on_frame=on_frame)
-    if bar.enabled:
-        sys.stderr.write("\n")
-    warnings = dict.fromkeys(w for s in report.stats.values() for w in s["warnings"])
-    for warning in warnings:
-        print(f"eyerecord: warning: {warning}", file=sys.stderr)
-    non_finite = sum(s["non_finite_samples"] for s in report.stats.values())
-    if non_finite:
-        print(f"eyerecord: warning: {non_finite} NaN/Inf samples were dropped (a renderer bug)", file=sys.stderr)
+    bar.finish()
+    return report
+
+
+def print_report(report, job, frames):
+    """The frames' warnings, one error line per failed frame, and the summary line."""
+    print_warnings(w for s in report.stats.values() for w in s["warnings"])
+    warn_non_finite(sum(s["non_finite_samples"] for s in report.stats.values()))
     for frame, error in report.errors.items():
         print(f"eyerecord: error: frame {_name(frame)}: {error}", file=sys.stderr)
     written = [p for f in frames if f in report.stats for p in job.output_paths(f)]
-    shown = "nothing written" if not written else written[0] if len(written) == 1 else \
-        f"{written[0]} .. {written[-1]} ({len(written)} files)"
-    print(f"eyerecord: {report.summary()} -> {shown}")
-    return 0 if report.ok else 1
+    print(f"eyerecord: {report.summary()} -> {describe_written(written)}")
 
 
 def _name(frame):

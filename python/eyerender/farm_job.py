@@ -6,17 +6,18 @@ from typing import Optional, Tuple
 
 from .errors import EyeRenderError
 from .frames import output_path
+from .job import SessionOptions, check_output_extension
 
 
 @dataclasses.dataclass(frozen=True)
 class RenderJob:
     """One render of one stage: every frame of it uses these options.
 
-    stage_path and outputs are absolute paths that every worker must reach (a shared file system). width None means
-    the render settings prim's, else 960 (eyerecord's default); outputs are '#'-placeholder patterns (.exr/.png)
-    written atomically by the worker that finishes the frame. settings are RenderSettings overrides as (name, value)
-    pairs (seed, threads, max_depth, mnee, mnee_all_solutions); time_limit (seconds, 0: none) only for unsplit frames;
-    plan: the render plan's fixed options (eyerecord.plan_options), so workers plan frames as a local render does.
+    stage_path and outputs are absolute paths that every worker must reach (a shared file system); outputs are
+    '#'-placeholder patterns (.exr/.png) written atomically by the worker that finishes the frame; spp: samples per
+    pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The fields from
+    width to plan are the session's, as job.SessionOptions documents them (width None: the render settings prim's,
+    else 960; plan: job.plan_options, so workers plan frames as a local render does).
     """
     stage_path: str
     outputs: Tuple[str, ...]
@@ -32,24 +33,30 @@ class RenderJob:
     settings: Tuple[Tuple[str, object], ...] = ()
     exposure: float = 0.0
     time_limit: float = 0.0
-    # What the render plan may not decide (eyerecord.plan_options: e.g. (("mnee", False),)); () plans everything, as
-    # eyerecord does by default; None renders with no plan (the settings as given).
     plan: Optional[Tuple[Tuple[str, object], ...]] = ()
 
     def __post_init__(self):
         # Workers run in other directories: relative paths would name other files there.
         object.__setattr__(self, "stage_path", os.path.abspath(self.stage_path))
         object.__setattr__(self, "outputs", tuple(os.path.abspath(o) for o in self.outputs))
-        object.__setattr__(self, "aovs", tuple(self.aovs))
-        object.__setattr__(self, "purposes", tuple(self.purposes))
-        object.__setattr__(self, "settings", tuple(sorted(dict(self.settings).items())))
+        for name, value in self.session_options().normalised().items():
+            object.__setattr__(self, name, value)
         if self.spp < 1:
             raise EyeRenderError("spp must be at least 1")
         if not self.outputs:
             raise EyeRenderError("a render job needs at least one output")
         for out in self.outputs:
-            if os.path.splitext(out)[1].lower() not in (".exr", ".png"):
-                raise EyeRenderError(f"output {out}: extension must be .exr or .png")
+            check_output_extension(out)
+
+    @classmethod
+    def from_options(cls, stage_path, outputs, options, **job):
+        """A job of `stage_path` writing `outputs` with the session of SessionOptions `options`; job: the other
+        fields (spp, exposure, time_limit)."""
+        return cls(stage_path, tuple(outputs), **options.as_dict(), **job)
+
+    def session_options(self):
+        """The SessionOptions every frame's session is made from."""
+        return SessionOptions(**{f.name: getattr(self, f.name) for f in dataclasses.fields(SessionOptions)})
 
     def output_paths(self, frame):
         """The files frame `frame` (None: the single unanimated render) writes."""
@@ -57,8 +64,7 @@ class RenderJob:
 
     def session_key(self):
         """What a cached RenderSession must match to be reused for another frame (everything but the time)."""
-        return (self.width, self.height, self.camera, self.aovs, self.render_settings_prim, self.purposes,
-                self.refine_level, self.cornea_model, self.settings, self.plan)
+        return self.session_options()
 
 
 def split_samples(first_sample, spp, parts):

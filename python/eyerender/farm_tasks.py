@@ -13,6 +13,7 @@ import time as clock
 
 from .errors import EyeRenderError
 from .farm_merge import RangeAccumulator, certify, merge
+from .job import open_session, open_stage
 
 PROGRESS_TOPIC = "eyerender-farm-progress"
 _PROGRESS_INTERVAL = 0.25  # seconds between progress events of one task (the last sample is always sent)
@@ -62,22 +63,8 @@ def check_worker(job, dask_worker=None):
 def _build_session(job, time):
     """A RenderSession with the job's options, resolved as eyerecord resolves its command line."""
     import eyerender  # noqa: F401  (before pxr loads: the schema plugin)
-    from pxr import Usd
 
-    from .eyerecord import _open_stage, _render_settings, plan_overrides
-    from .render_session import RenderSession
-
-    stage = _open_stage(job.stage_path)
-    width, height, camera, aovs = job.width or 960, job.height, job.camera, list(job.aovs)
-    if job.render_settings_prim:
-        rs_width, rs_height, rs_camera, rs_aovs = _render_settings(stage, job.render_settings_prim)
-        if not job.width:
-            width, height = rs_width, height or rs_height
-        camera, aovs = camera or rs_camera, aovs or rs_aovs
-    return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=job.purposes,
-                         refine_level=job.refine_level, cornea_model=job.cornea_model,
-                         time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
-                         settings=dict(job.settings), plan_overrides=plan_overrides(job.plan, stage, job.refine_level))
+    return open_session(open_stage(job.stage_path), job.session_options(), time)
 
 
 def _forget_session_on_error(function):
@@ -171,7 +158,7 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
             stats = session.render(time if i == 0 else None, spp=1, first_sample=first_sample + i)
             rays, non_finite = rays + stats["rays"], non_finite + stats["non_finite_samples"]
             for aov, accumulator in accumulators.items():
-                sums, counts = session.index.buffer_state(session._buffer_id(aov))
+                sums, counts = session.buffer_state(aov)
                 accumulator.add(sums, counts)
             progress(i + 1)
         stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": clock.perf_counter() - start,

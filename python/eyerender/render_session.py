@@ -133,6 +133,10 @@ class RenderSession:
         """An AOV's pixels, float32 (height, width, components)."""
         return self.index.resolved(self._buffer_id(aov))
 
+    def buffer_state(self, aov):
+        """An AOV's accumulation state (sums float64 (h, w, c), counts float64 (h, w)), as resolve_states takes."""
+        return self.index.buffer_state(self._buffer_id(aov))
+
     def plan(self, overrides=None):
         """The render plan for the current frame (syncs; renders nothing, changes no setting). overrides: a
         PlanOverrides, default the session's (or none)."""

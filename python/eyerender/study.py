@@ -20,15 +20,15 @@ import sys
 
 import numpy as np
 
+from .console import ProgressBar
 from .errors import EyeRenderError, run_command
+from .job import COMPLEXITY_REFINE_LEVELS, open_stage
 
 STUDY_ATTRIBUTE = "eyerender:study"  # the reference EXR's key: what it was rendered from
 EVERY_FEATURE = {"mnee": True, "mnee_all_solutions": True, "sclera_scattering": True}
 
 
 def build_parser():
-    from .eyerecord import COMPLEXITY_REFINE_LEVELS
-
     p = argparse.ArgumentParser(prog="eyestudy", description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("usdFilePath")
@@ -107,8 +107,6 @@ def _reference(args, stage_path, frame, make_session, progress):
 
 
 def _bar(args, label):
-    from .eyerecord import ProgressBar
-
     bar = ProgressBar(not args.quiet)
     bar.label = label
     return bar
@@ -119,7 +117,6 @@ def run(argv=None):
     import eyerender  # noqa: F401  (registers the EyeAPI plugin)
     from pxr import Usd
 
-    from .eyerecord import COMPLEXITY_REFINE_LEVELS, _open_stage
     from .plan import authored_eye_values, make_overrides, plan_dict
     from .render_session import RenderSession, check_writable
 
@@ -129,7 +126,7 @@ def run(argv=None):
     if not args.outputImagePath.lower().endswith(".exr"):
         raise EyeRenderError("the output must be an .exr (the study files are written beside it)")
     check_writable(args.outputImagePath)
-    stage = _open_stage(args.usdFilePath)
+    stage = open_stage(args.usdFilePath)
     frame = args.frame if args.frame is not None else stage.GetStartTimeCode()
     time = Usd.TimeCode(frame)
     level = COMPLEXITY_REFINE_LEVELS[args.complexity]

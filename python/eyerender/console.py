@@ -1,0 +1,66 @@
+"""What eyerecord and eyestudy print on a terminal besides results: progress bars, warnings (each once), and the
+summary line's list of written files. Bars draw only on a terminal's stderr, so logs and CI stay clean."""
+import sys
+
+
+class ProgressBar:
+    """A one-line progress bar of one render's samples on a terminal's stderr; silent elsewhere (logs, CI)."""
+
+    def __init__(self, enabled):
+        self.enabled = enabled and sys.stderr.isatty()
+        self.label = ""
+
+    def __call__(self, done, total, seconds):
+        if not self.enabled:
+            return
+        width = 30
+        filled = int(width * done / max(total, 1))
+        eta = seconds / done * (total - done) if done else 0.0
+        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} spp "
+                         f"{seconds:6.1f} s  eta {eta:5.1f} s ")
+        sys.stderr.flush()
+
+    def finish(self):
+        if self.enabled:
+            sys.stderr.write("\n")
+
+
+class FarmProgressBar:
+    """A farm job's progress (farm.Progress) on a terminal's stderr: frames, samples, time, time left."""
+
+    def __init__(self, enabled):
+        self.enabled = enabled and sys.stderr.isatty()
+
+    def __call__(self, p):
+        if not self.enabled:
+            return
+        eta = f"{p.eta:5.1f} s" if p.eta is not None else "  ?"
+        sys.stderr.write(f"\rframes {p.frames_done}/{p.frames_total}  samples {p.samples_done}/{p.samples_total}  "
+                         f"{p.seconds:6.1f} s  eta {eta} ")
+        sys.stderr.flush()
+
+    def finish(self):
+        if self.enabled:
+            sys.stderr.write("\n")
+
+
+def print_warnings(warnings, tool="eyerecord"):
+    """Prints each distinct warning once, in order, on stderr."""
+    for warning in dict.fromkeys(warnings):
+        print(f"{tool}: warning: {warning}", file=sys.stderr)
+
+
+def warn_non_finite(count, tool="eyerecord"):
+    """Says on stderr that `count` NaN/Inf samples were dropped (none leave a correct renderer)."""
+    if count:
+        print(f"{tool}: warning: {count} NaN/Inf samples were dropped (a renderer bug)", file=sys.stderr)
+
+
+def describe_written(paths):
+    """The files a render wrote, for its summary line."""
+    if not paths:
+        return "nothing written"
+    return paths[0] if len(paths) == 1 else f"{paths[0]} .. {paths[-1]} ({len(paths)} files)"
+
+
+__all__ = ["ProgressBar", "FarmProgressBar", "print_warnings", "warn_non_finite", "describe_written"]

@@ -1,0 +1,184 @@
+"""What a render is, as both eyerecord paths read it: the local render and the farm (its client and its workers)
+build their sessions from the same options with the same functions here.
+
+The command line's pieces (frames, outputs, purposes, render settings overrides, what the render plan may not
+decide) become a SessionOptions; `open_session` resolves it against a stage (a UsdRender.Settings prim fills in
+what the options leave open) into a RenderSession. pxr is imported on use, after the caller has imported
+eyerender (which registers the EyeAPI schema plugin before pxr loads), and no Dask is needed here.
+"""
+import dataclasses
+import os
+from typing import Optional, Tuple
+
+from .errors import EyeRenderError
+from .frames import has_placeholder, parse_frames
+
+# usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
+COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
+AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
+DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
+OUTPUT_EXTENSIONS = (".exr", ".png")
+
+
+@dataclasses.dataclass(frozen=True)
+class SessionOptions:
+    """Everything a RenderSession is made from but the stage and the time, as plain data (hashable, picklable).
+
+    width, height: pixels (width None: the render settings prim's, else DEFAULT_WIDTH; height None: the camera's
+    aperture ratio); camera: a prim path or name (None: RenderSession's default); aovs: names from AOV_NAMES;
+    render_settings_prim: a UsdRender.Settings prim path whose resolution, camera and first product's AOVs fill in
+    what the options leave open; purposes: UsdGeom purposes besides "default"; refine_level: Catmull-Clark levels;
+    cornea_model: "ellipsoidCone"/"paraboloid" for every eye (None: as authored); settings: RenderSettings
+    overrides as (name, value) pairs; plan: what the render plan may not decide (plan_options: e.g.
+    (("mnee", False),)); () plans everything, None renders with no plan (the settings as given).
+    """
+    width: Optional[int] = None
+    height: Optional[int] = None
+    camera: Optional[str] = None
+    aovs: Tuple[str, ...] = ()
+    render_settings_prim: Optional[str] = None
+    purposes: Tuple[str, ...] = ("default", "proxy")
+    refine_level: int = 2
+    cornea_model: Optional[str] = None
+    settings: Tuple[Tuple[str, object], ...] = ()
+    plan: Optional[Tuple[Tuple[str, object], ...]] = ()
+
+    def __post_init__(self):
+        for name, value in self.normalised().items():
+            object.__setattr__(self, name, value)
+
+    def normalised(self):
+        """The fields that have one canonical form, in it: sequences as tuples, settings sorted by name."""
+        return {"aovs": tuple(self.aovs), "purposes": tuple(self.purposes),
+                "settings": tuple(sorted(dict(self.settings).items()))}
+
+    def as_dict(self):
+        return {field.name: getattr(self, field.name) for field in dataclasses.fields(self)}
+
+
+def session_options(args):
+    """SessionOptions from eyerecord's parsed command line."""
+    return SessionOptions(
+        width=args.imageWidth, height=args.imageHeight, camera=args.camera, aovs=tuple(args.aov or ()),
+        render_settings_prim=args.renderSettingsPrimPath, purposes=parse_purposes(args.purposes),
+        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
+        settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
+                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
+        plan=plan_options(args))
+
+
+def parse_purposes(groups):
+    """--purposes values (each comma-separated; None: the default, proxy) as one tuple of purpose names."""
+    return tuple(p for group in (groups or ["proxy"]) for p in group.split(",") if p)
+
+
+def output_patterns(image_path, png):
+    """The output names a render writes: image_path, and with `png` a .png preview beside an .exr."""
+    outputs = [image_path]
+    if png and image_path.lower().endswith(".exr"):
+        outputs.append(image_path[:-4] + ".png")
+    return tuple(outputs)
+
+
+def check_output_extension(path):
+    if os.path.splitext(path)[1].lower() not in OUTPUT_EXTENSIONS:
+        raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+
+
+def frames_to_render(spec, image_path):
+    """The frames of a --frames spec (None: [None], the single unanimated render); several frames need a '#'
+    placeholder in the output name."""
+    frames = parse_frames(spec) if spec else [None]
+    if len(frames) > 1 and not has_placeholder(image_path):
+        raise EyeRenderError(f"{len(frames)} frames need a '#' placeholder in the output name ({image_path})")
+    return frames
+
+
+def plan_options(args):
+    """What the command line fixes for the render plan, as plain data (a farm job carries it to its workers);
+    None with --no-auto-plan."""
+    if args.mnee and args.no_mnee:
+        raise EyeRenderError("--mnee and --no-mnee contradict each other")
+    if args.no_auto_plan:
+        return None
+    mnee = False if args.no_mnee else True if args.mnee else None
+    all_solutions = True if args.mnee_all_solutions else None
+    return tuple((name, value) for name, value in (("mnee", mnee), ("mnee_all_solutions", all_solutions))
+                 if value is not None)
+
+
+def plan_overrides(options, stage, refine_level):
+    """PlanOverrides from plan_options(), the --complexity refinement level (the plan's subdivision ceiling) and
+    what the stage authors on its eyes: all three win over the planner. None for options None (no plan)."""
+    from .plan import authored_eye_values, make_overrides
+
+    if options is None:
+        return None
+    return make_overrides(**dict(options), refine_level_ceiling=refine_level, authored=authored_eye_values(stage))
+
+
+def open_stage(path):
+    """The USD stage at `path`; a missing or unreadable file is an EyeRenderError naming it."""
+    from pxr import Tf, Usd
+
+    if not os.path.isfile(path):
+        raise EyeRenderError(f"{path}: no such file")
+    try:
+        stage = Usd.Stage.Open(path)
+    except Tf.ErrorException as e:
+        first = next((line.strip() for line in str(e).splitlines() if line.strip()), "unreadable")
+        raise EyeRenderError(f"{path}: cannot open stage: {first}") from None
+    if not stage:
+        raise EyeRenderError(f"{path}: cannot open stage")
+    return stage
+
+
+def read_render_settings(stage, path):
+    """(width, height, camera path or None, AOV names) from the UsdRender.Settings prim at `path`."""
+    from pxr import UsdRender
+
+    settings = UsdRender.Settings(stage.GetPrimAtPath(path))
+    if not settings:
+        raise EyeRenderError(f"--renderSettingsPrimPath {path}: no RenderSettings prim there")
+    resolution = settings.GetResolutionAttr().Get()
+    cameras = settings.GetCameraRel().GetTargets()
+    aovs = []
+    products = settings.GetProductsRel().GetTargets()
+    if products:
+        product = UsdRender.Product(stage.GetPrimAtPath(products[0]))
+        for var_path in product.GetOrderedVarsRel().GetTargets() if product else []:
+            source = UsdRender.Var(stage.GetPrimAtPath(var_path)).GetSourceNameAttr().Get()
+            if source in AOV_NAMES:
+                aovs.append(source)
+    return resolution[0], resolution[1], str(cameras[0]) if cameras else None, aovs
+
+
+def image_options(stage, options):
+    """(width, height, camera, AOV names) of `options`, the render settings prim's where they leave them open.
+    Like usdrecord, an explicit width wins over the prim's resolution (and the height then follows the camera)."""
+    width, height, camera, aovs = options.width or DEFAULT_WIDTH, options.height, options.camera, list(options.aovs)
+    if options.render_settings_prim:
+        rs_width, rs_height, rs_camera, rs_aovs = read_render_settings(stage, options.render_settings_prim)
+        if not options.width:
+            width, height = rs_width, height or rs_height
+        camera, aovs = camera or rs_camera, aovs or rs_aovs
+    return width, height, camera, aovs
+
+
+def open_session(stage, options, time=None):
+    """A RenderSession of `stage` made from SessionOptions, at frame `time` (None: the stage's earliest time)."""
+    from pxr import Usd
+
+    from .render_session import RenderSession
+
+    width, height, camera, aovs = image_options(stage, options)
+    return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=options.purposes,
+                         refine_level=options.refine_level, cornea_model=options.cornea_model,
+                         time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
+                         settings=dict(options.settings),
+                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level))
+
+
+__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "SessionOptions", "session_options",
+           "parse_purposes", "output_patterns", "check_output_extension", "frames_to_render",
+           "plan_options", "plan_overrides", "open_stage", "read_render_settings", "image_options", "open_session"]
