@@ -4,7 +4,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: deps configure build python test render bench clean
+.PHONY: deps configure build python lint test render bench clean
 
 deps:
 	@bash scripts/install_deps.sh
@@ -23,10 +23,17 @@ PYTHON = $(shell [ -x .venv/bin/python ] && echo .venv/bin/python || echo python
 python: deps
 	@$(PYTHON) -m pip install --quiet --disable-pip-version-check --root-user-action=ignore --no-build-isolation .
 
-# Catch2 (CTest), then pytest (schema, scene delegate, eyerecord, samples). Each runs even if the other fails;
-# the target fails if either does.
+# ruff over the repository's Python (rules in pyproject.toml [tool.ruff]).
+LINT = $(PYTHON) -m ruff check --quiet .
+
+lint: deps
+	@$(LINT)
+
+# The lint, Catch2 (CTest), then pytest (schema, scene delegate, eyerecord, samples). Each runs even if another fails;
+# the target fails if any does.
 test: build python
 	@rc=0; \
+	$(LINT) || { echo "make test: lint failed (make lint)"; rc=1; }; \
 	(cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)) || rc=1; \
 	$(PYTHON) -m pytest -q tests/python || rc=1; \
 	exit $$rc

@@ -82,11 +82,10 @@ def main():
         report = farm_run(farm, 1, width, spp, out, "cold")
         first_load = report.stats[1.0]["load_seconds"]
 
-    pixel_samples = frames * width * height * spp
     print(f"# farm throughput: {STAGE.name}, {frames} frames {width}x{height}, {spp} spp, {os.cpu_count()} cores")
     print(f"{'run':40s} {'wall s':>8s} {'frames/min':>11s} {'Msamples/s':>11s} {'render s/frame':>15s} "
           f"{'overhead s/task':>16s}")
-    for name, workers, seconds, o in rows:
+    for name, _workers, seconds, o in rows:
         n = 1 if name.startswith("  1 frame") else frames
         rate = n * width * height * spp / seconds / 1e6
         print(f"{name:40s} {seconds:8.2f} {60 * n / seconds:11.1f} {rate:11.3f} "

@@ -11,8 +11,9 @@ eyerender package, and measures render time and error against a converged refere
   4. path depth (maxDepth) on a side-lit eye: what cutting depth changes -> the chamber/depth decision
 
 Error: relative RMSE over the eye's pixels (the eye's primId) and over the frame: sqrt(mean((img - ref)^2)) /
-mean(ref) over RGB, with the worst 0.1% of pixels dropped (single-sample fireflies of sub-pixel highlights). "eff" is the efficiency 1 / (rel MSE x seconds); the ratio of two
-methods' efficiencies is their equal-error time ratio (both estimators are unbiased up to MNEE's missed second paths).
+mean(ref) over RGB, with the worst 0.1% of pixels dropped (single-sample fireflies of sub-pixel highlights). "eff"
+is the efficiency 1 / (rel MSE x seconds); the ratio of two methods' efficiencies is their equal-error time ratio
+(both estimators are unbiased up to MNEE's missed second paths).
 The reference's own noise is subtracted from the MSE (estimated from the feature-on run at spp/ref_spp of its MSE).
 
   sclera. eye size x side/front key: random-walk sclera + limbal arc vs walk alone vs Lambert, equal time
@@ -39,7 +40,9 @@ import time
 import numpy as np
 
 import eyerender  # noqa: F401  (registers the EyeAPI schema before stages are made)
-from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade, Sdf
+
+# isort: split
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux
 
 from eyerender.plan import make_overrides
 from eyerender.render_session import RenderSession
@@ -403,7 +406,8 @@ def make_mesh_stage(*, pixels, width, angle_deg, limbal_arc=True, radius=2.0, ai
     eye.AddTranslateOp().Set(Gf.Vec3d(0, 0, -13.03270723))  # the asset's eyeball centre is 1.3033 cm behind the apex
     eye.AddScaleOp().Set(Gf.Vec3f(10, 10, 10))  # cm -> mm
     stage.OverridePrim("/World/Eye/Eyeball").CreateAttribute("eye:limbalArc", Sdf.ValueTypeNames.Bool).Set(limbal_arc)
-    half = (MESH_CAMERA_DISTANCE + 30) * 12.0 / focal * 1.2 + 20 + abs(aim_x)  # the card fills the view at any focal length
+    # The card fills the view at any focal length.
+    half = (MESH_CAMERA_DISTANCE + 30) * 12.0 / focal * 1.2 + 20 + abs(aim_x)
     card = UsdGeom.Mesh.Define(stage, "/World/card")
     card.CreatePointsAttr([(-half, -half, -30), (half, -half, -30), (half, half, -30), (-half, half, -30)])
     card.CreateFaceVertexCountsAttr([4])
@@ -449,7 +453,8 @@ def equal_time_variants(variants, spp, ref, mask, ref_spp):
 def session_render(session, spp, time_limit=0.0):
     t0 = time.perf_counter()
     stats = session.render(spp=spp, time_limit=time_limit)
-    return session.image("color"), session.image("primId")[:, :, 0], time.perf_counter() - t0, stats["samples_per_pixel"]
+    seconds = time.perf_counter() - t0
+    return session.image("color"), session.image("primId")[:, :, 0], seconds, stats["samples_per_pixel"]
 
 
 def eye_pixels_mask(session, prim_image, prefix="/World/Eye"):
@@ -469,11 +474,11 @@ def sweep_sclera(b, out):
     width, spp = b.args.width, b.args.spp
     print("## Sweep sclera: random-walk sclera and limbal arc vs a Lambertian sclera, by eye size\n")
     print(f"usd_samples/assets/eye.usda (Catmull-Clark level 2) in a {width} px frame, camera 150 mm away on the gaze "
-          f"axis (the iris size set by the focal length), a 2 mm key at {LIGHT_DISTANCE:g} mm. Reference: walk + arc at "
-          f"{b.args.ref_spp} spp (another seed). The walk + arc test renders {spp} spp; the other two render for the "
-          f"same wall time (equal-time). Errors over the eye's pixels (primId), worst 0.1% trimmed, the reference's "
-          f"noise subtracted; bias = mean over the eye vs the reference. 'MSE / walk+arc' < 1: the variant is closer "
-          f"to the reference than the full model at equal time (its bias hides in that render's noise).\n")
+          f"axis (the iris size set by the focal length), a 2 mm key at {LIGHT_DISTANCE:g} mm. Reference: walk + arc "
+          f"at {b.args.ref_spp} spp (another seed). The walk + arc test renders {spp} spp; the other two render for "
+          f"the same wall time (equal-time). Errors over the eye's pixels (primId), worst 0.1% trimmed, the "
+          f"reference's noise subtracted; bias = mean over the eye vs the reference. 'MSE / walk+arc' < 1: the variant "
+          f"is closer to the reference than the full model at equal time (its bias hides in that render's noise).\n")
     rows_out = []
     for light_name, angle in lights:
         for px in sizes:
@@ -489,7 +494,7 @@ def sweep_sclera(b, out):
                 raise RuntimeError(f"sclera sweep: the eye covers no pixel at {px} px")
             row = {"light": light_name, "angle": angle, "eye_px": px, "eye_pixels": int(mask.sum()), "aim_x": aim}
             row.update(equal_time_variants(
-                [(label, lambda walk=walk, arc=arc: render_session(
+                [(label, lambda walk=walk, arc=arc, px=px, angle=angle, aim=aim: render_session(
                     make_mesh_stage(pixels=px, width=width, angle_deg=angle, limbal_arc=arc, aim_x=aim), width,
                     {"mnee": True, "sclera_scattering": walk}, b.args.threads, 0))
                  for label, walk, arc in SCLERA_VARIANTS], spp, ref, mask, b.args.ref_spp))
@@ -499,9 +504,11 @@ def sweep_sclera(b, out):
     table(["light", "eye px", "framing", "eye pixels", "s (each)", "spp walk+arc / no arc / Lambert",
            "rRMSE walk+arc", "rRMSE no arc", "rRMSE Lambert", "bias no arc", "bias Lambert",
            "MSE / walk+arc: no arc", "MSE / walk+arc: Lambert"],
-          [[r["light"], f"{r['eye_px']:g}", "limbus close-up" if r["aim_x"] else "whole eye", str(r["eye_pixels"]), f"{r['walk + arc']['seconds']:.2f}",
+          [[r["light"], f"{r['eye_px']:g}", "limbus close-up" if r["aim_x"] else "whole eye", str(r["eye_pixels"]),
+            f"{r['walk + arc']['seconds']:.2f}",
             f"{r['walk + arc']['spp']} / {r['walk, no arc']['spp']} / {r['Lambert']['spp']}",
-            f"{r['walk + arc']['eye_rmse']:.3f}", f"{r['walk, no arc']['eye_rmse']:.3f}", f"{r['Lambert']['eye_rmse']:.3f}",
+            f"{r['walk + arc']['eye_rmse']:.3f}", f"{r['walk, no arc']['eye_rmse']:.3f}",
+            f"{r['Lambert']['eye_rmse']:.3f}",
             f"{100 * r['walk, no arc']['bias']:+.1f}%", f"{100 * r['Lambert']['bias']:+.1f}%",
             f"{r['walk, no arc']['mse_ratio']:.2f}", f"{r['Lambert']['mse_ratio']:.2f}"] for r in rows_out])
     out["sclera"] = [{"light": r["light"], "angle": r["angle"], "eye_px": r["eye_px"], "eye_pixels": r["eye_pixels"],
@@ -517,11 +524,11 @@ def sweep_dome_arc(b, out):
     sizes = b.args.sizes or ([8, 32, 128] if b.args.quick else [4, 8, 16, 32, 64, 128])
     width, spp = b.args.width, b.args.spp
     print("## Sweep dome-arc: the limbal arc on an eye lit by a dome alone\n")
-    print(f"usd_samples/assets/eye.usda (level 2), camera 150 mm on the gaze axis, a constant dome (intensity 1) and no "
-          f"key; {width} px; an iris wider than 0.6 of the frame is a close-up of the limbus at x = -6 mm. Reference: "
-          f"walk + arc at {b.args.ref_spp} spp (another seed). Walk + arc renders {spp} spp, walk without the arc the "
-          f"same wall time. Errors over the eye's pixels, worst 0.1% trimmed, the reference's noise subtracted; "
-          f"'MSE no arc / arc' < 1: dropping the arc is closer at equal time.\n")
+    print("usd_samples/assets/eye.usda (level 2), camera 150 mm on the gaze axis, a constant dome (intensity 1) and "
+          f"no key; {width} px; an iris wider than 0.6 of the frame is a close-up of the limbus at x = -6 mm. "
+          f"Reference: walk + arc at {b.args.ref_spp} spp (another seed). Walk + arc renders {spp} spp, walk without "
+          "the arc the same wall time. Errors over the eye's pixels, worst 0.1% trimmed, the reference's noise "
+          "subtracted; 'MSE no arc / arc' < 1: dropping the arc is closer at equal time.\n")
     rows_out = []
     for px in sizes:
         progress(f"sweep dome-arc: {px} px")
@@ -534,7 +541,7 @@ def sweep_dome_arc(b, out):
             raise RuntimeError(f"dome-arc sweep: the eye covers no pixel at {px} px")
         row = {"eye_px": px, "aim_x": aim, "eye_pixels": int(mask.sum())}
         row.update(equal_time_variants(
-            [(label, lambda arc=arc: render_session(
+            [(label, lambda arc=arc, px=px, aim=aim: render_session(
                 make_mesh_stage(pixels=px, width=width, angle_deg=0, limbal_arc=arc, aim_x=aim, light="dome"),
                 width, WALK_ARC, b.args.threads, 0))
              for label, arc in (("arc", True), ("no arc", False))], spp, ref, mask, b.args.ref_spp))
@@ -562,9 +569,9 @@ def sweep_refine(b, out):
     print(f"The same stage (side key at 70 deg), Lambertian sclera (the walk's noise would hide geometry), {width} px, "
           f"{spp} spp per level; reference: level 3 at {b.args.ref_spp} spp (another seed). 'silhouette px': pixels "
           f"covered by the eye at one level and not at level 3, summed (primId coverage, every level rendered "
-          f"with the same seed: the same camera rays, so no noise), a measure of the outline; 'rRMSE': eye pixels vs the reference, noise "
-          f"subtracted (the level-3 test's MSE x spp/ref_spp); 'sync s': building the session (populate + first sync, "
-          f"the refinement) at that level.\n")
+          f"with the same seed: the same camera rays, so no noise), a measure of the outline; 'rRMSE': eye pixels vs "
+          f"the reference, noise subtracted (the level-3 test's MSE x spp/ref_spp); 'sync s': building the session "
+          f"(populate + first sync, the refinement) at that level.\n")
     rows_out = []
     settings = {"mnee": True, "sclera_scattering": False}
     for px in sizes:
@@ -632,7 +639,8 @@ def plot(out, out_dir):
         rows = out["solid_angle"]
         for angle in sorted({r["angle"] for r in rows if r["angle"] is not None}):
             sel = [r for r in rows if r["angle"] == angle]
-            ax.loglog([r["solid_angle"] for r in sel], [r["eye_ratio"] for r in sel], "o-", label=f"sphere, {angle} deg")
+            ax.loglog([r["solid_angle"] for r in sel], [r["eye_ratio"] for r in sel], "o-",
+                      label=f"sphere, {angle} deg")
         dome = [r for r in rows if r["angle"] is None]
         if dome:
             ax.loglog([dome[0]["solid_angle"]], [dome[0]["eye_ratio"]], "k*", ms=10, label="dome")
@@ -726,7 +734,8 @@ def write_csv(prefix, out):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="fewer points and samples: a smoke run (about a minute)")
-    p.add_argument("--sweeps", default="1,2,3,4", help="which sweeps to run (comma-separated: 1-4, sclera, refine, chamber, allsol-size, dome-arc)")
+    p.add_argument("--sweeps", default="1,2,3,4",
+                   help="which sweeps to run (comma-separated: 1-4, sclera, refine, chamber, allsol-size, dome-arc)")
     p.add_argument("--sweep", help="one sweep by name (sclera, refine, chamber, allsol-size, dome-arc) or number; "
                    "overrides --sweeps")
     p.add_argument("--width", type=int, default=None, help="frame width in pixels (default 64; quick 48)")

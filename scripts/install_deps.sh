@@ -46,6 +46,8 @@ pip_missing=()
 # The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
 "$PYTHON" -c "import nanobind" 2>/dev/null || pip_missing+=("nanobind>=2.0")
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")
+# The linter `make lint` and `make test` run; its rules change between minor versions, so the minor is pinned.
+"$PYTHON" -m ruff --version 2>/dev/null | grep -q "^ruff 0\.17\." || pip_missing+=("ruff>=0.17,<0.18")
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"

@@ -338,7 +338,6 @@ def sclera_image(width=512, height=256):
     rng = random.Random(SEED + 11)
     vein = np.zeros((height, width))
     ys, xs = np.mgrid[-2:3, -2:3]
-    kernel = np.exp(-(xs ** 2 + ys ** 2) / 1.2)
 
     def paint(px, py, strength):
         ix, iy = int(math.floor(px)), int(math.floor(py))

@@ -50,8 +50,8 @@ from ._hdeye import (  # noqa: E402  (the plugin path must be set before pxr loa
     write_png_preview,
 )
 from .errors import EyeRenderError  # noqa: E402
-from .usd_scene_delegate import UsdSceneDelegate  # noqa: E402
 from .render_session import RenderSession  # noqa: E402
+from .usd_scene_delegate import UsdSceneDelegate  # noqa: E402
 
 __all__ = [
     "CameraParams", "CorneaModel", "EyeParams", "LightParams", "MaterialParams", "RenderDelegate", "RenderIndex",

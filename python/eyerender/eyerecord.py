@@ -77,8 +77,6 @@ def build_parser():
 def run(argv=None):
     """eyerecord with the command line `argv` (None: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
-    import eyerender  # noqa: F401  (registers the EyeAPI plugin before pxr loads stages)
-
     spp = samples_per_pixel(args)
     if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
         from .farm_cli import run_farm

@@ -104,7 +104,8 @@ def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=Non
     if len(mfp) != 3 or min(mfp) <= 0:
         raise EyeRenderError(f"{path}: eye:scleraMeanFreePath = {mfp} mm must be positive in every channel")
     eye.sclera_mean_free_path = mfp
-    eye.model_transform = np.array(_matrix(prim, _get(prim, "eye:modelTransform", time)), dtype=np.float64).reshape(4, 4)
+    model_transform = _matrix(prim, _get(prim, "eye:modelTransform", time))
+    eye.model_transform = np.array(model_transform, dtype=np.float64).reshape(4, 4)
     texture = prim.GetAttribute("eye:irisTexture")
     asset = texture.Get(time) if texture else None
     if isinstance(asset, Sdf.AssetPath) and asset.path:

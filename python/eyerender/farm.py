@@ -23,7 +23,7 @@ import os
 import threading
 import time as clock
 import uuid
-from typing import Callable, Dict, List, Optional
+from typing import Callable, Optional
 
 from . import farm_tasks
 from .errors import EyeRenderError
@@ -50,10 +50,10 @@ class Progress:
 @dataclasses.dataclass
 class FarmReport:
     """The outcome of Farm.render: per-frame statistics, per-frame one-line errors, frames skipped as written."""
-    frames: List[Optional[float]]
-    stats: Dict[Optional[float], dict]
-    errors: Dict[Optional[float], str]
-    skipped: List[Optional[float]]
+    frames: list[Optional[float]]
+    stats: dict[Optional[float], dict]
+    errors: dict[Optional[float], str]
+    skipped: list[Optional[float]]
     seconds: float
     workers: int
     split: int
@@ -105,9 +105,10 @@ class Farm:
                 raise EyeRenderError(f"cannot reach the Dask scheduler at {scheduler} within {timeout:g} s "
                                      f"({str(e).splitlines()[0] if str(e) else type(e).__name__})") from None
         elif workers:
-            # One thread per worker process: the renderer uses every core itself.
+            # One thread per worker process: the renderer uses every core itself. Logs are silenced: errors come in
+            # the report.
             self._cluster = distributed.LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                                                     dashboard_address=None, silence_logs=50)  # errors come in the report
+                                                     dashboard_address=None, silence_logs=50)
             self.client = distributed.Client(self._cluster, set_as_default=False)
         else:
             raise EyeRenderError("a farm needs a scheduler address or a number of local workers")

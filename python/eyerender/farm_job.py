@@ -2,7 +2,7 @@
 how a frame's sample range splits into tasks. No Dask and no pxr here, so the client can build jobs cheaply."""
 import dataclasses
 import os
-from typing import Optional, Tuple
+from typing import Optional
 
 from .errors import EyeRenderError
 from .frames import output_path
@@ -20,20 +20,20 @@ class RenderJob:
     else 960; plan: job.plan_options, so workers plan frames as a local render does).
     """
     stage_path: str
-    outputs: Tuple[str, ...]
+    outputs: tuple[str, ...]
     spp: int = 32
     width: Optional[int] = None
     height: Optional[int] = None
     camera: Optional[str] = None
-    aovs: Tuple[str, ...] = ()
+    aovs: tuple[str, ...] = ()
     render_settings_prim: Optional[str] = None
-    purposes: Tuple[str, ...] = ("default", "proxy")
+    purposes: tuple[str, ...] = ("default", "proxy")
     refine_level: int = 2
     cornea_model: Optional[str] = None
-    settings: Tuple[Tuple[str, object], ...] = ()
+    settings: tuple[tuple[str, object], ...] = ()
     exposure: float = 0.0
     time_limit: float = 0.0
-    plan: Optional[Tuple[Tuple[str, object], ...]] = ()
+    plan: Optional[tuple[tuple[str, object], ...]] = ()
 
     def __post_init__(self):
         # Workers run in other directories: relative paths would name other files there.

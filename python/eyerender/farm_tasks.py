@@ -46,8 +46,6 @@ def _stage_key(job):
 def check_worker(job, dask_worker=None):
     """Run on every worker (Client.run, which passes dask_worker) before a job: the stage is readable and the
     outputs' folders writable from here. Returns this worker's process id."""
-    import eyerender  # noqa: F401  (registers the EyeAPI schema plugin before pxr opens a stage)
-
     where = dask_worker.address if dask_worker is not None else _worker_address()
     if not os.path.isfile(job.stage_path):
         raise EyeRenderError(f"stage {job.stage_path} is not reachable from worker {where} (no such file)")
@@ -62,8 +60,6 @@ def check_worker(job, dask_worker=None):
 
 def _build_session(job, time):
     """A RenderSession with the job's options, resolved as eyerecord resolves its command line."""
-    import eyerender  # noqa: F401  (before pxr loads: the schema plugin)
-
     return open_session(open_stage(job.stage_path), job.session_options(), time)
 
 

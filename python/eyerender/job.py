@@ -8,7 +8,7 @@ eyerender (which registers the EyeAPI schema plugin before pxr loads), and no Da
 """
 import dataclasses
 import os
-from typing import Optional, Tuple
+from typing import Optional
 
 from .errors import EyeRenderError
 from .frames import has_placeholder, parse_frames
@@ -35,13 +35,13 @@ class SessionOptions:
     width: Optional[int] = None
     height: Optional[int] = None
     camera: Optional[str] = None
-    aovs: Tuple[str, ...] = ()
+    aovs: tuple[str, ...] = ()
     render_settings_prim: Optional[str] = None
-    purposes: Tuple[str, ...] = ("default", "proxy")
+    purposes: tuple[str, ...] = ("default", "proxy")
     refine_level: int = 2
     cornea_model: Optional[str] = None
-    settings: Tuple[Tuple[str, object], ...] = ()
-    plan: Optional[Tuple[Tuple[str, object], ...]] = ()
+    settings: tuple[tuple[str, object], ...] = ()
+    plan: Optional[tuple[tuple[str, object], ...]] = ()
 
     def __post_init__(self):
         for name, value in self.normalised().items():

@@ -87,7 +87,8 @@ def read_material(material, time):
         else:
             value = float(value)
             lo, hi = RANGES[name]
-            bad = not (math.isfinite(value) and lo <= value <= hi) if hi != math.inf else not (value >= lo and math.isfinite(value))
+            bad = not (math.isfinite(value) and lo <= value <= hi) if hi != math.inf else \
+                not (value >= lo and math.isfinite(value))
         if bad:
             raise EyeRenderError(f"{shader.GetPath()}: inputs:{name} = {value} is out of range")
         setattr(params, _snake(name), value)

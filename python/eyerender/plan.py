@@ -7,8 +7,8 @@ setting (--no-mnee, --mnee, --mnee-all-solutions), the planner.
 """
 import json
 
-from .eyes import is_eye
 from ._hdeye import PlanOverrides, PlanRules, RenderPlan
+from .eyes import is_eye
 
 PLAN_ATTRIBUTE = "eyerender:plan"  # the EXR header attribute holding the plan's JSON
 CONTRACT_KEYS = ("prim", "pixels", "mnee", "sss", "limbalArc", "why")  # every eye object has at least these
@@ -60,7 +60,8 @@ def check_contract(plan):
     types = {"prim": str, "pixels": (int, float), "mnee": bool, "sss": str, "limbalArc": bool, "why": dict}
     for eye in d["eyes"]:
         for key, kind in types.items():
-            if key not in eye or not isinstance(eye[key], kind) or (kind == (int, float) and isinstance(eye[key], bool)):
+            if key not in eye or not isinstance(eye[key], kind) or \
+                    (kind == (int, float) and isinstance(eye[key], bool)):
                 raise ValueError(f"plan: eye {eye.get('prim')!r}: '{key}' missing or not {kind}")
         if not all(isinstance(v, str) for v in eye["why"].values()):
             raise ValueError(f"plan: eye {eye['prim']!r}: 'why' values must be strings")

@@ -14,6 +14,7 @@ drops the worst 0.1% of pixels (one firefly in the reference otherwise decides t
 """
 import argparse
 import csv
+import functools
 import json
 import os
 import sys
@@ -113,35 +114,19 @@ def _bar(args, label):
 
 
 def run(argv=None):
+    """eyestudy with the command line `argv` (None: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
-    import eyerender  # noqa: F401  (registers the EyeAPI plugin)
     from pxr import Usd
 
     from .plan import authored_eye_values, make_overrides, plan_dict
-    from .render_session import RenderSession, check_writable
 
-    budgets = sorted(float(b) for b in args.budgets.split(",") if b.strip())
-    if not budgets or min(budgets) <= 0:
-        raise EyeRenderError("--budgets must be positive seconds")
-    if not args.outputImagePath.lower().endswith(".exr"):
-        raise EyeRenderError("the output must be an .exr (the study files are written beside it)")
-    check_writable(args.outputImagePath)
+    budgets = _check_args(args)
     stage = open_stage(args.usdFilePath)
     frame = args.frame if args.frame is not None else stage.GetStartTimeCode()
     time = Usd.TimeCode(frame)
     level = COMPLEXITY_REFINE_LEVELS[args.complexity]
-
-    def make_session(settings, overrides, seed=0):
-        s = dict(settings)
-        s.update(seed=seed, threads=args.threads)
-        return RenderSession(stage, width=args.imageWidth, height=args.imageHeight, camera=args.camera,
-                             aovs=("color", "primId"), refine_level=level, time=time, settings=s,
-                             plan_overrides=overrides)
-
-    def progress(msg):
-        if not args.quiet:
-            print(f"eyestudy: {msg}", file=sys.stderr)
-
+    make_session = functools.partial(_make_session, args, stage, level, time)
+    progress = functools.partial(_progress, args.quiet)
     overrides = make_overrides(refine_level_ceiling=level, authored=authored_eye_values(stage, time))
     planned = make_session({}, overrides)
     plan = planned.plan()
@@ -150,7 +135,46 @@ def run(argv=None):
     eyes = [e["prim"] for e in plan_dict(plan)["eyes"]]
     ref, ref_prim, ref_path = _reference(args, args.usdFilePath, frame, make_session, progress)
     mask = eye_mask(planned, ref_prim, eyes)
+    rows = _measure(args, budgets, make_session, overrides, ref, mask)
+    stem = os.path.splitext(args.outputImagePath)[0]
+    _write_table(rows, stem + ".study.csv")
+    print(f"eyestudy: {int(mask.sum())} eye pixels; reference {ref_path}; table {stem}.study.csv")
+    _plot(rows, stem + ".study.png", progress)
+    return 0
 
+
+def _check_args(args):
+    """The time budgets (seconds, ascending), after checking them and the output."""
+    from .render_session import check_writable
+
+    budgets = sorted(float(b) for b in args.budgets.split(",") if b.strip())
+    if not budgets or min(budgets) <= 0:
+        raise EyeRenderError("--budgets must be positive seconds")
+    if not args.outputImagePath.lower().endswith(".exr"):
+        raise EyeRenderError("the output must be an .exr (the study files are written beside it)")
+    check_writable(args.outputImagePath)
+    return budgets
+
+
+def _make_session(args, stage, level, time, settings, overrides, seed=0):
+    """A session of the studied shot with RenderSettings overrides `settings` and PlanOverrides `overrides`."""
+    from .render_session import RenderSession
+
+    s = dict(settings)
+    s.update(seed=seed, threads=args.threads)
+    return RenderSession(stage, width=args.imageWidth, height=args.imageHeight, camera=args.camera,
+                         aovs=("color", "primId"), refine_level=level, time=time, settings=s,
+                         plan_overrides=overrides)
+
+
+def _progress(quiet, msg):
+    if not quiet:
+        print(f"eyestudy: {msg}", file=sys.stderr)
+
+
+def _measure(args, budgets, make_session, overrides, ref, mask):
+    """One table row per mode and budget: samples, seconds and errors against the reference `ref` (over the eyes'
+    pixels `mask` and the frame). Writes the plan's image at the largest budget as the output."""
     rows = []
     for mode, settings, ov in (("plan", {}, overrides), ("every feature", EVERY_FEATURE, None)):
         session = make_session(settings, ov)
@@ -166,9 +190,12 @@ def run(argv=None):
                          "eye_pixels": int(mask.sum())})
             if mode == "plan" and budget == budgets[-1]:
                 session.write(args.outputImagePath)
+    return rows
 
-    stem = os.path.splitext(args.outputImagePath)[0]
-    with open(stem + ".study.csv", "w", newline="") as f:
+
+def _write_table(rows, csv_path):
+    """The rows to `csv_path` and, as a Markdown table, to stdout."""
+    with open(csv_path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
@@ -177,9 +204,6 @@ def run(argv=None):
     for r in rows:
         print(f"| {r['mode']} | {r['budget_s']:g} | {r['spp']} | {r['seconds']:.1f} | {r['eye_rel_rmse']:.4f} | "
               f"{r['frame_rel_rmse']:.4f} | {r['eye_trimmed']:.4f} | {r['frame_trimmed']:.4f} |")
-    print(f"eyestudy: {int(mask.sum())} eye pixels; reference {ref_path}; table {stem}.study.csv")
-    _plot(rows, stem + ".study.png", progress)
-    return 0
 
 
 def _plot(rows, path, progress):

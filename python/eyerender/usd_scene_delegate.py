@@ -8,7 +8,8 @@ transforms under animated xforms) and pushes it through the scene store's Set* c
 matching dirty bits. What each `set_time` pushed is counted in `last_update`.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
-displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated), Camera, UsdLux sphere / distant / rect / disk / dome
+displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
+Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye), purposes, visibility, instanceable
 references and PointInstancers. Anything else is skipped and listed once in `warnings`.
@@ -207,7 +208,8 @@ class UsdSceneDelegate:
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
         for name, source in names.items():
             if source is not None and _varies(self._primvar_attrs(prim, source)):
-                self._updaters.append(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+                self._updaters.append(
+                    ("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
 
     def _primvar_attrs(self, prim, name):
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
@@ -240,8 +242,8 @@ class UsdSceneDelegate:
             raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is not finite")
         rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
         if rest is None or len(rest) != count:
-            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time:g} has {0 if rest is None else len(rest)} "
-                                 f"points, the mesh has {count}")
+            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time:g} has "
+                                 f"{0 if rest is None else len(rest)} points, the mesh has {count}")
         self.store.set_primvar(prim_id, "rest", "vertex", _array(rest, 3, f"{prim.GetPath()}: points at eye:restTime"))
 
     def _eye_mesh_params(self, prim, time):
@@ -359,7 +361,8 @@ class UsdSceneDelegate:
         self.cameras.append(prim_id)
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
+            self._updaters.append(
+                ("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString

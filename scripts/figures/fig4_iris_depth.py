@@ -46,8 +46,8 @@ def save_grey(path, lum, scale):
 def save_difference(path, diff, mask, limit):
     """Signed difference (fraction of the reference's mean) as blue (darker) - white - red (brighter), grey outside
     the iris mask."""
-    from PIL import Image
     import matplotlib
+    from PIL import Image
     matplotlib.use("Agg")
     from matplotlib import colormaps
 
@@ -116,8 +116,8 @@ def main_figure(width, spp, log):
     mean = {k: float(lum[k][common[k]].mean() / ref[common[k]].mean()) for k in ("a", "b", "c2", "d")}
     cres = {k: ic.crescent(lum[k], ic.VARIANTS[k[0]][0], ic.VARIANTS[k[0]][1], masks[k]) for k in lum}
     projection = {k: projection_check(lum[k], k[0], width) for k in ("a", "b", "c", "d")}
-    return {"projection": projection, "lum": lum, "color": color, "masks": masks, "common": common, "noise": noise, "rmse": rmse,
-            "mean": mean, "crescent": cres, "seconds": secs}
+    return {"projection": projection, "lum": lum, "color": color, "masks": masks, "common": common, "noise": noise,
+            "rmse": rmse, "mean": mean, "crescent": cres, "seconds": secs}
 
 
 def sweep(width, spp, log):
@@ -154,7 +154,8 @@ def plot_profiles(path, fig4):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(4.0, 2.2), dpi=100)
-    styles = {"a": ("tab:red", "-"), "b": ("tab:purple", "-"), "c": ("k", "-"), "c2": ("0.5", ":"), "d": ("tab:orange", "--")}
+    styles = {"a": ("tab:red", "-"), "b": ("tab:purple", "-"), "c": ("k", "-"), "c2": ("0.5", ":"),
+              "d": ("tab:orange", "--")}
     norm = np.nanmax(fig4["crescent"]["c"]["profile"])
     for k, (colour, ls) in styles.items():
         cr = fig4["crescent"][k]
@@ -210,7 +211,8 @@ def below_bias(rows, level):
 
 
 def departure(rows):
-    """The first sweep angle from which (d) no longer agrees with (c) at every larger angle; None if it always agrees."""
+    """The first sweep angle from which (d) no longer agrees with (c) at every larger angle; None if it always
+    agrees."""
     for i, r in enumerate(rows):
         if all(not x["agree"] for x in rows[i:]):
             return r["angle"]
@@ -258,7 +260,8 @@ def write_markdown(fig4, rows, width, spp, sweep_width, sweep_spp, total_seconds
            "iris (blue: darker, red: brighter, full scale +-50%); grey: not iris through clear cornea. Under (c): "
            "(c) rendered with another seed minus (c), the noise floor.", ""]
     md += ["| variant | iris depth (mm) | render (s) | rel. RMSE vs (c) | / noise floor | mean vs (c) | "
-           "crescent angle (deg) | crescent r 10-90% (mm) | angular width 10-90% (deg) | peak r (mm) | outer edge r (mm) |",
+           "crescent angle (deg) | crescent r 10-90% (mm) | angular width 10-90% (deg) | peak r (mm) | "
+           "outer edge r (mm) |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for k in ("a", "b", "c", "c2", "d"):
         err = fig4["rmse"].get(k, noise if k == "c2" else None)
@@ -283,14 +286,15 @@ def write_markdown(fig4, rows, width, spp, sweep_width, sweep_spp, total_seconds
     md += ["![radial profiles](figures/fig4_profiles.png)", ""]
     md += ["**Summary (generated from the numbers above).** " + summary(fig4), ""]
     dep = departure(rows)
-    md += [f"### Light-angle sweep: where the paraboloid stops agreeing", "",
+    md += ["### Light-angle sweep: where the paraboloid stops agreeing", "",
            f"(c), (c) with another seed, and (d) at each angle, {sweep_width}x{sweep_width} px, {sweep_spp} spp. "
            f"\"Agrees\": relative RMSE(d, c) <= {AGREE_K} x the noise floor measured at that angle (1.0 is pure "
            "noise; the threshold allows a systematic part up to 1.1x the noise). Bias: sqrt(RMSE^2 - noise^2), the "
            "sample-count-independent size of the difference.", "",
            "![sweep](figures/fig4_sweep.png)", "",
-           "| light angle (deg) | noise floor | RMSE(d, c) | / noise | bias | mean d / c | peak r (c / c other seed / d) "
-           "| outer edge r (c / c other seed / d) | verdict | render s |", "|---|---|---|---|---|---|---|---|---|---|"]
+           "| light angle (deg) | noise floor | RMSE(d, c) | / noise | bias | mean d / c "
+           "| peak r (c / c other seed / d) | outer edge r (c / c other seed / d) | verdict | render s |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         md.append(f"| {r['angle']} | {r['noise']:.3f} | {r['rmse']:.3f} | {r['ratio']:.2f} | {r['bias']:.3f} | "
                   f"{r['mean_ratio']:.3f} | {r['peak_c']:.2f} / {r['peak_c2']:.2f} / {r['peak_d']:.2f} | "

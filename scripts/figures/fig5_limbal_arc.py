@@ -108,7 +108,8 @@ def render(limbal_arc, angle_deg, azimuth_deg, width, spp, seed, threads=2):
     stats = session.render(spp=spp)
     seconds = time.perf_counter() - start
     if stats["non_finite_samples"]:
-        raise RuntimeError(f"limbal arc {limbal_arc}, {angle_deg} deg: {stats['non_finite_samples']} non-finite samples")
+        raise RuntimeError(f"limbal arc {limbal_arc}, {angle_deg} deg: {stats['non_finite_samples']} "
+                           "non-finite samples")
     return session.image("color")[:, :, :3].copy(), session.image("limbalArc").copy(), seconds, stats["rays"]
 
 
@@ -236,7 +237,8 @@ def main():
             row[key], row[f"{key}_s"], row[f"{key}_rays"] = measure(color, aov, width, azimuth), seconds, rays
             m = row[key]
             print(f"  {label:11s} arc {key:3s}: shadowed {m['shadow']:.4f}, lit {m['lit']:.4f}, limbalArc shadowed "
-                  f"{m['arc_shadow']:.4f} ({m['shadow_px']} / {m['lit_px']} px), {seconds:.1f} s, {rays / 1e6:.1f} M rays")
+                  f"{m['arc_shadow']:.4f} ({m['shadow_px']} / {m['lit_px']} px), {seconds:.1f} s, "
+                  f"{rays / 1e6:.1f} M rays")
         angles, on_p = ring_profile(luminance(images[(label, "on")][0]), width, azimuth)
         profiles[label] = {"angle": angles, "on": on_p,
                            "off": ring_profile(luminance(images[(label, "off")][0]), width, azimuth)[1],
@@ -280,8 +282,9 @@ def write_markdown(rows, spread, width, spp, total, command, noise_seconds):
            "spp, a small sphere light 15 cm away (radius 0.3 cm, as `usd_samples/side_lit.usda`) and a 0.05 dome "
            "fill; sclera scattering and MNEE on, no render plan.", ""]
     md += ["![limbal arc contact sheet](figures/fig5_sheet.png)", ""]
-    md += ["Columns: arc on (`eye:limbalArc = true`), arc off, the `limbalArc` AOV of the arc-on render. Rows: " + "; ".join(f"{r['label']} (light {r['angle']:.0f}° off the gaze, towards "
-                                      f"{'+x' if r['azimuth'] == 0 else '+y'})" for r in rows)
+    md += ["Columns: arc on (`eye:limbalArc = true`), arc off, the `limbalArc` AOV of the arc-on render. Rows: "
+           + "; ".join(f"{r['label']} (light {r['angle']:.0f}° off the gaze, towards "
+                       f"{'+x' if r['azimuth'] == 0 else '+y'})" for r in rows)
            + ". One exposure for every tile, the AOV's included.", ""]
     md += ["| light | render on / off (s) | shadowed limbus, on | shadowed, off | arc gain (on / off) | lit limbus, on "
            "| lit, off | lit change | shadowed / lit, on | shadowed / lit, off | through the cylinder (AOV / colour, "
@@ -294,10 +297,11 @@ def write_markdown(rows, spread, width, spp, total, command, noise_seconds):
                   f"{off['shadow'] / off['lit']:.3f} | {on['arc_shadow'] / on['shadow']:.0%} | "
                   f"{on['arc_lit'] / on['lit']:.0%} |")
     n = rows[0]["on"]
-    md += ["", f"Brightness: Rec. 709 luminance of the linear colour, averaged over the band's pixels. Bands (canonical "
-           f"frame, projected to pixels through the camera onto the eye's surface): the sclera {BAND_R[0]}-{BAND_R[1]} "
-           f"mm from the gaze axis (the cylinder's radius is {LIMBUS_OUTER_R:.3f} mm), within {BAND_HALF_ANGLE:.0f}° of "
-           f"the azimuth away from the light (shadowed) or towards it (lit); {n['shadow_px']} and {n['lit_px']} pixels. "
+    md += ["", f"Brightness: Rec. 709 luminance of the linear colour, averaged over the band's pixels. Bands "
+           f"(canonical frame, projected to pixels through the camera onto the eye's surface): the sclera "
+           f"{BAND_R[0]}-{BAND_R[1]} mm from the gaze axis (the cylinder's radius is {LIMBUS_OUTER_R:.3f} mm), within "
+           f"{BAND_HALF_ANGLE:.0f}° of the azimuth away from the light (shadowed) or towards it (lit); "
+           f"{n['shadow_px']} and {n['lit_px']} pixels. "
            "\"Through the cylinder\": the limbalArc AOV (everything a camera path gathers after its first teleported "
            "walk) over the colour, in the shadowed band, arc on. With the arc off the AOV is 0 everywhere (sum: "
            + ", ".join(f"{r['off']['arc_sum']:g}" for r in rows) + ").", ""]

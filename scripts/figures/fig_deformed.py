@@ -106,7 +106,8 @@ def open_stage(gaze_camera):
 def render_frames(reprojection, *, measure, width, spp, uv_path, log):
     """Renders FRAMES (and frame 1 with a second seed when measuring) with one session; returns
     {(frame, seed): (image, seconds)}: the colour for pictures, irisMnee for the measurement."""
-    import eyerender
+    import eyerender  # before pxr: it registers the EyeAPI schema
+    # isort: split
     from pxr import Usd
 
     stage = open_stage(gaze_camera=measure)
@@ -206,8 +207,9 @@ def write_markdown(rows, noise, noise_bins, measured, mesh_stats, pic_width, pic
            f"camera (60° off the gaze; {pic_width}x{pic_width} px, {pic_spp} spp, sclera scattering and MNEE on) with "
            "re-projection, then with the baseline; then the iris radiance (irisMnee) seen from a camera on the gaze, "
            "with re-projection, then with the baseline (the measurement renders below). One exposure per kind.", ""]
-    md += [f"| frame | stretch s | departure, re-projection | / noise | departure, baseline | / noise | bins (on / off) "
-           "| render s, pictures (on / off) | render s, measurement (on / off) |", "|---|---|---|---|---|---|---|---|---|"]
+    md += ["| frame | stretch s | departure, re-projection | / noise | departure, baseline | / noise | bins (on / off) "
+           "| render s, pictures (on / off) | render s, measurement (on / off) |",
+           "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         # Frame 1 with re-projection is the reference itself (its departure is 0 by definition).
         on = "reference | -" if r["frame"] == 1 else f"{r['on']:.3f} | {r['on'] / noise:.2f}"

@@ -20,7 +20,8 @@ import eye_profile as ep  # noqa: E402
 
 FIELD_MM = 16.0  # orthographic field of view (square), covers the 15.08 mm rim
 LIGHT_DISTANCE_MM, LIGHT_RADIUS_MM = 200.0, 2.0
-LIGHT_INTENSITY = 3000.0  # radiance; gives iris irradiance of order 1 (pi * (2/200)^2 * 3000 ~ 0.94 at normal incidence)
+# Radiance; gives iris irradiance of order 1 (pi * (2/200)^2 * 3000 ~ 0.94 at normal incidence).
+LIGHT_INTENSITY = 3000.0
 IRIS_ALBEDO = 0.5  # grey
 
 
@@ -32,8 +33,10 @@ def limbus_depth(chord_mm):
 # The paper's figure 4: (a) iris at the beginning of the limbus (11.64 mm chord), (b) at its end (12.89 mm chord),
 # (c) at the anatomical 3.735 mm, all with the ellipsoid-cone cornea; (d) the paraboloid at 3.735 mm.
 VARIANTS = {
-    "a": ("ellipsoidCone", limbus_depth(ep.LIMBUS_INNER_CHORD), "ellipsoid-cone, iris at the limbus start (11.64 mm chord)"),
-    "b": ("ellipsoidCone", limbus_depth(ep.LIMBUS_OUTER_CHORD), "ellipsoid-cone, iris at the limbus end (12.89 mm chord)"),
+    "a": ("ellipsoidCone", limbus_depth(ep.LIMBUS_INNER_CHORD),
+          "ellipsoid-cone, iris at the limbus start (11.64 mm chord)"),
+    "b": ("ellipsoidCone", limbus_depth(ep.LIMBUS_OUTER_CHORD),
+          "ellipsoid-cone, iris at the limbus end (12.89 mm chord)"),
     "c": ("ellipsoidCone", ep.ANATOMICAL_IRIS_DEPTH, "ellipsoid-cone, anatomical iris depth 3.735 mm"),
     "d": ("paraboloid", ep.ANATOMICAL_IRIS_DEPTH, "paraboloid 14.5 z + r^2 = 0, iris depth 3.735 mm"),
 }
@@ -50,7 +53,8 @@ def build_stage(model, iris_depth, angle_deg):
     eye.AddAppliedSchema("EyeAPI")
     eye.CreateAttribute("eye:corneaModel", Sdf.ValueTypeNames.Token).Set(model)
     eye.CreateAttribute("eye:irisDepth", Sdf.ValueTypeNames.Float).Set(float(iris_depth))
-    eye.CreateAttribute("eye:irisColor", Sdf.ValueTypeNames.Color3f).Set(Gf.Vec3f(IRIS_ALBEDO, IRIS_ALBEDO, IRIS_ALBEDO))
+    eye.CreateAttribute("eye:irisColor", Sdf.ValueTypeNames.Color3f).Set(
+        Gf.Vec3f(IRIS_ALBEDO, IRIS_ALBEDO, IRIS_ALBEDO))
     light = UsdLux.SphereLight.Define(stage, "/World/Key")
     a = math.radians(angle_deg)
     UsdGeom.Xformable(light).AddTranslateOp().Set(
@@ -171,7 +175,8 @@ def crescent(lum, model, iris_depth, mask, percentile=90.0, profile_angle_deg=18
     if below.size:
         j = i_peak + int(below[0])  # first bin at or below half; interpolate with the bin before
         p0, p1 = profile[j - 1], profile[j]
-        edge = float(centres[j - 1] + (p0 - half) / (p0 - p1) * (centres[j] - centres[j - 1])) if p0 != p1 else float(centres[j])
+        edge = float(centres[j - 1] + (p0 - half) / (p0 - p1) * (centres[j] - centres[j - 1])) if p0 != p1 \
+            else float(centres[j])
     return {
         "angle_deg": math.degrees(mean_angle) % 360.0,
         "r10_mm": float(np.percentile(ri[bright], 10)), "r90_mm": float(np.percentile(ri[bright], 90)),

@@ -33,7 +33,8 @@ def run(cmd, env=None):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--update-baselines", action="store_true",
-                        help="also rewrite tests/baselines/figure4_*, figure5_* and run tests/python/test_paper_figures.py")
+                        help="also rewrite tests/baselines/figure4_*, figure5_* and run "
+                        "tests/python/test_paper_figures.py")
     parser.add_argument("--quick", action="store_true", help="pass --quick to the render scripts (smoke run)")
     parser.add_argument("--page-only", action="store_true",
                         help="only re-assemble docs/paper_figures.md from the existing fragments")

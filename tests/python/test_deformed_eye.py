@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from pxr import Gf, Sdf, Usd, UsdGeom
 
-from eyerender import EyeParams, RenderDelegate, RenderIndex, SceneStore
+from eyerender import RenderDelegate, RenderIndex, SceneStore
 from eyerender._hdeye import write_exr
 from eyerender.errors import EyeRenderError
 from eyerender.render_session import RenderSession
@@ -110,12 +110,14 @@ def test_an_animated_iris_projection_target_is_pushed_per_frame():
 def test_a_missing_or_non_xformable_projection_target_is_a_one_line_error():
     stage, prim = _eye_stage()
     prim.CreateRelationship("eye:irisProjection").SetTargets(["/World/Nowhere"])
-    with pytest.raises(EyeRenderError, match=r"/World/Eye/Ball: eye:irisProjection target /World/Nowhere does not exist"):
+    with pytest.raises(EyeRenderError,
+                       match=r"/World/Eye/Ball: eye:irisProjection target /World/Nowhere does not exist"):
         _populate(stage)
     stage, prim = _eye_stage()
     stage.DefinePrim("/World/Looks", "Scope")
     prim.CreateRelationship("eye:irisProjection").SetTargets(["/World/Looks"])
-    with pytest.raises(EyeRenderError, match=r"eye:irisProjection target /World/Looks is a Scope, not an Xform or Camera"):
+    with pytest.raises(EyeRenderError,
+                       match=r"eye:irisProjection target /World/Looks is a Scope, not an Xform or Camera"):
         _populate(stage)
 
 
@@ -187,11 +189,12 @@ def test_squash_stretch_sample_refines_once_and_keeps_its_caustic_with_reproject
     eye_id = "/World/Eye/Eyeball"
     results = {}
     for reprojection in (True, False):
-        session = RenderSession(stage, width=80, height=80, aovs=("irisMnee",), refine_level=1, camera="/World/GazeCamera",
-                                settings={"sclera_scattering": False, "max_depth": 2}, time=1)
+        session = RenderSession(stage, width=80, height=80, aovs=("irisMnee",), refine_level=1,
+                                camera="/World/GazeCamera", settings={"sclera_scattering": False, "max_depth": 2},
+                                time=1)
         prim = stage.GetPrimAtPath(eye_id)
 
-        def set_eye(t):
+        def set_eye(t, session=session, prim=prim, reprojection=reprojection):
             eye = session.scene._eye_mesh_params(prim, Usd.TimeCode(t))
             eye.iris_texture, eye.iris_color, eye.reprojection = str(texture), (1.0, 1.0, 1.0), reprojection
             session.store.set_eye_params(eye_id, eye)

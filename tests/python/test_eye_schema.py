@@ -6,7 +6,6 @@ pipeline scripts) rely on; changing one here means changing it for them too.
 """
 import json
 import os
-import pathlib
 import subprocess
 import sys
 

@@ -265,7 +265,8 @@ def test_a_stage_workers_cannot_reach_is_a_one_line_error(scheduler, tmp_path, c
     missing = tmp_path / "elsewhere" / "shot.usda"
     assert main([str(missing), str(tmp_path / "x.exr"), "--scheduler", scheduler, "-q"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"eyerecord: error: stage {missing} is not reachable from worker tcp://"), err
+    assert len(err) == 1 and \
+        err[0].startswith(f"eyerecord: error: stage {missing} is not reachable from worker tcp://"), err
 
 
 def test_an_unreachable_scheduler_is_a_one_line_error_within_the_timeout(tmp_path, capsys):

@@ -93,8 +93,8 @@ def test_the_arc_lights_the_shadowed_limbus_and_fills_its_aov():
         color, arc_aov = session.image("color")[..., :3], session.image("limbalArc")
         rows[name] = (color[shadow].mean(), color[lit].mean(), arc_aov[shadow].mean(), arc_aov.sum())
     on, off, lambert = rows["on"], rows["off"], rows["lambert"]
-    print(f"shadowed limbus: arc on {on[0]:.4f} (limbalArc AOV {on[2]:.4f}), off {off[0]:.4f}, Lambert {lambert[0]:.4f}; "
-          f"lit limbus: {on[1]:.4f} / {off[1]:.4f} / {lambert[1]:.4f}")
+    print(f"shadowed limbus: arc on {on[0]:.4f} (limbalArc AOV {on[2]:.4f}), off {off[0]:.4f}, "
+          f"Lambert {lambert[0]:.4f}; lit limbus: {on[1]:.4f} / {off[1]:.4f} / {lambert[1]:.4f}")
     assert shadow.sum() > 20 and lit.sum() > 20
     assert on[0] > 3 * off[0]            # the arc: measured about 10x
     assert on[2] > 0.7 * on[0]           # and it is the teleported paths' light

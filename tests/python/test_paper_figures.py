@@ -66,7 +66,8 @@ def write_baselines():
         color, mnee = render_iris(key, BASELINE_SEEDS[0])
         _, mnee2 = render_iris(key, BASELINE_SEEDS[1])
         planes = [(n, np.ascontiguousarray(color[:, :, i], dtype=np.float32)) for i, n in enumerate("RGB")]
-        planes += [(f"irisMnee.{n}", np.ascontiguousarray(mnee[:, :, i], dtype=np.float32)) for i, n in enumerate("RGB")]
+        planes += [(f"irisMnee.{n}", np.ascontiguousarray(mnee[:, :, i], dtype=np.float32))
+                   for i, n in enumerate("RGB")]
         eyerender.write_exr(str(BASELINES / f"figure4_{key}.exr"), planes)
         meta["noise"][key] = ic.relative_rmse(ic.luminance(mnee2), ic.luminance(mnee), mask_of(key))
     META.write_text(json.dumps(meta, indent=2) + "\n")
@@ -147,8 +148,8 @@ def test_figure4_tolerance_catches_a_moved_caustic(baselines):
 # the shadowed band's mean within MEAN_SIGMAS standard errors. Why smoothed: sclera random walks at 32 spp leave a
 # per-pixel noise of ~40% (the arc's AOV ~60%), while the arc is a smooth change over millimetres; unsmoothed, the
 # arc vanishing measured only 1.4x the noise (2026-11-23), smoothed it stands well clear. The noise estimates are made
-# on the same smoothed images, so the correlation the filter adds is accounted for. The sensitivity test shows the arc vanishing (cylinder off) and moving (light from -x)
-# both exceed the tolerance.
+# on the same smoothed images, so the correlation the filter adds is accounted for. The sensitivity test shows the
+# arc vanishing (cylinder off) and moving (light from -x) both exceed the tolerance.
 import fig5_limbal_arc as f5  # noqa: E402
 
 F5_META = BASELINES / "figure5_meta.json"
@@ -187,7 +188,8 @@ def f5_write_baselines():
         color, aov, _, _ = f5.render(arc, F5_ANGLE, 0.0, F5_WIDTH, F5_SPP, F5_BASELINE_SEEDS[0])
         lum2, aov2 = f5_render(arc, F5_BASELINE_SEEDS[1])
         planes = [(n, np.ascontiguousarray(color[:, :, i], dtype=np.float32)) for i, n in enumerate("RGB")]
-        planes += [(f"limbalArc.{n}", np.ascontiguousarray(aov[:, :, i], dtype=np.float32)) for i, n in enumerate("RGB")]
+        planes += [(f"limbalArc.{n}", np.ascontiguousarray(aov[:, :, i], dtype=np.float32))
+                   for i, n in enumerate("RGB")]
         eyerender.write_exr(str(BASELINES / f"figure5_{name}.exr"), planes)
         for smooth, suffix in ((True, ""), (False, "_pixel")):
             meta["noise"][f"{name}_color{suffix}"] = f5_rmse(lum2, f5.luminance(color), ring, smooth)

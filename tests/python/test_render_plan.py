@@ -161,7 +161,7 @@ def test_eyerecord_prints_one_line_per_eye_and_stores_the_plan_in_the_exr(tmp_pa
     header = eyerender._hdeye.read_exr_attributes(str(out))
     plan = check_contract(header[PLAN_ATTRIBUTE])
     assert plan["eyes"][0]["prim"] == "/World/Eye"
-    assert [l["strategy"] for l in plan["eyes"][0]["lights"]] == ["bsdf", "mnee"]  # dome, key
+    assert [light["strategy"] for light in plan["eyes"][0]["lights"]] == ["bsdf", "mnee"]  # dome, key
 
 
 def test_no_auto_plan_leaves_the_header_without_a_plan(tmp_path):

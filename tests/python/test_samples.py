@@ -60,7 +60,7 @@ def regenerated(tmp_path_factory):
     return out
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def open_stage(name):
     """The committed stage, opened once and kept alive (a Usd.Prim expires with its stage)."""
     stage = Usd.Stage.Open(str(SAMPLES_DIR / name))
