@@ -61,7 +61,12 @@ def build_parser():
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
                    "flags and the renderer's defaults say")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    farm = p.add_argument_group("render farm (Dask; docs/farm.md)")
+    add_farm_options(p.add_argument_group("render farm (Dask; docs/farm.md)"))
+    return p
+
+
+def add_farm_options(farm):
+    """--scheduler/--workers and what a farm render takes besides (farm_cli.run_farm reads them)."""
     farm.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster of this scheduler "
                       "(e.g. tcp://127.0.0.1:8786); the stage and outputs must be reachable from its workers")
     farm.add_argument("--workers", type=int, metavar="N", help="render on a local cluster of N worker processes")
@@ -71,7 +76,6 @@ def build_parser():
                       help="re-render frames whose outputs exist (by default a farm job skips them)")
     farm.add_argument("--scheduler-timeout", type=float, default=10.0, metavar="SECONDS",
                       help="how long to try to reach --scheduler (default 10)")
-    return p
 
 
 def run(argv=None):

@@ -15,9 +15,9 @@ class RenderJob:
 
     stage_path and outputs are absolute paths that every worker must reach (a shared file system); outputs are
     '#'-placeholder patterns (.exr/.png) written atomically by the worker that finishes the frame; spp: samples per
-    pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The fields from
-    width to plan are the session's, as job.SessionOptions documents them (width None: the render settings prim's,
-    else 960; plan: job.plan_options, so workers plan frames as a local render does).
+    pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The other fields
+    are the session's, as job.SessionOptions documents them (width None: the render settings prim's, else 960;
+    plan: job.plan_options, so workers plan frames as a local render does).
     """
     stage_path: str
     outputs: tuple[str, ...]

@@ -3,8 +3,8 @@ build their sessions from the same options with the same functions here.
 
 The command line's pieces (frames, outputs, purposes, render settings overrides, what the render plan may not
 decide) become a SessionOptions; `open_session` resolves it against a stage (a UsdRender.Settings prim fills in
-what the options leave open) into a RenderSession. pxr is imported on use, after the caller has imported
-eyerender (which registers the EyeAPI schema plugin before pxr loads), and no Dask is needed here.
+what the options leave open) into a RenderSession. pxr is imported on use (the package's __init__ has registered
+the EyeAPI schema plugin by then), and nothing here needs Dask.
 """
 import dataclasses
 import os
