@@ -3,11 +3,27 @@ summary line's list of written files. Bars draw only on a terminal's stderr, so 
 import sys
 
 
-class ProgressBar:
-    """A one-line progress bar of one render's samples on a terminal's stderr; silent elsewhere (logs, CI)."""
+class StatusLine:
+    """One line redrawn in place on a terminal's stderr; nothing is written elsewhere (logs, CI)."""
 
     def __init__(self, enabled):
         self.enabled = enabled and sys.stderr.isatty()
+
+    def draw(self, text):
+        if self.enabled:
+            sys.stderr.write(f"\r{text}")
+            sys.stderr.flush()
+
+    def finish(self):
+        if self.enabled:
+            sys.stderr.write("\n")
+
+
+class ProgressBar(StatusLine):
+    """One render's samples as a bar, with the time spent and the time left."""
+
+    def __init__(self, enabled):
+        super().__init__(enabled)
         self.label = ""
 
     def __call__(self, done, total, seconds):
@@ -16,32 +32,18 @@ class ProgressBar:
         width = 30
         filled = int(width * done / max(total, 1))
         eta = seconds / done * (total - done) if done else 0.0
-        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} spp "
-                         f"{seconds:6.1f} s  eta {eta:5.1f} s ")
-        sys.stderr.flush()
-
-    def finish(self):
-        if self.enabled:
-            sys.stderr.write("\n")
+        self.draw(f"{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} spp "
+                  f"{seconds:6.1f} s  eta {eta:5.1f} s ")
 
 
-class FarmProgressBar:
-    """A farm job's progress (farm.Progress) on a terminal's stderr: frames, samples, time, time left."""
-
-    def __init__(self, enabled):
-        self.enabled = enabled and sys.stderr.isatty()
+class FarmProgressBar(StatusLine):
+    """A farm job's progress (farm.Progress): frames, samples, time, time left."""
 
     def __call__(self, p):
-        if not self.enabled:
-            return
-        eta = f"{p.eta:5.1f} s" if p.eta is not None else "  ?"
-        sys.stderr.write(f"\rframes {p.frames_done}/{p.frames_total}  samples {p.samples_done}/{p.samples_total}  "
-                         f"{p.seconds:6.1f} s  eta {eta} ")
-        sys.stderr.flush()
-
-    def finish(self):
         if self.enabled:
-            sys.stderr.write("\n")
+            eta = f"{p.eta:5.1f} s" if p.eta is not None else "  ?"
+            self.draw(f"frames {p.frames_done}/{p.frames_total}  samples {p.samples_done}/{p.samples_total}  "
+                      f"{p.seconds:6.1f} s  eta {eta} ")
 
 
 def print_warnings(warnings, tool="eyerecord"):
@@ -63,4 +65,4 @@ def describe_written(paths):
     return paths[0] if len(paths) == 1 else f"{paths[0]} .. {paths[-1]} ({len(paths)} files)"
 
 
-__all__ = ["ProgressBar", "FarmProgressBar", "print_warnings", "warn_non_finite", "describe_written"]
+__all__ = ["StatusLine", "ProgressBar", "FarmProgressBar", "print_warnings", "warn_non_finite", "describe_written"]
