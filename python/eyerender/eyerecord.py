@@ -11,11 +11,11 @@ import sys
 
 from .console import ProgressBar, describe_written, print_warnings, warn_non_finite
 from .errors import EyeRenderError, run_command
-from .frames import output_path
 from .job import (
     AOV_NAMES,
     COMPLEXITY_REFINE_LEVELS,
     check_output_extension,
+    frame_outputs,
     frames_to_render,
     open_session,
     open_stage,
@@ -143,8 +143,7 @@ def render_frames(session, frames, outputs, spp, args):
                                progress=bar)
         bar.finish()
         warn_non_finite(stats["non_finite_samples"])
-        for out in outputs:
-            path = output_path(out, frame) if frame is not None else out
+        for path in frame_outputs(outputs, frame):
             session.write(path, args.exposure)
             written.append(path)
         total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]

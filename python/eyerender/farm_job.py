@@ -5,8 +5,7 @@ import os
 from typing import Optional
 
 from .errors import EyeRenderError
-from .frames import output_path
-from .job import SessionOptions, check_output_extension
+from .job import SessionOptions, check_output_extension, frame_outputs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -60,7 +59,7 @@ class RenderJob:
 
     def output_paths(self, frame):
         """The files frame `frame` (None: the single unanimated render) writes."""
-        return [out if frame is None else output_path(out, frame) for out in self.outputs]
+        return frame_outputs(self.outputs, frame)
 
     def session_key(self):
         """What a cached RenderSession must match to be reused for another frame (everything but the time)."""

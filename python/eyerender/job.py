@@ -11,7 +11,7 @@ import os
 from typing import Optional
 
 from .errors import EyeRenderError
-from .frames import has_placeholder, parse_frames
+from .frames import has_placeholder, output_path, parse_frames
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
@@ -78,6 +78,12 @@ def output_patterns(image_path, png):
     if png and image_path.lower().endswith(".exr"):
         outputs.append(image_path[:-4] + ".png")
     return tuple(outputs)
+
+
+def frame_outputs(patterns, frame):
+    """The files frame `frame` of a render writing `patterns` writes (None: the single unanimated render, whose
+    names are the patterns as given)."""
+    return [pattern if frame is None else output_path(pattern, frame) for pattern in patterns]
 
 
 def check_output_extension(path):
@@ -180,5 +186,5 @@ def open_session(stage, options, time=None):
 
 
 __all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "SessionOptions", "session_options",
-           "parse_purposes", "output_patterns", "check_output_extension", "frames_to_render",
+           "parse_purposes", "output_patterns", "frame_outputs", "check_output_extension", "frames_to_render",
            "plan_options", "plan_overrides", "open_stage", "read_render_settings", "image_options", "open_session"]
