@@ -2,44 +2,38 @@
 how a frame's sample range splits into tasks. No Dask and no pxr here, so the client can build jobs cheaply."""
 import dataclasses
 import os
-from typing import Optional
 
 from .errors import EyeRenderError
 from .job import SessionOptions, check_output_extension, frame_outputs
 
 
 @dataclasses.dataclass(frozen=True)
-class RenderJob:
+class _JobTarget:
+    """What a job renders and how much; a base of RenderJob so that these three lead its constructor."""
+    stage_path: str
+    outputs: tuple[str, ...]
+    spp: int = 32
+
+
+@dataclasses.dataclass(frozen=True)
+class RenderJob(SessionOptions, _JobTarget):
     """One render of one stage: every frame of it uses these options.
 
     stage_path and outputs are absolute paths that every worker must reach (a shared file system); outputs are
     '#'-placeholder patterns (.exr/.png) written atomically by the worker that finishes the frame; spp: samples per
-    pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The other fields
-    are the session's, as job.SessionOptions documents them (width None: the render settings prim's, else 960;
-    plan: job.plan_options, so workers plan frames as a local render does).
+    pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The fields from
+    width to plan are the session's, as SessionOptions documents them (width None: the render settings prim's, else
+    960; plan: job.plan_options, so workers plan frames as a local render does); they follow spp because dataclass
+    fields come base by base, the last base first.
     """
-    stage_path: str
-    outputs: tuple[str, ...]
-    spp: int = 32
-    width: Optional[int] = None
-    height: Optional[int] = None
-    camera: Optional[str] = None
-    aovs: tuple[str, ...] = ()
-    render_settings_prim: Optional[str] = None
-    purposes: tuple[str, ...] = ("default", "proxy")
-    refine_level: int = 2
-    cornea_model: Optional[str] = None
-    settings: tuple[tuple[str, object], ...] = ()
     exposure: float = 0.0
     time_limit: float = 0.0
-    plan: Optional[tuple[tuple[str, object], ...]] = ()
 
     def __post_init__(self):
+        super().__post_init__()
         # Workers run in other directories: relative paths would name other files there.
         object.__setattr__(self, "stage_path", os.path.abspath(self.stage_path))
         object.__setattr__(self, "outputs", tuple(os.path.abspath(o) for o in self.outputs))
-        for name, value in self.session_options().normalised().items():
-            object.__setattr__(self, name, value)
         if self.spp < 1:
             raise EyeRenderError("spp must be at least 1")
         if not self.outputs:
@@ -55,7 +49,7 @@ class RenderJob:
 
     def session_options(self):
         """The SessionOptions every frame's session is made from."""
-        return SessionOptions(**{f.name: getattr(self, f.name) for f in dataclasses.fields(SessionOptions)})
+        return SessionOptions(**self.as_dict())
 
     def output_paths(self, frame):
         """The files frame `frame` (None: the single unanimated render) writes."""

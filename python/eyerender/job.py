@@ -53,7 +53,8 @@ class SessionOptions:
                 "settings": tuple(sorted(dict(self.settings).items()))}
 
     def as_dict(self):
-        return {field.name: getattr(self, field.name) for field in dataclasses.fields(self)}
+        """The SessionOptions fields (of a subclass too: a RenderJob's session) by name."""
+        return {field.name: getattr(self, field.name) for field in dataclasses.fields(SessionOptions)}
 
 
 def session_options(args):
