@@ -10,8 +10,8 @@
 // 2. Per-hit cost of the mapping (EyeMeshHitToCanonical) with re-projection and with the affine-frame
 //    baseline, on random hits of a deformed eye, single thread; and a whole render with each, for scale.
 #include "bench_util.h"
-#include "hdeye/eyeMesh.h"
-#include "hdeye/eyeMeshMapping.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/render/eyeMeshMapping.h"
 
 #include "../tests/delegate/deformed_eye_helpers.h"
 

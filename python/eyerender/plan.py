@@ -1,4 +1,4 @@
-"""The render plan from Python: what the planner (delegate/hdeye/renderPlan.h) decides for each eye, the overrides
+"""The render plan from Python: what the planner (delegate/hdeye/plan/renderPlan.h) decides for each eye, the overrides
 that win over it, and the JSON contract `eyerecord --plan` prints and EXRs carry in their `eyerender:plan` header
 attribute (docs/render_plan.md).
 

@@ -6,14 +6,14 @@
 // C-contiguous buffers (numpy arrays, or pxr Vt arrays directly through the buffer protocol) and
 // copied once, into the scene store. Matrices are 4x4 float64 buffers in USD's layout (row vectors,
 // row-major), which is glm's column-major layout of the same transform: no transpose.
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/renderPlan.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/plan/renderPlan.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>

@@ -3,8 +3,8 @@
 // baseline; the mapping's invariants; degenerate and inverted deformations; tiny and huge eyes; a
 // projection that does not cover the hits. Numbers in docs/deformed_eyes.md.
 #include "deformed_eye_helpers.h"
-#include "hdeye/eyeMesh.h"
-#include "hdeye/eyeMeshMapping.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/render/eyeMeshMapping.h"
 
 #include <catch2/catch.hpp>
 #include <glm/gtc/matrix_transform.hpp>

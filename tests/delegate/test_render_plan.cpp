@@ -2,15 +2,15 @@
 // explicit settings and authored values win, its JSON, and the EXR header attribute that carries it.
 #include "delegate/scene_helpers.h"
 
-#include "hdeye/imageWriter.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderContext.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/renderPlan.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/plan/renderPlan.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/renderContext.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 
 #include <catch2/catch.hpp>
 
