@@ -1,14 +1,12 @@
 #include "hdeye/render/eyeMeshMapping.h"
 
+#include "hdeye/render/surfacePoint.h"
+
 #include <cmath>
 
 namespace hdeye {
 
 namespace {
-
-template <class V> glm::dvec3 Interpolate(const std::vector<V>& values, const int* tri, double u, double v) {
-  return (1 - u - v) * glm::dvec3(values[tri[0]]) + u * glm::dvec3(values[tri[1]]) + v * glm::dvec3(values[tri[2]]);
-}
 
 glm::dvec3 SafeNormalize(const glm::dvec3& v) {
   const double length = glm::length(v);
@@ -46,7 +44,7 @@ glm::dvec3 EyeMeshOutwardNormal(const GeometryContext& context, unsigned triangl
   // The shading normals carry the orientation (winding, leftHanded); at the centroid they are never
   // far from the face's, so the sign is reliable even on coarse meshes. A mesh deformed inside out
   // (a mirror) turns both around; its outwardSign turns them back.
-  const glm::dvec3 ns = Interpolate(*context.vertexNormals, tri, 1.0 / 3, 1.0 / 3);
+  const glm::dvec3 ns = InterpolateAtTriangle(*context.vertexNormals, tri, 1.0 / 3, 1.0 / 3);
   const double sign = context.meshEye ? context.meshEye->outwardSign : 1.0;
   return glm::dot(ng, ns) < 0 ? -sign * ng : sign * ng;
 }
@@ -57,7 +55,7 @@ EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeomet
   const std::vector<Vec3f>& points = *context.points;
   EyeMeshHit hit;
   hit.reprojected = eye.reprojection;
-  const glm::dvec3 current = Interpolate(points, tri, u, v);
+  const glm::dvec3 current = InterpolateAtTriangle(points, tri, u, v);
   hit.worldPoint = glm::dvec3(eye.objectToWorld * glm::dvec4(current, 1));
 
   // The deformed surface, world: outward geometric normal (decides the side) and shading normal
@@ -65,7 +63,7 @@ EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeomet
   // placed rigidly (filled in below, once the analytic point is known).
   const double sign = eye.outwardSign;
   glm::dvec3 ng = SafeNormalize(context.normalToWorld * EyeMeshOutwardNormal(context, triangle));
-  glm::dvec3 ns = SafeNormalize(context.normalToWorld * (sign * Interpolate(*context.vertexNormals, tri, u, v)));
+  glm::dvec3 ns = SafeNormalize(context.normalToWorld * (sign * InterpolateAtTriangle(*context.vertexNormals, tri, u, v)));
   if (ns == glm::dvec3(0)) ns = ng;
   if (ng == glm::dvec3(0)) ng = ns;
 
@@ -74,7 +72,7 @@ EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeomet
   const bool rest = eye.reprojection && context.restPoints;
   const std::vector<Vec3f>& source = rest ? *context.restPoints : points;
   const glm::dmat4& toCanonical = eye.reprojection ? eye.objectToProjection : eye.objectToCanonical;
-  hit.canonicalPoint = glm::dvec3(toCanonical * glm::dvec4(Interpolate(source, tri, u, v), 1));
+  hit.canonicalPoint = glm::dvec3(toCanonical * glm::dvec4(InterpolateAtTriangle(source, tri, u, v), 1));
   if (!Finite(hit.canonicalPoint)) hit.canonicalPoint = glm::dvec3(1e30, 0, 0);  // beyond every rim: sclera
 
   const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();

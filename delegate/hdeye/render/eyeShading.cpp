@@ -1,5 +1,7 @@
 #include "hdeye/render/eyeShading.h"
 
+#include "hdeye/render/surfacePoint.h"
+
 #include <eyelib/mnee.h>
 #include <eyelib/optics.h>
 #include <eyelib/sampling.h>
@@ -98,7 +100,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     ev.kind = EyeEvent::Continue;
     ev.passThrough = true;
     ev.dir = worldDir;
-    ev.origin = hit.worldPoint + worldDir * (1e-5 * (1 + glm::length(hit.worldPoint)));
+    ev.origin = SpawnOrigin(hit.worldPoint, worldDir);
     return ev;
   }
   // Past the outer limbus edge (a projection that does not cover the hit included), and anywhere below
@@ -123,7 +125,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     EyeMeshHit leaving = hit;
     if (!hit.reprojected) leaving.worldToLocal = glm::dmat3(1.0);  // the direction is already the world one
     ev.dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(ev.dir) : ev.dir);
-    ev.origin = hit.worldPoint + hit.worldNormal * (1e-5 * (1 + glm::length(hit.worldPoint)));
+    ev.origin = SpawnOrigin(hit.worldPoint, hit.worldNormal);
   }
   return ev;
 }

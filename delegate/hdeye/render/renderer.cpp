@@ -4,6 +4,7 @@
 #include "hdeye/render/previewSurface.h"
 #include "hdeye/render/renderContext.h"
 #include "hdeye/render/scleraScattering.h"
+#include "hdeye/render/surfacePoint.h"
 #include "hdeye/render/texture.h"
 
 #include <eyelib/optics.h>
@@ -20,6 +21,7 @@
 #include <functional>
 #include <type_traits>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace hdeye {
@@ -71,11 +73,135 @@ struct SurfaceHit {
   glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
 };
 
+/// The eye a hit belongs to (analytic or mesh), or null.
+const EyeGeometry* EyeOf(const GeometryContext& context) { return context.eye ? context.eye : context.meshEye; }
+
+/// An object-space shading normal carried to world space (not normalised), with its length. Degenerate (zero
+/// or not finite) ones are not Valid: the caller keeps its geometric normal there.
+struct WorldNormal {
+  glm::dvec3 v;
+  double length;
+  WorldNormal(const GeometryContext& context, const glm::dvec3& local)
+      : v(context.normalToWorld * local), length(glm::length(v)) {}
+  bool Valid() const { return length > 1e-12 && std::isfinite(length); }
+};
+
+/// The switches one eye renders with: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else
+/// the render settings' and the eye's own EyeParams::limbalArc.
+struct EyeSwitches {
+  bool mnee = true, allSolutions = false;
+  const std::vector<bool>* mneeLights = nullptr;  ///< null: MNEE counts every light
+  int maxChamberEvents = 64;
+  bool scleraScattering = true, limbalArc = true;
+};
+
+EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye, const RenderSettings& settings) {
+  if (options.planned)
+    return {options.mnee,          options.allSolutions,     &options.mneeLights, options.maxChamberEvents,
+            options.scleraScattering, options.limbalArc};
+  static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
+  return {settings.mnee,          settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents,
+          settings.scleraScattering, eye.limbalArc};
+}
+
+/// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
+/// it met (for the data AOVs).
+struct PathSample {
+  glm::dvec3 L{0};
+  glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
+  glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
+  bool hitAny = false;      ///< the camera ray met geometry
+  SurfaceHit first{};       ///< that first hit (its albedo the one shaded); meaningful when hitAny
+};
+
+/// What a path carries from one vertex to the next.
+struct PathState {
+  explicit PathState(const WorldRay& ray) : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar) {}
+
+  glm::dvec3 o, d;  ///< the next ray
+  double tNear, tFar;
+  glm::dvec3 beta{1};
+  // How the current ray was chosen, for weighting the lights it meets: after a specular event (the camera,
+  // the cornea) a light counts in full; after a diffuse bounce, by MIS against light sampling (or not at all
+  // without MIS); straight out of an iris (skipMnee), the lights MNEE counted there not at all, and every
+  // other light in full. Why in full and not by MIS: the iris bounce's cosine-hemisphere pdf exists, but for
+  // a light MNEE does not handle there is no second strategy at the iris (light sampling cannot see through
+  // the refracting cornea; that is what MNEE is for), so the path leaving the iris is that light's only
+  // estimator and its weight is 1. Nor is MNEE MIS-weighted against the exiting path for the lights it does
+  // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
+  // by light, never a mixture.
+  bool specular = true, skipLights = false, skipMnee = false;
+  double bsdfPdf = 0;        ///< the pdf the current ray was sampled with (after a diffuse bounce)
+  EyeLighting eyeLighting;   ///< the lights and switches of the eye last met
+  EyeLighting skipMneeOf;    ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
+  // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry no
+  // front/back flag, so this assumes the camera is outside and glass objects are closed and do not nest.
+  bool insideGlass = false;
+  // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only grows, so
+  // L at the end minus L then).
+  bool arc = false;
+  glm::dvec3 lAtArc{0};
+
+  /// The next ray starts at `origin` along unit `dir`, unbounded.
+  void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
+  /// After a delta event: lights the ray meets count in full.
+  void SetSpecular() { specular = true, skipLights = false, skipMnee = false; }
+};
+
+/// What the integrator does with a hit after the eye shaded it.
+enum class EyeOutcome { Continue, End, ShadeSurface };
+
 class Tracer {
  public:
+  /// Counters a tracer keeps while it renders (RenderStats' rays and sclera walks).
+  struct Counts {
+    std::int64_t rays = 0, walks = 0, teleportedWalks = 0, cappedWalks = 0, invalidWalks = 0;
+  };
+
   Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
       : scene_(scene), lights_(lights), settings_(settings) {}
 
+  /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
+  /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
+  PathSample Li(const WorldRay& ray, SampleStream& rng) const {
+    PathSample sample;
+    const std::function<double()> random = [&rng] { return rng.Next(); };
+    PathState path(ray);
+    path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
+                                     return Occluded(po, pd, t);
+                                   }, settings_.mneeAllSolutions, settings_.mnee};
+    for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
+      SurfaceHit hit;
+      const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
+      if (depth == 0) {
+        sample.hitAny = hitGeometry;
+        if (hitGeometry) sample.first = hit;
+      }
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
+      if (!hitGeometry) break;
+      sample.L += path.beta * hit.emission;
+      if (const EyeGeometry* eye = EyeOf(*hit.context)) {
+        const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
+        if (outcome == EyeOutcome::Continue) continue;
+        if (outcome == EyeOutcome::End) break;
+      }
+      // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
+      // UsdPreviewSurface.
+      const bool eyeSurface = EyeOf(*hit.context) != nullptr;
+      const PreviewSurface bsdf =
+          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
+      if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
+      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
+      sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
+      if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
+    }
+    if (path.arc) sample.limbalArc = sample.L - path.lAtArc;
+    return sample;
+  }
+
+  const Counts& GetCounts() const { return counts_; }
+
+ private:
   /// Closest hit of the scene's geometry along the ray, if any.
   bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
     RTCIntersectContext context;
@@ -88,7 +214,7 @@ class Tracer {
     rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
     rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &rh);
-    ++rays_;
+    ++counts_.rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     // Meshes sit under instances; eyes are user geometry in the root scene.
     const unsigned id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
@@ -98,10 +224,19 @@ class Tracer {
     glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
     hit->ng = n;
-    // Primvars at the hit: per-vertex values (triangleVertices) or per-corner ones (3 per triangle),
-    // weighted by the hit's barycentrics.
-    const double bu = rh.hit.u, bv = rh.hit.v, bw = 1 - bu - bv;
-    const std::size_t firstCorner = 3 * std::size_t(rh.hit.primID);
+    hit->u = rh.hit.u, hit->v = rh.hit.v;
+    hit->part = rh.hit.primID;
+    hit->context = ctx;
+    FillPrimvars(hit);
+    return true;
+  }
+
+  /// The hit's shading normal, st, albedo and emission from its geometry's primvars: per-vertex values
+  /// (triangleVertices) or per-corner ones (3 per triangle), weighted by the hit's barycentrics.
+  static void FillPrimvars(SurfaceHit* hit) {
+    const GeometryContext& ctx = *hit->context;
+    const double bu = hit->u, bv = hit->v, bw = 1 - bu - bv;
+    const std::size_t firstCorner = 3 * std::size_t(hit->part);
     auto atCorners = [&](const auto& values) {
       using D = glm::vec<std::decay_t<decltype(values[0])>::length(), double>;
       return bw * D(values[firstCorner]) + bu * D(values[firstCorner + 1]) + bv * D(values[firstCorner + 2]);
@@ -111,100 +246,19 @@ class Tracer {
     // from, so the renderer's cosines (taken against hit->n and clamped at 0) stay on the lit side.
     // Analytic eyes, meshes without normals and degenerate (zero) normals keep the flat one.
     glm::dvec3 local(0);
-    if (ctx->cornerNormals) {
-      local = glm::dvec3(atCorners(*ctx->cornerNormals));
-    } else if (ctx->vertexNormals && ctx->triangleVertices && !ctx->eye) {
-      const int* tri = &(*ctx->triangleVertices)[firstCorner];
-      const auto& vn = *ctx->vertexNormals;
-      local = bw * glm::dvec3(vn[tri[0]]) + bu * glm::dvec3(vn[tri[1]]) + bv * glm::dvec3(vn[tri[2]]);
+    if (ctx.cornerNormals) {
+      local = glm::dvec3(atCorners(*ctx.cornerNormals));
+    } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
+      local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
     }
-    const glm::dvec3 shading = ctx->normalToWorld * local;
-    const double length = glm::length(shading);
-    if (length > 1e-12 && std::isfinite(length)) n = glm::dot(shading, n) < 0 ? -shading / length : shading / length;
-    hit->n = n;
-    hit->u = bu, hit->v = bv;
-    hit->st = ctx->st ? glm::dvec2(atCorners(*ctx->st)) : glm::dvec2(0);
-    hit->albedo = ctx->displayColor ? glm::dvec3(atCorners(*ctx->displayColor)) : glm::dvec3(ctx->material.diffuseColor);
-    hit->emission = ctx->eye || ctx->meshEye ? glm::dvec3(0) : glm::dvec3(ctx->material.emissiveColor);
-    hit->primIndex = ctx->primIndex;
-    hit->context = ctx;
-    hit->part = rh.hit.primID;
-    return true;
-  }
-
-  /// What a sclera hit on an eye mesh did: reflected off the wet surface, or entered, walked and left.
-  struct ScleraStep {
-    enum Kind { Reflected, Exited, Ended } kind = Ended;
-    glm::dvec3 origin{0}, dir{0};  ///< Reflected: the mirror ray
-    glm::dvec3 point{0}, normal{0};  ///< Exited: the exit (world) and the outward shading normal there
-    glm::dvec3 weight{0};            ///< Exited: the walk's RGB throughput
-    bool teleported = false;         ///< Exited: the walk lit the limbal arc
-  };
-
-  /// The sclera of an eye mesh as a volume (DESIGN.md step 5): at the hit, a smooth dielectric boundary
-  /// of the eye's tissue index (EyeParams' cornea ior: cornea and sclera share it) reflects with the
-  /// Fresnel probability or refracts in; inside, eyelib's random walk runs in the canonical frame against
-  /// the mesh itself (its own Embree scene), with the teleportation cylinder if the eye asks for it.
-  /// Both Fresnel choices are sampled with their own probability, so no weight changes there.
-  ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
-                        bool limbalArc, const std::function<double()>& random) const {
-    ScleraStep step;
-    const GeometryContext& ctx = *hit.context;
-    const double ior = eye.chamber.CorneaIor();
-    // Fresnel against the shading normal (smooth highlights); which side is inside, against the
-    // geometric one (the walk's boundary is the triangles themselves).
-    const glm::dvec3 wo = -d;
-    const double cosO = std::max(0.0, glm::dot(wo, hit.n));
-    const double offset = 1e-5 * (1 + glm::length(hit.p));
-    if (random() < eyelib::FresnelDielectric(cosO, ior)) {
-      step.kind = ScleraStep::Reflected;
-      step.dir = eyelib::Reflect(wo, hit.n);
-      // A shading normal can tilt the mirror direction under the triangle: lift it just above.
-      const double cosG = glm::dot(step.dir, hit.ng);
-      if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
-      step.origin = hit.p + hit.ng * offset;
-      return step;
-    }
-    glm::dvec3 inward;
-    if (!eyelib::Refract(wo, hit.n, ior, &inward)) return step;  // cannot happen from outside (ior >= 1)
-    // The refracted direction must enter the triangle the ray met (hit.ng faces the ray: inside is -ng).
-    const double cosIn = glm::dot(inward, hit.ng);
-    if (cosIn > -1e-4) inward = glm::normalize(inward - (cosIn + 1e-4) * hit.ng);
-
-    // The walk meets the mesh as it is now (deformed or not): its own triangles, placed by the prim
-    // transform; the cylinder lives in the eye's canonical frame (ScatterInSclera), so it follows the eye.
-    std::int64_t queries = 0;
-    MeshCrossing exitCrossing;
-    const WorldBoundary boundary = EyeMeshBoundary(ctx.prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
-    ScleraScatteringSettings ws;
-    ws.ior = ior;
-    ws.limbalArc = limbalArc;
-    const ScleraExit exit = ScatterInSclera(eye, hit.p, inward, albedo, eye.scleraMeanFreePath, boundary, random, ws);
-    rays_ += queries;
-    ++walks_;
-    if (exit.teleported) ++teleportedWalks_;
-    if (exit.status == eyelib::WalkStatus::Capped) ++cappedWalks_;
-    if (exit.status == eyelib::WalkStatus::Invalid) ++invalidWalks_;
-    if (!exit.Exited()) return step;
-
-    step.kind = ScleraStep::Exited;
-    step.point = exit.origin;
-    step.weight = exit.weight;
-    step.teleported = exit.teleported;
-    // The outward shading normal at the exit: the mesh's interpolated normals at the last crossing,
-    // if they agree with the geometric normal's side; else the geometric normal.
-    step.normal = exit.normal;
-    if (ctx.vertexNormals && ctx.triangleVertices && exitCrossing.triangle != RTC_INVALID_GEOMETRY_ID &&
-        3 * std::size_t(exitCrossing.triangle) + 2 < ctx.triangleVertices->size()) {
-      const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(exitCrossing.triangle)];
-      const auto& vn = *ctx.vertexNormals;
-      const double bu = exitCrossing.u, bv = exitCrossing.v;
-      const glm::dvec3 local = (1 - bu - bv) * glm::dvec3(vn[tri[0]]) + bu * glm::dvec3(vn[tri[1]]) + bv * glm::dvec3(vn[tri[2]]);
-      const glm::dvec3 shading = ctx.normalToWorld * local;
-      const double length = glm::length(shading);
-      if (length > 1e-12 && std::isfinite(length) && glm::dot(shading, exit.normal) > 0) step.normal = shading / length;
-    }
-    return step;
+    const WorldNormal shading(ctx, local);
+    hit->n = !shading.Valid()                    ? hit->ng
+             : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
+                                                 : shading.v / shading.length;
+    hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
+    hit->albedo = ctx.displayColor ? glm::dvec3(atCorners(*ctx.displayColor)) : glm::dvec3(ctx.material.diffuseColor);
+    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(ctx.material.emissiveColor);
+    hit->primIndex = ctx.primIndex;
   }
 
   bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
@@ -217,7 +271,7 @@ class Tracer {
     ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
     ray.mask = ~0u, ray.flags = 0, ray.time = 0;
     rtcOccluded1(scene_, &context, &ray);
-    ++rays_;
+    ++counts_.rays;
     return ray.tfar < 0;
   }
 
@@ -241,194 +295,292 @@ class Tracer {
     return found;
   }
 
-  /// Radiance along a camera ray; fills the first hit for the data AOVs.
-  glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, SampleStream& rng, SurfaceHit* first,
-                bool* hitAny, glm::dvec3* irisMnee, glm::dvec3* limbalArc) const {
-    glm::dvec3 L(0), beta(1);
-    // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only
-    // grows, so L at the end minus L then).
-    bool arc = false;
-    glm::dvec3 lAtArc(0);
-    // How the current ray was chosen, for weighting the lights it meets: after a specular event
-    // (the camera, the cornea) a light counts in full; after a diffuse bounce, by MIS against light
-    // sampling (or not at all without MIS); straight out of an iris (skipMnee), the lights MNEE counted
-    // there not at all, and every other light in full. Why in full and not by MIS: the iris bounce's
-    // cosine-hemisphere pdf exists, but for a light MNEE does not handle there is no second strategy at
-    // the iris (light sampling cannot see through the refracting cornea; that is what MNEE is for), so
-    // the path leaving the iris is that light's only estimator and its weight is 1. Nor is MNEE MIS-
-    // weighted against the exiting path for the lights it does handle: its one-solution search has no
-    // known pdf over exit directions, so the two are a partition, light by light, never a mixture.
-    bool specular = true, skipLights = false, skipMnee = false;
-    EyeLighting skipMneeOf;  // skipMnee: the lighting of the iris the path left (its MNEE lights)
-    // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry
-    // no front/back flag, so this assumes the camera is outside and glass objects are closed and
-    // do not nest.
-    bool insideGlass = false;
-    double bsdfPdf = 0;
-    const double lightSelect = lights_.empty() ? 0 : 1.0 / double(lights_.size());
-    const std::function<double()> random = [&rng] { return rng.Next(); };
-    EyeLighting eyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                              return Occluded(po, pd, t);
-                            }, settings_.mneeAllSolutions, settings_.mnee};
-    static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
-    for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
-      SurfaceHit hit;
-      const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
-      if (depth == 0) {
-        *hitAny = hitGeometry;
-        if (hitGeometry) *first = hit;
-      }
-      glm::dvec3 le(0);
-      double lpdf = 0;
-      if (!skipLights && HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf, skipMnee ? &skipMneeOf : nullptr)) {
-        if (specular) L += beta * le;
-        else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
-      }
-      if (!hitGeometry) break;
-      L += beta * hit.emission;
-
-      if (const EyeGeometry* eye = hit.context->eye ? hit.context->eye : hit.context->meshEye) {
-        // This eye's switches: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else the
-        // global settings.
-        const EyeRenderOptions& options = hit.context->eyeOptions;
-        const bool planned = options.planned;
-        eyeLighting.mnee = planned ? options.mnee : settings_.mnee;
-        eyeLighting.allSolutions = planned ? options.allSolutions : settings_.mneeAllSolutions;
-        eyeLighting.mneeLights = planned ? &options.mneeLights : nullptr;
-        eyeLighting.maxChamberEvents = planned ? options.maxChamberEvents : kUnplanned.maxChamberEvents;
-        const bool scleraScattering = planned ? options.scleraScattering : settings_.scleraScattering;
-        const bool limbalArc = planned ? options.limbalArc : eye->limbalArc;
-        const EyeEvent ev =
-            hit.context->eye
-                ? ScatterAtEye(*eye, o, d, EyeGeometry::Part(hit.part), eyeLighting, random)
-                : ScatterAtEyeMesh(*eye, EyeMeshHitToCanonical(*hit.context, *eye, hit.part, hit.u, hit.v, d), d,
-                                   eyeLighting, random);
-        L += beta * ev.radiance;
-        *irisMnee += beta * ev.radiance;
-        if (ev.kind == EyeEvent::Continue) {
-          beta *= ev.weight;
-          o = ev.origin, d = ev.dir, tNear = 0, tFar = kInf;
-          if (!ev.passThrough) {
-            specular = true, skipLights = false, skipMnee = ev.skipLightHits;
-            if (skipMnee) skipMneeOf = eyeLighting;
-          }
-          continue;
-        }
-        if (ev.kind == EyeEvent::Absorbed) break;
-        // Sclera: shaded below as a diffuse surface; an eye mesh's own surface keeps its shading normal
-        // and, with a bound material, that material's colour (its diffuse texture at the hit's st, if any).
-        if (!ev.scleraOnSurface) hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
-        if (!ev.scleraOnSurface || !eye->scleraUsesMaterial) hit.albedo = ev.scleraAlbedo;
-        else if (hit.context->diffuseTexture) hit.albedo = glm::dvec3(hit.context->diffuseTexture->Lookup(glm::vec2(hit.st)));
-        hit.albedo = glm::clamp(hit.albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
-        if (depth == 0) first->albedo = hit.albedo;  // the albedo AOV shows the sclera's
-        // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert
-        // surface (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
-        if (ev.scleraOnSurface && scleraScattering && hit.context->prototypeScene) {
-          const ScleraStep step = ScleraWalk(*eye, hit, d, hit.albedo, limbalArc, random);
-          if (step.kind == ScleraStep::Ended) break;
-          if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
-            o = step.origin, d = step.dir, tNear = 0, tFar = kInf;
-            specular = true, skipLights = false, skipMnee = false;
-            continue;
-          }
-          // The exit is a diffuse transmission lobe: the walk decides where light leaves and how much
-          // (its Fresnel test at the boundary included); the direction it leaves in is then taken as
-          // Lambertian about the exit's outward normal, as Cycles and Hyperion do. The walk's own
-          // refracted exit direction is dropped, not followed: its pdf is unknown (it depends on the
-          // whole walk), so it could be neither MIS-weighted against light sampling nor combined with
-          // next event estimation at the exit without counting the light twice. With a Lambertian lobe,
-          // next event estimation and the sampled continuation below are weighted by the power
-          // heuristic like any diffuse bounce. What this approximates: light refracted out of a
-          // dielectric is Lambertian times (1 - F(theta)), a little darker at grazing exit.
-          if (!arc && step.teleported) arc = true, lAtArc = L;
-          beta *= step.weight;
-          hit.p = step.point;
-          hit.n = hit.ng = step.normal;
-          hit.albedo = glm::dvec3(1);  // the colour is in the walk's weight
-          d = -step.normal;            // wo = the outward normal: the lobe is the outward hemisphere
-        }
-      }
-      // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
-      // UsdPreviewSurface.
-      const bool eyeSurface = hit.context->eye || hit.context->meshEye;
-      const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
-      if (depth == 0 && !eyeSurface) first->albedo = bsdf.albedo;  // the albedo AOV shows the texture
-      const glm::dvec3 wo = -d;
-      // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
-      const double offset = 1e-5 * (1 + glm::length(hit.p));
-      const glm::dvec3 origin = hit.p + hit.n * offset;
-
-      // Next event estimation: one light chosen uniformly; not for mirrors and glass (delta lobes).
-      const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
-      if (!lights_.empty() && HasSmoothLobe(bsdf, hit.n, wo)) {
-        const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
-        const LightSample ls = SampleLight(light, origin, u1, u2);
-        const double cosS = glm::dot(ls.dir, hit.n);
-        if (ls.pdf > 0 && cosS > 0) {
-          const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
-          if ((f.x > 0 || f.y > 0 || f.z > 0) && !Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) {
-            const double pl = ls.pdf * lightSelect;
-            const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
-            L += beta * f * ls.radiance * (cosS * w / pl);
-          }
-        }
-      }
-
-      // Continue in a direction sampled from the BSDF; its weight is f |cos| / pdf.
-      const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
-      BsdfSample bs;
-      if (!SamplePreviewSurface(bsdf, hit.n, wo, insideGlass, uLobe, uDir1, uDir2, &bs)) break;
-      if (bs.transmitted) insideGlass = !insideGlass;
-      d = bs.wi;
-      bsdfPdf = bs.pdf;
-      specular = bs.delta, skipLights = !bs.delta && !settings_.mis, skipMnee = false;
-      beta *= bs.weight;
-      o = glm::dot(d, hit.n) > 0 ? origin : hit.p - hit.n * offset;
-      tNear = 0;
-      tFar = kInf;
-      // Russian roulette after three bounces.
-      if (depth >= 3) {
-        const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
-        if (rng.Next() >= q) break;
-        beta /= q;
-      }
-    }
-    if (arc) *limbalArc = L - lAtArc;
-    return L;
+  /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
+  /// ray was chosen (PathState's flags).
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
+    glm::dvec3 le(0);
+    double lpdf = 0;
+    if (path.skipLights || !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr))
+      return glm::dvec3(0);
+    if (path.specular) return path.beta * le;
+    if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
+    return glm::dvec3(0);
   }
 
-  std::int64_t Rays() const { return rays_; }
-  std::int64_t Walks() const { return walks_; }
-  std::int64_t TeleportedWalks() const { return teleportedWalks_; }
-  std::int64_t CappedWalks() const { return cappedWalks_; }
-  std::int64_t InvalidWalks() const { return invalidWalks_; }
+  /// The probability of picking any one light for next event estimation (uniform).
+  double LightSelectPdf() const { return lights_.empty() ? 0 : 1.0 / double(lights_.size()); }
 
- private:
+  /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
+  /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
+  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, const std::function<double()>& random, SurfaceHit* hit,
+                         PathState* path, PathSample* sample) const {
+    const GeometryContext& ctx = *hit->context;
+    const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
+    EyeLighting& lighting = path->eyeLighting;
+    lighting.mnee = switches.mnee;
+    lighting.allSolutions = switches.allSolutions;
+    lighting.mneeLights = switches.mneeLights;
+    lighting.maxChamberEvents = switches.maxChamberEvents;
+    const EyeEvent ev = ctx.eye ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
+                                : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
+                                                   path->d, lighting, random);
+    sample->L += path->beta * ev.radiance;
+    sample->irisMnee += path->beta * ev.radiance;
+    if (ev.kind == EyeEvent::Continue) {
+      path->beta *= ev.weight;
+      path->SetRay(ev.origin, ev.dir);
+      if (!ev.passThrough) {
+        path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
+        if (path->skipMnee) path->skipMneeOf = lighting;
+      }
+      return EyeOutcome::Continue;
+    }
+    if (ev.kind == EyeEvent::Absorbed) return EyeOutcome::End;
+    ShadeScleraSurface(eye, ev, path->d, hit);
+    if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
+    // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
+    // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
+    if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
+      return EnterSclera(eye, switches.limbalArc, random, hit, path, sample->L);
+    return EyeOutcome::ShadeSurface;
+  }
+
+  /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
+  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st).
+  static void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, SurfaceHit* hit) {
+    if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+    if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
+    else if (hit->context->diffuseTexture) hit->albedo = glm::dvec3(hit->context->diffuseTexture->Lookup(glm::vec2(hit->st)));
+    hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
+  }
+
+  /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
+  /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
+  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random,
+                         SurfaceHit* hit, PathState* path, const glm::dvec3& L) const {
+    const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
+    if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
+    if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+      path->SetRay(step.origin, step.dir);
+      path->SetSpecular();
+      return EyeOutcome::Continue;
+    }
+    // The exit is a diffuse transmission lobe: the walk decides where light leaves and how much (its Fresnel
+    // test at the boundary included); the direction it leaves in is then taken as Lambertian about the exit's
+    // outward normal, as Cycles and Hyperion do. The walk's own refracted exit direction is dropped, not
+    // followed: its pdf is unknown (it depends on the whole walk), so it could be neither MIS-weighted against
+    // light sampling nor combined with next event estimation at the exit without counting the light twice.
+    // With a Lambertian lobe, next event estimation and the sampled continuation are weighted by the power
+    // heuristic like any diffuse bounce. What this approximates: light refracted out of a dielectric is
+    // Lambertian times (1 - F(theta)), a little darker at grazing exit.
+    if (!path->arc && step.teleported) path->arc = true, path->lAtArc = L;
+    path->beta *= step.weight;
+    hit->p = step.point;
+    hit->n = hit->ng = step.normal;
+    hit->albedo = glm::dvec3(1);  // the colour is in the walk's weight
+    path->d = -step.normal;       // wo = the outward normal: the lobe is the outward hemisphere
+    return EyeOutcome::ShadeSurface;
+  }
+
+  /// What a sclera hit on an eye mesh did: reflected off the wet surface, or entered, walked and left.
+  struct ScleraStep {
+    enum Kind { Reflected, Exited, Ended } kind = Ended;
+    glm::dvec3 origin{0}, dir{0};  ///< Reflected: the mirror ray
+    glm::dvec3 point{0}, normal{0};  ///< Exited: the exit (world) and the outward shading normal there
+    glm::dvec3 weight{0};            ///< Exited: the walk's RGB throughput
+    bool teleported = false;         ///< Exited: the walk lit the limbal arc
+  };
+
+  /// The sclera of an eye mesh as a volume: at the hit, a smooth dielectric boundary of the eye's tissue index
+  /// (EyeParams' cornea ior: cornea and sclera share it) reflects with the Fresnel probability or refracts in;
+  /// inside, eyelib's random walk runs in the canonical frame against the mesh itself (its own Embree scene),
+  /// with the teleportation cylinder if the eye asks for it. Both Fresnel choices are sampled with their own
+  /// probability, so no weight changes there.
+  ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
+                        bool limbalArc, const std::function<double()>& random) const {
+    ScleraStep step;
+    const double ior = eye.chamber.CorneaIor();
+    // Fresnel against the shading normal (smooth highlights); which side is inside, against the
+    // geometric one (the walk's boundary is the triangles themselves).
+    const glm::dvec3 wo = -d;
+    const double cosO = std::max(0.0, glm::dot(wo, hit.n));
+    if (random() < eyelib::FresnelDielectric(cosO, ior)) {
+      step.kind = ScleraStep::Reflected;
+      step.dir = eyelib::Reflect(wo, hit.n);
+      // A shading normal can tilt the mirror direction under the triangle: lift it just above.
+      const double cosG = glm::dot(step.dir, hit.ng);
+      if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
+      step.origin = SpawnOrigin(hit.p, hit.ng);
+      return step;
+    }
+    glm::dvec3 inward;
+    if (!eyelib::Refract(wo, hit.n, ior, &inward)) return step;  // cannot happen from outside (ior >= 1)
+    // The refracted direction must enter the triangle the ray met (hit.ng faces the ray: inside is -ng).
+    const double cosIn = glm::dot(inward, hit.ng);
+    if (cosIn > -1e-4) inward = glm::normalize(inward - (cosIn + 1e-4) * hit.ng);
+
+    // The walk meets the mesh as it is now (deformed or not): its own triangles, placed by the prim
+    // transform; the cylinder lives in the eye's canonical frame (ScatterInSclera), so it follows the eye.
+    std::int64_t queries = 0;
+    MeshCrossing exitCrossing;
+    const WorldBoundary boundary =
+        EyeMeshBoundary(hit.context->prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
+    ScleraScatteringSettings ws;
+    ws.ior = ior;
+    ws.limbalArc = limbalArc;
+    const ScleraExit exit = ScatterInSclera(eye, hit.p, inward, albedo, eye.scleraMeanFreePath, boundary, random, ws);
+    CountWalk(exit, queries);
+    if (!exit.Exited()) return step;
+
+    step.kind = ScleraStep::Exited;
+    step.point = exit.origin;
+    step.weight = exit.weight;
+    step.teleported = exit.teleported;
+    step.normal = ExitShadingNormal(*hit.context, exitCrossing, exit.normal);
+    return step;
+  }
+
+  void CountWalk(const ScleraExit& exit, std::int64_t queries) const {
+    counts_.rays += queries;
+    ++counts_.walks;
+    if (exit.teleported) ++counts_.teleportedWalks;
+    if (exit.status == eyelib::WalkStatus::Capped) ++counts_.cappedWalks;
+    if (exit.status == eyelib::WalkStatus::Invalid) ++counts_.invalidWalks;
+  }
+
+  /// The outward shading normal where a sclera walk left the mesh: the mesh's interpolated normals at the last
+  /// crossing, if they agree with the geometric normal's side; else the geometric normal `outward`.
+  static glm::dvec3 ExitShadingNormal(const GeometryContext& ctx, const MeshCrossing& crossing, const glm::dvec3& outward) {
+    if (!ctx.vertexNormals || !ctx.triangleVertices || crossing.triangle == RTC_INVALID_GEOMETRY_ID ||
+        3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
+      return outward;
+    const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
+    const WorldNormal shading(ctx, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+    return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
+  }
+
+  /// Next event estimation (pbrt's SampleLd): one light chosen uniformly, sampled from `origin`, weighted by the
+  /// power heuristic against BSDF sampling; nothing for mirrors and glass (delta lobes). Returns beta times the
+  /// light's contribution. Always takes three random numbers.
+  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& wo, const glm::dvec3& origin,
+                      const glm::dvec3& beta, SampleStream& rng) const {
+    const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
+    if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
+    const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+    const LightSample ls = SampleLight(light, origin, u1, u2);
+    const double cosS = glm::dot(ls.dir, hit.n);
+    if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
+    const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
+    if (!(f.x > 0 || f.y > 0 || f.z > 0) || Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) return glm::dvec3(0);
+    const double pl = ls.pdf * LightSelectPdf();
+    const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    return beta * f * ls.radiance * (cosS * w / pl);
+  }
+
+  /// The path's next ray, sampled from the BSDF (its weight f |cos| / pdf), then Russian roulette after three
+  /// bounces. False: the path ends here.
+  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& origin, int depth,
+                          SampleStream& rng, PathState* path) const {
+    const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
+    BsdfSample bs;
+    if (!SamplePreviewSurface(bsdf, hit.n, -path->d, path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
+    if (bs.transmitted) path->insideGlass = !path->insideGlass;
+    path->bsdfPdf = bs.pdf;
+    path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
+    path->beta *= bs.weight;
+    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n), bs.wi);
+    if (depth >= 3) {
+      const double q = std::min(0.95, std::max({path->beta.x, path->beta.y, path->beta.z}));
+      if (rng.Next() >= q) return false;
+      path->beta /= q;
+    }
+    return true;
+  }
+
   RTCScene scene_;
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
-  mutable std::int64_t rays_ = 0;
-  mutable std::int64_t walks_ = 0, teleportedWalks_ = 0, cappedWalks_ = 0, invalidWalks_ = 0;
+  mutable Counts counts_;
 };
 
-}  // namespace
-
-RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
-                             const RenderSettings& settings, const AovBuffers& aovs) const {
+/// Throws std::invalid_argument unless a colour buffer is bound and every bound buffer has its size.
+void CheckBuffers(const AovBuffers& aovs) {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
   for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
+}
+
+void AddRgb(AccumulationBuffer* buffer, int x, int y, const glm::dvec3& v) {
+  if (!buffer) return;
+  const float rgb[3] = {float(v.x), float(v.y), float(v.z)};
+  buffer->AddSample(x, y, rgb);
+}
+
+/// Adds one path sample of pixel (x, y), sample index s, to the bound AOVs: colour and the light AOVs always,
+/// the data AOVs (albedo, normal, depth, primId) from sample 0 only. A non-finite radiance is dropped (black)
+/// and reported through the return value.
+bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sample) {
+  const glm::dvec3& L = sample.L;
+  const bool finite = std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z);
+  if (!finite) sample.L = sample.irisMnee = sample.limbalArc = glm::dvec3(0);  // never let it into the image
+  const float color[4] = {float(L.x), float(L.y), float(L.z), sample.hitAny ? 1.0f : 0.0f};
+  aovs.color->AddSample(x, y, color);
+  AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
+  AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
+  if (s != 0) return finite;
+  const SurfaceHit& first = sample.first;
+  AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));
+  AddRgb(aovs.normal, x, y, sample.hitAny ? first.n : glm::dvec3(0));
+  const float depth = sample.hitAny ? float(first.t) : 0.0f, id = sample.hitAny ? float(first.primIndex) : -1.0f;
+  if (aovs.depth) aovs.depth->AddSample(x, y, &depth);
+  if (aovs.primId) aovs.primId->AddSample(x, y, &id);
+  return finite;
+}
+
+/// The counters every tile's tracer adds to, shared across threads.
+struct SharedCounts {
+  std::atomic<std::int64_t> rays{0}, nonFinite{0}, walks{0}, teleported{0}, capped{0}, invalid{0};
+  void Add(const Tracer::Counts& c) {
+    rays += c.rays, walks += c.walks, teleported += c.teleportedWalks, capped += c.cappedWalks;
+    invalid += c.invalidWalks;
+  }
+};
+
+/// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
+void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, const AovBuffers& aovs,
+                 SharedCounts* counts) {
+  const int width = aovs.color->Width(), height = aovs.color->Height();
+  const int tilesX = (width + kTile - 1) / kTile;
+  const double aspect = double(width) / height;
+  Tracer tracer(scene, lights, settings);
+  for (int tile = range.begin(); tile != range.end(); ++tile) {
+    const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+    for (int y = y0; y < std::min(height, y0 + kTile); ++y)
+      for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
+        SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
+        const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
+        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
+      }
+  }
+  counts->Add(tracer.GetCounts());
+}
+
+}  // namespace
+
+RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                             const RenderSettings& settings, const AovBuffers& aovs) const {
+  CheckBuffers(aovs);
+  const int width = aovs.color->Width(), height = aovs.color->Height();
   RenderStats stats;
   if (width == 0 || height == 0) return stats;
   const auto start = std::chrono::steady_clock::now();
-  const int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
-  const double aspect = double(width) / height;
-  std::atomic<std::int64_t> rays{0}, nonFinite{0}, walks{0}, teleported{0}, capped{0}, invalid{0};
+  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
+  SharedCounts counts;
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
@@ -436,50 +588,8 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   for (int pass = 0; pass < settings.samplesPerPixel; ++pass) {
     const int s = settings.firstSample + pass;
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-        Tracer tracer(scene, lights, settings);
-        for (int tile = range.begin(); tile != range.end(); ++tile) {
-          const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
-          for (int y = y0; y < std::min(height, y0 + kTile); ++y)
-            for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-              SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
-              const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
-              const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
-              SurfaceHit first{};
-              bool hitAny = false;
-              glm::dvec3 irisMnee(0), arc(0);
-              glm::dvec3 L =
-                  tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny, &irisMnee, &arc);
-              if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
-                L = irisMnee = arc = glm::dvec3(0);  // never let it into the image; count it so tests can fail on it
-                ++nonFinite;
-              }
-              const float color[4] = {float(L.x), float(L.y), float(L.z), hitAny ? 1.0f : 0.0f};
-              aovs.color->AddSample(x, y, color);
-              if (aovs.irisMnee) {
-                const float iris[3] = {float(irisMnee.x), float(irisMnee.y), float(irisMnee.z)};
-                aovs.irisMnee->AddSample(x, y, iris);
-              }
-              if (aovs.limbalArc) {
-                const float a[3] = {float(arc.x), float(arc.y), float(arc.z)};
-                aovs.limbalArc->AddSample(x, y, a);
-              }
-              if (s != 0) continue;
-              const glm::dvec3 albedo = hitAny ? first.albedo : glm::dvec3(0), n = hitAny ? first.n : glm::dvec3(0);
-              const float a[3] = {float(albedo.x), float(albedo.y), float(albedo.z)};
-              const float nn[3] = {float(n.x), float(n.y), float(n.z)};
-              const float depth = hitAny ? float(first.t) : 0.0f, id = hitAny ? float(first.primIndex) : -1.0f;
-              if (aovs.albedo) aovs.albedo->AddSample(x, y, a);
-              if (aovs.normal) aovs.normal->AddSample(x, y, nn);
-              if (aovs.depth) aovs.depth->AddSample(x, y, &depth);
-              if (aovs.primId) aovs.primId->AddSample(x, y, &id);
-            }
-        }
-        rays += tracer.Rays();
-        walks += tracer.Walks();
-        teleported += tracer.TeleportedWalks();
-        capped += tracer.CappedWalks();
-        invalid += tracer.InvalidWalks();
+      tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
+        RenderTiles(range, s, scene, camera, lights, settings, aovs, &counts);
       });
     });
     ++stats.passes;
@@ -490,12 +600,12 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
       break;
     }
   }
-  stats.rays = rays;
-  stats.nonFiniteSamples = nonFinite;
-  stats.scleraWalks = walks;
-  stats.teleportedWalks = teleported;
-  stats.cappedWalks = capped;
-  stats.invalidWalks = invalid;
+  stats.rays = counts.rays;
+  stats.nonFiniteSamples = counts.nonFinite;
+  stats.scleraWalks = counts.walks;
+  stats.teleportedWalks = counts.teleported;
+  stats.cappedWalks = counts.capped;
+  stats.invalidWalks = counts.invalid;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
