@@ -192,7 +192,9 @@ def run(argv=None):
                   "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions},
         plan_overrides=plan_overrides(plan_options(args), stage, COMPLEXITY_REFINE_LEVELS[args.complexity]))
     if args.plan:
-        print(session.plan().to_json())
+        from .plan import plan_json
+
+        print(plan_json(session.plan()))
         return 0
     if not args.no_auto_plan:
         for line in session.plan().summary_lines():

@@ -364,8 +364,60 @@ NB_MODULE(_hdeye, m) {
       .def_rw("float_hit_error_mm", &PlanRules::floatHitErrorMm, "mm")
       .def_rw("float_max_error_pixels", &PlanRules::floatMaxErrorPixels, "pixels");
 
+  nb::enum_<LightType>(m, "LightType", "The light kinds the delegate renders.")
+      .value("SPHERE", LightType::Sphere)
+      .value("DISTANT", LightType::Distant)
+      .value("RECT", LightType::Rect)
+      .value("DISK", LightType::Disk)
+      .value("DOME", LightType::Dome);
+  nb::enum_<LightStrategy>(m, "LightStrategy", "How the iris gets a light's direct light.")
+      .value("MNEE", LightStrategy::Mnee, "manifold next event estimation through the cornea")
+      .value("BSDF", LightStrategy::Bsdf, "BSDF sampling with MIS: paths that leave the cornea and hit the light")
+      .value("NONE", LightStrategy::None, "the light cannot reach the iris");
+  nb::enum_<ScleraModel>(m, "ScleraModel", "How an eye's sclera is shaded.")
+      .value("RANDOM_WALK", ScleraModel::RandomWalk, "path-traced random-walk subsurface scattering")
+      .value("DIFFUSE", ScleraModel::Diffuse, "a Lambertian surface")
+      .value("NONE", ScleraModel::None, "no sclera volume to walk (analytic eyes)");
+  m.def("to_string", nb::overload_cast<LightStrategy>(&ToString), nb::arg("value"),
+        "The plan's name of a strategy, sclera model or light kind (\"mnee\", \"randomWalk\", \"dome\", ...).");
+  m.def("to_string", nb::overload_cast<ScleraModel>(&ToString), nb::arg("value"));
+  m.def("to_string", nb::overload_cast<LightType>(&ToString), nb::arg("value"));
+
+  nb::class_<LightFacts>(m, "LightFacts", "One light as one eye sees it, and what the eye does with it.")
+      .def_ro("light", &LightFacts::light, "the light's prim id")
+      .def_ro("kind", &LightFacts::kind)
+      .def_ro("solid_angle_sr", &LightFacts::solidAngleSr, "subtended at the iris centre, steradians")
+      .def_ro("angle_off_gaze_deg", &LightFacts::angleOffGazeDeg, "degrees; -1 for a dome (no direction)")
+      .def_ro("angular_radius_deg", &LightFacts::angularRadiusDeg, "half the angle the light subtends, degrees")
+      .def_ro("reaches_iris", &LightFacts::reachesIris)
+      .def_ro("strategy", &LightFacts::strategy)
+      .def_ro("why", &LightFacts::why);
+
+  nb::class_<EyePlan>(m, "EyePlan", "An eye's facts and decisions; `why` maps each decision to its reason.")
+      .def_ro("prim", &EyePlan::prim)
+      .def_ro("geometry", &EyePlan::geometry, "the rprim type: analyticEye or eyeMesh")
+      .def_ro("pixels", &EyePlan::pixels, "projected diameter of the 15.08 mm iris circle, pixels")
+      .def_ro("in_view", &EyePlan::inView)
+      .def_ro("behind_camera", &EyePlan::behindCamera)
+      .def_ro("view_angle_deg", &EyePlan::viewAngleDeg, "gaze to the direction to the camera, degrees")
+      .def_ro("limbus_pixels", &EyePlan::limbusPixels, "the limbus band's projected width, pixels")
+      .def_ro("lights", &EyePlan::lights)
+      .def_ro("mnee", &EyePlan::mnee)
+      .def_ro("mnee_all_solutions", &EyePlan::mneeAllSolutions)
+      .def_ro("chamber_events", &EyePlan::chamberEvents)
+      .def_ro("sss", &EyePlan::sss)
+      .def_ro("limbal_arc", &EyePlan::limbalArc)
+      .def_ro("refine_level", &EyePlan::refineLevel, "planned Catmull-Clark level; -1 for analytic eyes")
+      .def_ro("pixel_footprint_mm", &EyePlan::pixelFootprintMm, "mm of the eye per pixel")
+      .def_ro("float_would_suffice", &EyePlan::floatWouldSuffice)
+      .def_ro("why", &EyePlan::why);
+
   nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
-      .def("to_json", &RenderPlan::ToJson, "The plan as a JSON object string (docs/render_plan.md).")
+      .def_ro("width", &RenderPlan::width)
+      .def_ro("height", &RenderPlan::height)
+      .def_ro("camera", &RenderPlan::camera)
+      .def_ro("eyes", &RenderPlan::eyes)
+      .def_ro("why", &RenderPlan::why, "reasons for the global switches")
       .def("summary_lines", &RenderPlan::SummaryLines, "One line per eye, for printing at render start.")
       .def(
           "apply",

@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <stdexcept>
 #include <limits>
-#include <sstream>
 
 namespace hdeye {
 
@@ -29,17 +28,6 @@ std::string Num(double v, int digits = 4) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
-}
-
-const char* KindName(LightType t) {
-  switch (t) {
-    case LightType::Sphere: return "sphere";
-    case LightType::Distant: return "distant";
-    case LightType::Rect: return "rect";
-    case LightType::Disk: return "disk";
-    case LightType::Dome: return "dome";
-  }
-  return "?";
 }
 
 /// The iris centre (canonical (0, 0, irisZ)) in world space: where the lights are measured from.
@@ -62,26 +50,33 @@ double FlatSolidAngle(double area, const glm::dvec3& centre, const glm::dvec3& n
 
 }  // namespace
 
-std::string JsonQuote(const std::string& s) {
-  std::string out = "\"";
-  for (const unsigned char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += char(c);
-        }
-    }
+const char* ToString(LightType type) {
+  switch (type) {
+    case LightType::Sphere: return "sphere";
+    case LightType::Distant: return "distant";
+    case LightType::Rect: return "rect";
+    case LightType::Disk: return "disk";
+    case LightType::Dome: return "dome";
   }
-  return out + "\"";
+  return "?";
+}
+
+const char* ToString(LightStrategy strategy) {
+  switch (strategy) {
+    case LightStrategy::Mnee: return "mnee";
+    case LightStrategy::Bsdf: return "bsdf";
+    case LightStrategy::None: return "none";
+  }
+  return "?";
+}
+
+const char* ToString(ScleraModel model) {
+  switch (model) {
+    case ScleraModel::RandomWalk: return "randomWalk";
+    case ScleraModel::Diffuse: return "diffuse";
+    case ScleraModel::None: return "none";
+  }
+  return "?";
 }
 
 EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
@@ -138,7 +133,7 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
 LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye) {
   LightFacts f;
   f.light = lightId;
-  f.kind = KindName(light.type);
+  f.kind = light.type;
   const glm::dvec3 p = IrisCentre(eye), gaze = eye.DirToWorld({0, 0, 1});
   glm::dvec3 dir(0);  // towards the light's centre
   bool facing = true;
@@ -186,183 +181,183 @@ LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const E
   return f;
 }
 
-void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
-  auto& why = e->why;
-  const bool irisSeen = e->inView && !e->behindCamera && e->viewAngleDeg < 90;
-  std::string visibility;
-  if (e->behindCamera) visibility = "behind the camera";
-  else if (!e->inView) visibility = "out of view";
-  else if (!irisSeen) visibility = "iris faces away from the camera (" + Num(e->viewAngleDeg, 3) + " deg)";
+namespace {
 
-  // MNEE, per light.
+/// A decision and its one-line reason.
+template <class T> struct Decision {
+  T value;
+  std::string why;
+};
+
+/// Why the camera cannot see the eye's iris, or empty when it can.
+std::string HiddenReason(const EyePlan& e) {
+  if (e.behindCamera) return "behind the camera";
+  if (!e.inView) return "out of view";
+  if (!(e.viewAngleDeg < 90)) return "iris faces away from the camera (" + Num(e.viewAngleDeg, 3) + " deg)";
+  return "";
+}
+
+/// How the iris gets light l's direct light: MNEE for small lights (the bound by angle off the gaze: sweep 2).
+Decision<LightStrategy> DecideLightStrategy(const LightFacts& l, const EyePlan& e, const std::string& hidden,
+                                            const PlanRules& rules, const PlanOverrides& ov) {
+  if (!l.reachesIris)
+    return {LightStrategy::None,
+            "below the rim plane (" + Num(l.angleOffGazeDeg, 3) + " deg off the gaze): the sclera hides it"};
+  if (ov.mnee) return {*ov.mnee ? LightStrategy::Mnee : LightStrategy::Bsdf, *ov.mnee ? "flag: MNEE on" : "flag: --no-mnee"};
+  if (!hidden.empty()) return {LightStrategy::Bsdf, hidden};
+  if (e.pixels < rules.mneeMinPixels)
+    return {LightStrategy::Bsdf,
+            "eye " + Num(e.pixels, 3) + " px < " + Num(rules.mneeMinPixels, 3) + " px: path tracing is cheaper"};
+  const bool dome = l.kind == LightType::Dome, grazing = l.angleOffGazeDeg >= rules.grazingAngleDeg;
+  const double limit = grazing ? rules.mneeMaxSolidAngleSrGrazing : rules.mneeMaxSolidAngleSr;
+  const std::string size = (dome ? std::string("4pi") : Num(l.solidAngleSr, 3)) + " sr";
+  const std::string at = " at " + Num(l.angleOffGazeDeg, 3) + " deg" + (grazing ? " (>= " : " (< ") +
+                         Num(rules.grazingAngleDeg, 3) + " deg)";
+  if (l.solidAngleSr > limit)
+    return {LightStrategy::Bsdf,
+            size + " > " + Num(limit, 3) + " sr" + (dome ? "" : at) + ": BSDF sampling with MIS (sweep 2)"};
+  return {LightStrategy::Mnee, size + " <= " + Num(limit, 3) + " sr" + at + ": MNEE (sweep 2)"};
+}
+
+/// Every light's strategy (into e->lights), and whether the eye runs MNEE at all, with every light's reason.
+Decision<bool> DecideMnee(EyePlan* e, const std::string& hidden, const PlanRules& rules, const PlanOverrides& ov) {
   std::string perLight;
   int mneeLights = 0, bsdfLights = 0;
   for (LightFacts& l : e->lights) {
-    const std::string size = (l.kind == "dome" ? std::string("4pi") : Num(l.solidAngleSr, 3)) + " sr";
-    if (!l.reachesIris) {
-      l.strategy = "none";
-      l.why = "below the rim plane (" + Num(l.angleOffGazeDeg, 3) + " deg off the gaze): the sclera hides it";
-    } else if (ov.mnee) {
-      l.strategy = *ov.mnee ? "mnee" : "bsdf";
-      l.why = *ov.mnee ? "flag: MNEE on" : "flag: --no-mnee";
-    } else if (!visibility.empty()) {
-      l.strategy = "bsdf";
-      l.why = visibility;
-    } else if (e->pixels < rules.mneeMinPixels) {
-      l.strategy = "bsdf";
-      l.why = "eye " + Num(e->pixels, 3) + " px < " + Num(rules.mneeMinPixels, 3) + " px: path tracing is cheaper";
-    } else if (const double limit = l.angleOffGazeDeg >= rules.grazingAngleDeg ? rules.mneeMaxSolidAngleSrGrazing
-                                                                                 : rules.mneeMaxSolidAngleSr;
-               l.solidAngleSr > limit) {
-      l.strategy = "bsdf";
-      l.why = size + " > " + Num(limit, 3) + " sr" + (l.kind == "dome" ? "" : " at " + Num(l.angleOffGazeDeg, 3) + " deg") +
-              (l.kind == "dome" ? std::string() : std::string(l.angleOffGazeDeg >= rules.grazingAngleDeg ? " (>= " : " (< ") +
-                                                      Num(rules.grazingAngleDeg, 3) + " deg)") +
-              ": BSDF sampling with MIS (sweep 2)";
-    } else {
-      l.strategy = "mnee";
-      l.why = size + " <= " + Num(limit, 3) + " sr at " + Num(l.angleOffGazeDeg, 3) + " deg" +
-              (l.angleOffGazeDeg >= rules.grazingAngleDeg ? " (>= " : " (< ") + Num(rules.grazingAngleDeg, 3) +
-              " deg): MNEE (sweep 2)";
-    }
-    mneeLights += l.strategy == "mnee";
-    bsdfLights += l.strategy == "bsdf";
-    perLight += (perLight.empty() ? "" : "; ") + l.light + ": " + l.strategy + " (" + l.why + ")";
+    Decision<LightStrategy> d = DecideLightStrategy(l, *e, hidden, rules, ov);
+    l.strategy = d.value, l.why = std::move(d.why);
+    mneeLights += l.strategy == LightStrategy::Mnee;
+    bsdfLights += l.strategy == LightStrategy::Bsdf;
+    perLight += (perLight.empty() ? "" : "; ") + l.light + ": " + ToString(l.strategy) + " (" + l.why + ")";
   }
-  e->mnee = mneeLights > 0;
-  if (e->lights.empty()) why["mnee"] = ov.mnee ? "flag (no lights)" : "no lights";
-  else why["mnee"] = perLight;
+  std::string why = !e->lights.empty() ? perLight : ov.mnee ? "flag (no lights)" : "no lights";
   if (mneeLights > 0 && bsdfLights > 0)
-    why["mnee"] += "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
-                   "(each light by one of the two)";
+    why += "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
+           "(each light by one of the two)";
+  return {mneeLights > 0, why};
+}
 
-  // All solutions: only where second refraction paths carry measurable light.
-  if (ov.mneeAllSolutions) {
-    e->mneeAllSolutions = *ov.mneeAllSolutions;
-    why["mneeAllSolutions"] = std::string("flag: ") + (e->mneeAllSolutions ? "on" : "off");
-  } else if (!e->mnee) {
-    e->mneeAllSolutions = false;
-    why["mneeAllSolutions"] = "no MNEE";
-  } else {
-    const LightFacts* grazing = nullptr;
-    for (const LightFacts& l : e->lights)
-      if (l.strategy == "mnee" && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
-    e->mneeAllSolutions = grazing && e->pixels >= rules.allSolutionsMinPixels;
-    if (e->mneeAllSolutions)
-      why["mneeAllSolutions"] = grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) + " deg >= " +
-                                Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e->pixels, 4) +
-                                " px eye: caustic fold (sweep allsol-size: one path misses up to 47% in a pixel from 200 px)";
-    else if (grazing)
-      why["mneeAllSolutions"] = "grazing light but eye " + Num(e->pixels, 4) + " px < " +
-                                Num(rules.allSolutionsMinPixels, 4) +
-                                " px: one path per sample is cheaper for the same error (sweep allsol-size)";
-    else
-      why["mneeAllSolutions"] = "no MNEE light at >= " + Num(rules.allSolutionsMinAngleDeg, 3) +
-                                " deg: one path per sample (second paths carry < 0.2% of the iris light)";
-  }
+/// All-solutions MNEE: only where second refraction paths carry measurable light (sweeps 3 and allsol-size).
+Decision<bool> DecideAllSolutions(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  if (ov.mneeAllSolutions) return {*ov.mneeAllSolutions, std::string("flag: ") + (*ov.mneeAllSolutions ? "on" : "off")};
+  if (!e.mnee) return {false, "no MNEE"};
+  const LightFacts* grazing = nullptr;
+  for (const LightFacts& l : e.lights)
+    if (l.strategy == LightStrategy::Mnee && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
+  if (grazing && e.pixels >= rules.allSolutionsMinPixels)
+    return {true, grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) + " deg >= " +
+                      Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.pixels, 4) +
+                      " px eye: caustic fold (sweep allsol-size: one path misses up to 47% in a pixel from 200 px)"};
+  if (grazing)
+    return {false, "grazing light but eye " + Num(e.pixels, 4) + " px < " + Num(rules.allSolutionsMinPixels, 4) +
+                       " px: one path per sample is cheaper for the same error (sweep allsol-size)"};
+  return {false, "no MNEE light at >= " + Num(rules.allSolutionsMinAngleDeg, 3) +
+                     " deg: one path per sample (second paths carry < 0.2% of the iris light)"};
+}
 
-  // Chamber depth: the full walk. Sweep chamber: cutting it saves no measurable time, and below 8 events it
-  // loses light (PlanRules::chamberEvents).
+/// The chamber walk's bound: the full walk (sweep chamber). Throws std::invalid_argument for a flag below 1.
+Decision<int> DecideChamberEvents(const PlanRules& rules, const PlanOverrides& ov) {
   if (ov.chamberEvents) {
     if (*ov.chamberEvents < 1)
       throw std::invalid_argument("render plan: chamber events " + std::to_string(*ov.chamberEvents) + " < 1");
-    e->chamberEvents = *ov.chamberEvents;
-    why["chamberEvents"] = "flag: " + std::to_string(e->chamberEvents) + " events";
-  } else {
-    e->chamberEvents = rules.chamberEvents;
-    why["chamberEvents"] = "full walk (" + std::to_string(rules.chamberEvents) +
-                           " events): cutting it saves no measurable time and loses light below 8 events "
-                           "(sweep chamber: 2 events lose 1.55% side-lit, 2.3% front-lit; 8 lose 0.02-0.03%)";
+    return {*ov.chamberEvents, "flag: " + std::to_string(*ov.chamberEvents) + " events"};
   }
+  return {rules.chamberEvents, "full walk (" + std::to_string(rules.chamberEvents) +
+                                   " events): cutting it saves no measurable time and loses light below 8 events "
+                                   "(sweep chamber: 2 events lose 1.55% side-lit, 2.3% front-lit; 8 lose 0.02-0.03%)"};
+}
 
-  // Sclera scattering and the limbal arc. Only eye meshes have a sclera volume to walk.
-  if (e->geometry != "eyeMesh") {
-    e->sss = "none";
-    why["sss"] = "analytic eye: no sclera volume (the renderer walks eye meshes only)";
-  } else if (ov.scleraScattering) {
-    e->sss = *ov.scleraScattering ? "randomWalk" : "diffuse";
-    why["sss"] = "flag: " + e->sss;
-  } else if (!visibility.empty()) {
-    e->sss = "diffuse";
-    why["sss"] = visibility;
-  } else if (e->pixels >= rules.sssMinPixels) {
-    e->sss = "randomWalk";
-    why["sss"] = "eye " + Num(e->pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
-                 " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.6-6.7x the walk's "
-                 "at 2.5 px, 2.0-10.5x at 3 px, 1.4-3.3x from 4 to 32 px)" + (rules.sssProvisional ? " (provisional)" : "");
-  } else {
-    e->sss = "diffuse";
-    why["sss"] = "eye " + Num(e->pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
-                 " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera at 2 px: its MSE "
-                 "0.15-0.70x the walk's front-lit, 1.1-12x side-lit, on 4 eye pixels)" +
-                 (rules.sssProvisional ? " (provisional)" : "");
+/// The sclera: a random walk on eye meshes large enough on screen (sweep sclera); analytic eyes have no volume.
+Decision<ScleraModel> DecideSclera(const EyePlan& e, const std::string& hidden, const PlanRules& rules,
+                                   const PlanOverrides& ov) {
+  if (e.geometry != primTypes::kEyeMesh)
+    return {ScleraModel::None, "analytic eye: no sclera volume (the renderer walks eye meshes only)"};
+  if (ov.scleraScattering) {
+    const ScleraModel model = *ov.scleraScattering ? ScleraModel::RandomWalk : ScleraModel::Diffuse;
+    return {model, std::string("flag: ") + ToString(model)};
   }
-  const auto authored = ov.authored.find(e->prim);
+  if (!hidden.empty()) return {ScleraModel::Diffuse, hidden};
+  if (e.pixels >= rules.sssMinPixels)
+    return {ScleraModel::RandomWalk,
+            "eye " + Num(e.pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
+                " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.6-6.7x the walk's "
+                "at 2.5 px, 2.0-10.5x at 3 px, 1.4-3.3x from 4 to 32 px)"};
+  return {ScleraModel::Diffuse,
+          "eye " + Num(e.pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
+              " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera at 2 px: its MSE "
+              "0.15-0.70x the walk's front-lit, 1.1-12x side-lit, on 4 eye pixels)"};
+}
+
+/// The limbal arc, applied per eye in place of the eye's EyeParams::limbalArc: with the sclera walk (sweeps
+/// sclera and dome-arc), unless the artist authored eye:limbalArc or a flag says otherwise.
+Decision<bool> DecideLimbalArc(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  const auto authored = ov.authored.find(e.prim);
   if (authored != ov.authored.end() && authored->second.limbalArc) {
-    e->limbalArc = *authored->second.limbalArc;
-    why["limbalArc"] = std::string("authored: eye:limbalArc = ") + (e->limbalArc ? "true" : "false");
-  } else if (ov.limbalArc) {
-    e->limbalArc = *ov.limbalArc;
-    why["limbalArc"] = std::string("flag: ") + (e->limbalArc ? "on" : "off");
-  } else if (e->sss != "randomWalk") {
-    e->limbalArc = false;
-    why["limbalArc"] = "no sclera walk";
-  } else if (e->limbusPixels < rules.sssMinLimbusPixels) {
-    e->limbalArc = false;
-    why["limbalArc"] = "limbus band " + Num(e->limbusPixels, 3) + " px < " + Num(rules.sssMinLimbusPixels, 3) +
-                       " px" + (rules.limbalArcProvisional ? " (provisional rule)" : "");
-  } else if (rules.limbalArcMinLightAngleDeg <= 0) {
-    // Sweep sclera: without the cylinder the eye lost 5-83% of its light side-lit and 2-17% front-lit from 8 px
-    // up, at the same cost per sample: the arc goes with the walk.
-    e->limbalArc = true;
-    why["limbalArc"] = "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
-                       "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera); under a dome alone 1.1-1.4x, "
-                       "losing 5-6% of the eye's light (sweep dome-arc)" +
-                       std::string(rules.limbalArcProvisional ? " (provisional)" : "");
-  } else {
-    const LightFacts* side = nullptr;
-    for (const LightFacts& l : e->lights)
-      if (l.reachesIris && l.kind != "dome" && l.angleOffGazeDeg >= rules.limbalArcMinLightAngleDeg) side = &l;
-    e->limbalArc = side != nullptr;
-    why["limbalArc"] = (side ? side->light + " at " + Num(side->angleOffGazeDeg, 3) + " deg: a shadowed limbus side"
-                             : std::string("no side light: no shadowed limbus side")) +
-                       (rules.limbalArcProvisional ? " (provisional rule)" : "");
+    const bool on = *authored->second.limbalArc;
+    return {on, std::string("authored: eye:limbalArc = ") + (on ? "true" : "false")};
   }
-  // Applied per eye (EyeRenderOptions::limbalArc) in place of the eye's EyeParams::limbalArc; an authored
-  // eye:limbalArc wins above, so what the artist set still renders.
+  if (ov.limbalArc) return {*ov.limbalArc, std::string("flag: ") + (*ov.limbalArc ? "on" : "off")};
+  if (e.sss != ScleraModel::RandomWalk) return {false, "no sclera walk"};
+  if (e.limbusPixels < rules.sssMinLimbusPixels)
+    return {false, "limbus band " + Num(e.limbusPixels, 3) + " px < " + Num(rules.sssMinLimbusPixels, 3) + " px"};
+  if (rules.limbalArcMinLightAngleDeg <= 0)
+    return {true, "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
+                  "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera); under a dome alone 1.1-1.4x, "
+                  "losing 5-6% of the eye's light (sweep dome-arc)"};
+  const LightFacts* side = nullptr;
+  for (const LightFacts& l : e.lights)
+    if (l.reachesIris && l.kind != LightType::Dome && l.angleOffGazeDeg >= rules.limbalArcMinLightAngleDeg) side = &l;
+  if (!side) return {false, "no side light: no shadowed limbus side"};
+  return {true, side->light + " at " + Num(side->angleOffGazeDeg, 3) + " deg: a shadowed limbus side"};
+}
 
-  // Subdivision (eye meshes), applied: the mesh renders min(this, its populate level) and re-refines when it
-  // changes (EyeMesh::RefineLevelFor, ApplyRenderPlan). Sweep refine: below refinePixelsLevel1 level 0's image
-  // error equals level 3's within noise; one level per doubling keeps the outline within 2 px of level 3 up to
-  // 400 px. Level 3 never differed from level 2 (outline or image) from 200 to 1600 px: refineMaxLevel caps it.
-  if (e->geometry == "eyeMesh") {
-    int level = 0;
-    if (e->pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e->pixels / rules.refinePixelsLevel1)));
-    const bool capped = level > rules.refineMaxLevel;
-    level = std::min(level, rules.refineMaxLevel);
-    e->refineLevel = std::min(level, ov.refineLevelCeiling);
-    why["refineLevel"] = Num(e->pixels, 4) + " px -> level " + std::to_string(level) +
-                         (level > ov.refineLevelCeiling ? ", held at the --complexity ceiling " : " (ceiling ") +
-                         std::to_string(ov.refineLevelCeiling) + (level > ov.refineLevelCeiling ? "" : ")") +
-                         ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) + " px, at most level " +
-                         std::to_string(rules.refineMaxLevel) +
-                         " (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px" +
-                         (capped ? "; level 3 never changed the outline or image vs level 2 from 200 to 1600 px)"
-                                 : ")");
-  } else {
-    e->refineLevel = -1;
-    why["refineLevel"] = "analytic eye: no mesh";
-  }
-  // Precision: always double (the renderer's only eye arithmetic); the reason says whether float would do.
-  e->precision = "double";
+/// Eye meshes' Catmull-Clark level, applied: one level per doubling of the eye's size, capped (sweep refine).
+/// The mesh renders min(this, its populate level) and re-refines when it changes (EyeMesh::RefineLevelFor).
+Decision<int> DecideRefineLevel(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  if (e.geometry != primTypes::kEyeMesh) return {-1, "analytic eye: no mesh"};
+  int level = 0;
+  if (e.pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e.pixels / rules.refinePixelsLevel1)));
+  const bool capped = level > rules.refineMaxLevel;
+  level = std::min(level, rules.refineMaxLevel);
+  const bool held = level > ov.refineLevelCeiling;
+  return {std::min(level, ov.refineLevelCeiling),
+          Num(e.pixels, 4) + " px -> level " + std::to_string(level) +
+              (held ? ", held at the --complexity ceiling " : " (ceiling ") + std::to_string(ov.refineLevelCeiling) +
+              (held ? "" : ")") + ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) +
+              " px, at most level " + std::to_string(rules.refineMaxLevel) +
+              " (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px" +
+              (capped ? "; level 3 never changed the outline or image vs level 2 from 200 to 1600 px)" : ")")};
+}
+
+/// Whether float would be enough for the eye's intersections (reported only: the renderer traces eyes in double).
+Decision<bool> DecideFloatWouldSuffice(const EyePlan& e, const PlanRules& rules) {
+  const double floatErrorPixels = rules.floatHitErrorMm / e.pixelFootprintMm;
+  const bool enough = floatErrorPixels <= rules.floatMaxErrorPixels;
+  return {enough, "double (no float eye path); float's worst hit error " + Num(rules.floatHitErrorMm * 1000, 2) +
+                      " um (docs/intersection_benchmark.md) is " + Num(floatErrorPixels, 2) + " px at " +
+                      Num(e.pixelFootprintMm, 3) + " mm/px: float " +
+                      (enough ? "would be enough (<= " : "would not be enough (> ") +
+                      Num(rules.floatMaxErrorPixels, 2) + " px)"};
+}
+
+/// Stores a decision's value in *field and its reason under `name`.
+template <class T, class U> void Record(EyePlan* e, T* field, const char* name, Decision<U> decision) {
+  *field = decision.value;
+  e->why[name] = std::move(decision.why);
+}
+
+}  // namespace
+
+void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
+  const std::string hidden = HiddenReason(*e);
+  Record(e, &e->mnee, "mnee", DecideMnee(e, hidden, rules, ov));
+  Record(e, &e->mneeAllSolutions, "mneeAllSolutions", DecideAllSolutions(*e, rules, ov));
+  Record(e, &e->chamberEvents, "chamberEvents", DecideChamberEvents(rules, ov));
+  Record(e, &e->sss, "sss", DecideSclera(*e, hidden, rules, ov));
+  Record(e, &e->limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
+  Record(e, &e->refineLevel, "refineLevel", DecideRefineLevel(*e, rules, ov));
   e->pixelFootprintMm = e->pixels > 0 ? eyelib::paper::kRimRadius * 2 / e->pixels : std::numeric_limits<double>::infinity();
-  const double floatErrorPixels = rules.floatHitErrorMm / e->pixelFootprintMm;
-  e->floatWouldSuffice = floatErrorPixels <= rules.floatMaxErrorPixels;
-  why["precision"] = "double (no float eye path); float's worst hit error " + Num(rules.floatHitErrorMm * 1000, 2) +
-                     " um (docs/intersection_benchmark.md) is " + Num(floatErrorPixels, 2) + " px at " +
-                     Num(e->pixelFootprintMm, 3) + " mm/px: float " +
-                     (e->floatWouldSuffice ? "would be enough (<= " : "would not be enough (> ") +
-                     Num(rules.floatMaxErrorPixels, 2) + " px)";
+  Record(e, &e->floatWouldSuffice, "precision", DecideFloatWouldSuffice(*e, rules));
 }
 
 RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int width, int height,
@@ -392,37 +387,47 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
     plan.eyes.push_back(std::move(e));
   }
 
-  plan.application = "perEye";
+  DecideGlobals(&plan, overrides);
+  return plan;
+}
+
+namespace {
+
+/// Any planned eye's value of `field`.
+template <class F> bool AnyEye(const RenderPlan& plan, F field) { return std::any_of(plan.eyes.begin(), plan.eyes.end(), field); }
+
+}  // namespace
+
+void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides) {
   const std::string scope =
-      plan.eyes.size() <= 1 ? "" : " (default for eyes without a plan: on if any eye needs it; each planned eye "
+      plan->eyes.size() <= 1 ? "" : " (default for eyes without a plan: on if any eye needs it; each planned eye "
                                    "renders with its own)";
   if (overrides.mnee) {
-    plan.mnee = *overrides.mnee;
-    plan.why["mnee"] = "flag";
-  } else if (plan.eyes.empty()) {
-    plan.mnee = false;
-    plan.why["mnee"] = "no eyes";
+    plan->mnee = *overrides.mnee;
+    plan->why["mnee"] = "flag";
+  } else if (plan->eyes.empty()) {
+    plan->mnee = false;
+    plan->why["mnee"] = "no eyes";
   } else {
-    plan.mnee = std::any_of(plan.eyes.begin(), plan.eyes.end(), [](const EyePlan& e) { return e.mnee; });
-    plan.why["mnee"] = "from the eyes' plans" + scope;
+    plan->mnee = AnyEye(*plan, [](const EyePlan& e) { return e.mnee; });
+    plan->why["mnee"] = "from the eyes' plans" + scope;
   }
   if (overrides.mneeAllSolutions) {
-    plan.mneeAllSolutions = *overrides.mneeAllSolutions;
-    plan.why["mneeAllSolutions"] = "flag";
+    plan->mneeAllSolutions = *overrides.mneeAllSolutions;
+    plan->why["mneeAllSolutions"] = "flag";
   } else {
-    plan.mneeAllSolutions =
-        plan.mnee && std::any_of(plan.eyes.begin(), plan.eyes.end(), [](const EyePlan& e) { return e.mneeAllSolutions; });
-    plan.why["mneeAllSolutions"] = plan.eyes.empty() ? "no eyes" : "from the eyes' plans" + scope;
+    plan->mneeAllSolutions =
+        plan->mnee && AnyEye(*plan, [](const EyePlan& e) { return e.mneeAllSolutions; });
+    plan->why["mneeAllSolutions"] = plan->eyes.empty() ? "no eyes" : "from the eyes' plans" + scope;
   }
   if (overrides.scleraScattering) {
-    plan.scleraScattering = *overrides.scleraScattering;
-    plan.why["scleraScattering"] = "flag";
+    plan->scleraScattering = *overrides.scleraScattering;
+    plan->why["scleraScattering"] = "flag";
   } else {
-    plan.scleraScattering =
-        std::any_of(plan.eyes.begin(), plan.eyes.end(), [](const EyePlan& e) { return e.sss == "randomWalk"; });
-    plan.why["scleraScattering"] = plan.eyes.empty() ? "no eyes" : "from the eye meshes' plans" + scope;
+    plan->scleraScattering =
+        AnyEye(*plan, [](const EyePlan& e) { return e.sss == ScleraModel::RandomWalk; });
+    plan->why["scleraScattering"] = plan->eyes.empty() ? "no eyes" : "from the eye meshes' plans" + scope;
   }
-  return plan;
 }
 
 EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) const {
@@ -434,11 +439,11 @@ EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) c
     const auto l = std::find_if(lights.begin(), lights.end(), [&](const LightFacts& f) { return f.light == id; });
     // Unmeasured (added after planning): MNEE, as without a plan. "none" (below the rim plane): not MNEE's,
     // so a path leaving the iris still counts it if it finds it -- the partition stays complete.
-    o.mneeLights.push_back(l == lights.end() ? true : l->strategy == "mnee");
+    o.mneeLights.push_back(l == lights.end() ? true : l->strategy == LightStrategy::Mnee);
   }
   o.allSolutions = mneeAllSolutions;
   o.maxChamberEvents = chamberEvents;
-  o.scleraScattering = sss == "randomWalk";
+  o.scleraScattering = sss == ScleraModel::RandomWalk;
   o.limbalArc = limbalArc;
   o.refineLevel = refineLevel;  // -1 for analytic eyes: nothing to refine
   return o;
@@ -488,65 +493,16 @@ void ClearRenderPlan(RenderIndex* index) {
   for (const auto& [id, entry] : index->Rprims()) SetEyeOptions(index, id, entry.prim.get(), EyeRenderOptions{});
 }
 
-std::string RenderPlan::ToJson() const {
-  std::ostringstream o;
-  auto whyObject = [&](const std::map<std::string, std::string>& m) {
-    o << "{";
-    bool first = true;
-    for (const auto& [k, v] : m) o << (first ? "" : ", ") << JsonQuote(k) << ": " << JsonQuote(v), first = false;
-    o << "}";
-  };
-  auto boolean = [](bool b) { return b ? "true" : "false"; };
-  o << "{\"version\": 1, \"camera\": " << JsonQuote(camera) << ", \"width\": " << width << ", \"height\": " << height
-    << ", \"application\": " << JsonQuote(application) << ", \"applied\": {\"mnee\": " << boolean(mnee)
-    << ", \"mneeAllSolutions\": " << boolean(mneeAllSolutions)
-    << ", \"scleraScattering\": " << boolean(scleraScattering) << "}, \"why\": ";
-  whyObject(why);
-  o << ", \"eyes\": [";
-  for (std::size_t i = 0; i < eyes.size(); ++i) {
-    const EyePlan& e = eyes[i];
-    o << (i ? ", " : "") << "{\"prim\": " << JsonQuote(e.prim) << ", \"geometry\": " << JsonQuote(e.geometry)
-      << ", \"pixels\": " << Num(e.pixels, 6) << ", \"inView\": " << boolean(e.inView)
-      << ", \"behindCamera\": " << boolean(e.behindCamera) << ", \"viewAngleDeg\": " << Num(e.viewAngleDeg)
-      << ", \"limbusPixels\": " << Num(e.limbusPixels) << ", \"mnee\": " << boolean(e.mnee)
-      << ", \"mneeAllSolutions\": " << boolean(e.mneeAllSolutions) << ", \"chamberEvents\": " << e.chamberEvents
-      << ", \"sss\": " << JsonQuote(e.sss) << ", \"limbalArc\": " << boolean(e.limbalArc)
-      << ", \"refineLevel\": " << e.refineLevel << ", \"precision\": " << JsonQuote(e.precision)
-      << ", \"pixelFootprintMm\": " << Num(e.pixelFootprintMm) << ", \"floatWouldSuffice\": " << boolean(e.floatWouldSuffice);
-    // What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
-    std::string mneeLights;
-    for (const LightFacts& l : e.lights)
-      if (l.strategy == "mnee") mneeLights += (mneeLights.empty() ? "" : ", ") + JsonQuote(l.light);
-    o << ", \"applied\": {\"mnee\": " << boolean(e.mnee) << ", \"mneeLights\": [" << mneeLights
-      << "], \"allSolutions\": " << boolean(e.mneeAllSolutions) << ", \"maxChamberEvents\": " << e.chamberEvents
-      << ", \"scleraScattering\": " << boolean(e.sss == "randomWalk") << ", \"limbalArc\": " << boolean(e.limbalArc)
-      << ", \"refineLevel\": " << e.refineLevel << "}, \"lights\": [";
-    for (std::size_t k = 0; k < e.lights.size(); ++k) {
-      const LightFacts& l = e.lights[k];
-      o << (k ? ", " : "") << "{\"light\": " << JsonQuote(l.light) << ", \"kind\": " << JsonQuote(l.kind)
-        << ", \"solidAngleSr\": " << Num(l.solidAngleSr) << ", \"angleOffGazeDeg\": "
-        << (l.angleOffGazeDeg < 0 ? "null" : Num(l.angleOffGazeDeg)) << ", \"angularRadiusDeg\": "
-        << Num(l.angularRadiusDeg) << ", \"reachesIris\": " << boolean(l.reachesIris)
-        << ", \"strategy\": " << JsonQuote(l.strategy) << ", \"why\": " << JsonQuote(l.why) << "}";
-    }
-    o << "], \"why\": ";
-    whyObject(e.why);
-    o << "}";
-  }
-  o << "]}";
-  return o.str();
-}
-
 std::vector<std::string> RenderPlan::SummaryLines() const {
   std::vector<std::string> lines;
   for (const EyePlan& e : eyes) {
     std::string mneeLights;
     for (const LightFacts& l : e.lights)
-      if (l.strategy == "mnee") mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
+      if (l.strategy == LightStrategy::Mnee) mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
     std::string line = "plan " + e.prim + ": " + Num(e.pixels, 4) + " px" +
                        (e.behindCamera ? " (behind camera)" : e.inView ? "" : " (out of view)") +
                        ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) +
-                       ", all solutions " + (e.mneeAllSolutions ? "on" : "off") + ", sss " + e.sss +
+                       ", all solutions " + (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) +
                        ", limbal arc " + (e.limbalArc ? "on" : "off") + ", chamber " + std::to_string(e.chamberEvents);
     if (e.refineLevel >= 0) line += ", subdiv " + std::to_string(e.refineLevel);
     lines.push_back(line);
