@@ -1,4 +1,4 @@
-// Deformed, animated eyes on meshes (issue 7): what an animated frame costs against a full rebuild, and what
+// Deformed, animated eyes on meshes: what an animated frame costs against a full rebuild, and what
 // re-projecting a hit costs (docs/deformed_eyes.md). Prints markdown tables.
 //
 //   bench_deformed_eye [--frames N] [--hits N]

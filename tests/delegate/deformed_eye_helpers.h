@@ -1,5 +1,5 @@
 #pragma once
-// Deformed eyes on meshes (issue 7): the procedural eyeball, the deformations, and the read-back of the
+// Deformed eyes on meshes: the procedural eyeball, the deformations, and the read-back of the
 // iris caustic in iris texture space, shared by tests/delegate/test_deformed_eye.cpp and
 // bench/bench_deformed_eye.cpp.
 //

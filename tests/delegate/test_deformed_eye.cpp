@@ -1,4 +1,4 @@
-// Deformed, animated eyes on meshes (issue 7): the re-projection of hits through the iris projection from
+// Deformed, animated eyes on meshes: the re-projection of hits through the iris projection from
 // rest-pose positions (eyeMeshMapping.h), against the undeformed eye and against the affine-frame
 // baseline; the mapping's invariants; degenerate and inverted deformations; tiny and huge eyes; a
 // projection that does not cover the hits. Numbers in docs/deformed_eyes.md.

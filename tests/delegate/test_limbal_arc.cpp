@@ -1,4 +1,4 @@
-// The limbal arc in the renderer (issue 8; docs/limbal_arc.md): eye-mesh sclera as a random-walk volume
+// The limbal arc in the renderer (docs/limbal_arc.md): eye-mesh sclera as a random-walk volume
 // bounded by the mesh itself, the teleportation cylinder, the limbalArc AOV, energy audits.
 #include "hdeye/hd/renderIndex.h"
 #include "hdeye/pass/renderPass.h"

@@ -26,15 +26,14 @@ inline constexpr DirtyBits AllDirty = ~0u;
 
 class ChangeTracker {
  public:
-  void Track(const PrimId& id, DirtyBits initial) { bits_[id] = initial; ++version_; }
-  void Untrack(const PrimId& id) { bits_.erase(id); ++version_; }
+  void Track(const PrimId& id, DirtyBits initial) { bits_[id] = initial; }
+  void Untrack(const PrimId& id) { bits_.erase(id); }
 
   /// Marks bits dirty on a tracked prim; unknown ids are ignored (the prim may have been removed).
   void MarkDirty(const PrimId& id, DirtyBits bits) {
     auto it = bits_.find(id);
     if (it == bits_.end() || bits == dirty::Clean) return;
     it->second |= bits;
-    ++version_;
   }
   DirtyBits GetDirtyBits(const PrimId& id) const {
     auto it = bits_.find(id);
@@ -43,12 +42,9 @@ class ChangeTracker {
   void MarkClean(const PrimId& id, DirtyBits remaining = dirty::Clean) {
     if (auto it = bits_.find(id); it != bits_.end()) it->second = remaining;
   }
-  /// Bumped on every change: a render pass compares it to know the scene moved.
-  std::uint64_t Version() const { return version_; }
 
  private:
   std::unordered_map<PrimId, DirtyBits> bits_;
-  std::uint64_t version_ = 0;
 };
 
 }  // namespace hdeye

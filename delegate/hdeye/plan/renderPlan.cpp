@@ -19,7 +19,7 @@ namespace hdeye {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using eyelib::paper::kPi;
 constexpr double kDeg = 180 / kPi;
 constexpr int kCirclePoints = 64;  // samples of the iris circle: the chord error is under 0.2% of its diameter
 

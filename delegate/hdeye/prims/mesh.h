@@ -70,7 +70,6 @@ class Mesh : public Rprim {
   virtual int RefineLevelFor(int sceneLevel) { return sceneLevel; }
   /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
   const std::vector<Vec2f>& St() const { return st_; }
-  const std::vector<Vec3f>& DisplayColor() const { return displayColor_; }
   const std::vector<Vec3f>& AuthoredNormals() const { return cornerNormals_; }
   /// Rest positions per rendered point, object space (empty when not authored).
   const std::vector<Vec3f>& RestPoints() const { return rest_; }

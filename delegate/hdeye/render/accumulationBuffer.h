@@ -35,7 +35,6 @@ class AccumulationBuffer {
   float Resolved(int x, int y, int c) const;
   /// Every pixel's mean as one plane per component, row-major, top row first.
   std::vector<std::vector<float>> ResolvedPlanes() const;
-  double SampleCount(int x, int y) const { return counts_[std::size_t(y) * width_ + x]; }
 
  private:
   std::string name_;

@@ -3,7 +3,7 @@
 // shading. Each eye rprim (analyticEye, eyeMesh) owns one in its GeometryContext, which survives sync
 // (EyeGeometry is rebuilt at every sync, the context is not); ApplyRenderPlan writes it before each render.
 // An eye no plan was applied to (`planned` false) renders with RenderSettings' global switches and its
-// own EyeParams::limbalArc: the renderer's behaviour before the plan existed, and `--no-auto-plan`'s.
+// own EyeParams::limbalArc: what `--no-auto-plan` renders.
 #include <vector>
 
 namespace hdeye {
@@ -21,7 +21,7 @@ struct EyeRenderOptions {
   std::vector<bool> mneeLights;
   bool allSolutions = false;   ///< MNEE searches every refraction path (caustic folds)
   /// Events a camera path may take inside the anterior chamber before it is dropped (reported in
-  /// EyeEvent::walkCapReached). 64: the walk's bound before it was a switch.
+  /// EyeEvent::walkCapReached). 64: the full walk (sweep chamber, docs/render_plan.md).
   int maxChamberEvents = 64;
   bool scleraScattering = true;  ///< eye meshes: the sclera random walk (off: a Lambertian sclera)
   bool limbalArc = true;         ///< eye meshes: the walk's teleportation cylinder

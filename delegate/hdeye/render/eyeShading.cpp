@@ -2,6 +2,7 @@
 
 #include "hdeye/render/surfacePoint.h"
 
+#include <eyelib/eye_constants.h>
 #include <eyelib/mnee.h>
 #include <eyelib/optics.h>
 #include <eyelib/sampling.h>
@@ -14,7 +15,7 @@ namespace hdeye {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using eyelib::paper::kPi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// World offset for spawning a ray off the eye's surface along world normal n.

@@ -1,5 +1,5 @@
 #pragma once
-// What happens to a world ray that meets an eye, following DESIGN.md: the hit moves to the canonical
+// What happens to a world ray that meets an eye: the hit moves to the canonical
 // frame; the limbus blend decides cornea or sclera; the cornea reflects or refracts (Fresnel, chosen
 // stochastically); inside the chamber the path walks against the analytic model: the iris gets its
 // direct light from every light through MNEE and scatters diffusely, the cornea's inside reflects

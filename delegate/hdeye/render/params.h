@@ -67,7 +67,7 @@ struct EyeParams {
   bool limbalArc = true;
   /// Sclera scattering distance per RGB channel, mm (the artist's mean free path; > 0 and finite).
   glm::vec3 scleraMeanFreePath{1.0f, 0.8f, 0.6f};  ///< mm
-  /// Eye meshes (issue 7): the artist's iris projection frame (eye:irisProjection) to the prim's local
+  /// Eye meshes: the artist's iris projection frame (eye:irisProjection) to the prim's local
   /// space, so it moves with the eye. A rest point q in this frame projects along its z onto its xy
   /// plane: canonical (x, y) = 7.54 mm * (q.x, q.y), i.e. the frame's [-1, 1]^2 square is the iris
   /// texture's square (the 15.08 mm iris disk inscribed). Unused unless hasIrisProjection; the default

@@ -1,5 +1,6 @@
 #include "hdeye/render/previewSurface.h"
 
+#include <eyelib/eye_constants.h>
 #include <eyelib/optics.h>
 #include <eyelib/sampling.h>
 
@@ -10,7 +11,7 @@ namespace hdeye {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using eyelib::paper::kPi;
 
 double Luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 

@@ -28,7 +28,6 @@ namespace hdeye {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kTile = 16;
 // Dimensions per pixel sample: room for the deepest path (world bounces times chamber walks) with no reuse.

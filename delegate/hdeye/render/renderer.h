@@ -2,9 +2,9 @@
 // The path tracer proper (HdEmbreeRenderer's role). It sees the Embree scene, a camera view, a light
 // list and AOV buffers; never prim classes. Unidirectional path tracing with next event estimation
 // and multiple importance sampling (power heuristic), Russian roulette, UsdPreviewSurface materials
-// (previewSurface.h) with emission, and the eyes' optics (eyeShading.h). Random numbers are a pure function of (seed, pixel, sample index, dimension), and
-// each pixel's samples are added in sample order, so an image is bit-identical for any thread count,
-// and disjoint sample ranges merge exactly.
+// (previewSurface.h) with emission, and the eyes' optics (eyeShading.h). Random numbers are a pure
+// function of (seed, pixel, sample index, dimension), and each pixel's samples are added in sample
+// order, so an image is bit-identical for any thread count, and disjoint sample ranges merge exactly.
 #include "hdeye/render/accumulationBuffer.h"
 #include "hdeye/render/cameraView.h"
 #include "hdeye/render/renderLight.h"

@@ -1,6 +1,5 @@
 #pragma once
-// Sclera subsurface scattering for the eye shading code (DESIGN.md, "What happens when a ray meets an
-// eye", step 5): a thin adapter that runs eyelib's random walk in the eye's canonical frame, so the
+// Sclera subsurface scattering for the eye shading code (docs/limbal_arc.md): a thin adapter that runs eyelib's random walk in the eye's canonical frame, so the
 // limbal-arc teleportation cylinder follows the eye wherever it is and however it is turned, and hands
 // back a world-space exit. The renderer supplies the eyeball's boundary as a world-space closest-hit
 // callback; EyeMeshBoundary builds that callback from an eye mesh's own Embree scene.
