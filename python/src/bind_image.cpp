@@ -21,7 +21,8 @@ void BindImage(nb::module_& m) {
         const int h = int(planes[0].second.shape(0)), w = int(planes[0].second.shape(1));
         std::vector<ImagePlane> out;
         for (const auto& [name, a] : planes) {
-          if (int(a.shape(0)) != h || int(a.shape(1)) != w) throw std::invalid_argument("write_exr: plane " + name + " differs in size");
+          if (int(a.shape(0)) != h || int(a.shape(1)) != w)
+            throw std::invalid_argument("write_exr: plane " + name + " differs in size");
           out.push_back({name, std::vector<float>(a.data(), a.data() + a.size())});
         }
         nb::gil_scoped_release release;
@@ -51,7 +52,8 @@ void BindImage(nb::module_& m) {
           auto* data = new float[p.pixels.size()];
           std::memcpy(data, p.pixels.data(), p.pixels.size() * sizeof(float));
           nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<float*>(d); });
-          out[p.name.c_str()] = nb::ndarray<nb::numpy, float, nb::ndim<2>>(data, {std::size_t(h), std::size_t(w)}, owner);
+          out[p.name.c_str()] =
+              nb::ndarray<nb::numpy, float, nb::ndim<2>>(data, {std::size_t(h), std::size_t(w)}, owner);
         }
         return out;
       },

@@ -13,7 +13,10 @@ namespace {
 /// A glm vector exposed as a Python 3-tuple property.
 template <class C, glm::vec3 C::*Member> void Vec3Property(nb::class_<C>& cls, const char* name) {
   cls.def_prop_rw(
-      name, [](const C& c) { return std::array<float, 3>{(c.*Member).x, (c.*Member).y, (c.*Member).z}; },
+      name,
+      [](const C& c) {
+        return std::array<float, 3>{(c.*Member).x, (c.*Member).y, (c.*Member).z};
+      },
       [](C& c, std::array<float, 3> v) { c.*Member = glm::vec3(v[0], v[1], v[2]); });
 }
 
@@ -22,8 +25,10 @@ template <class T, T eyelib::ChamberParams::*Field>
 void ChamberProperty(nb::class_<EyeParams>& cls, const char* name, const char* doc = nullptr) {
   auto get = [](const EyeParams& e) { return e.chamber.*Field; };
   auto set = [](EyeParams& e, T v) { e.chamber.*Field = v; };
-  if (doc) cls.def_prop_rw(name, get, set, doc);
-  else cls.def_prop_rw(name, get, set);
+  if (doc)
+    cls.def_prop_rw(name, get, set, doc);
+  else
+    cls.def_prop_rw(name, get, set);
 }
 
 }  // namespace
@@ -32,7 +37,6 @@ void BindParams(nb::module_& m) {
   nb::enum_<eyelib::CorneaModel>(m, "CorneaModel")
       .value("ellipsoidCone", eyelib::CorneaModel::EllipsoidCone)
       .value("paraboloid", eyelib::CorneaModel::Paraboloid);
-
 
   nb::class_<CameraParams>(m, "CameraParams")
       .def(nb::init<>())
@@ -76,19 +80,18 @@ void BindParams(nb::module_& m) {
   eye.def(nb::init<>())
       .def_rw("iris_texture", &EyeParams::irisTexture)
       .def_prop_rw(
-          "model_transform",
-          [](const EyeParams& e) { return FromMatrix(e.modelTransform); },
+          "model_transform", [](const EyeParams& e) { return FromMatrix(e.modelTransform); },
           [](EyeParams& e, const Matrix& mtx) { e.modelTransform = ToMatrix(mtx); },
           "canonical frame (mm) to the prim's local space, 4x4 in USD's layout")
-      .def("validate", [](const EyeParams& e) { return eyelib::ValidateChamberParams(e.chamber); },
-           "An empty string if the chamber parameters are valid, else a one-line message.");
+      .def(
+          "validate", [](const EyeParams& e) { return eyelib::ValidateChamberParams(e.chamber); },
+          "An empty string if the chamber parameters are valid, else a one-line message.");
   Vec3Property<EyeParams, &EyeParams::irisColor>(eye, "iris_color");
   Vec3Property<EyeParams, &EyeParams::scleraColor>(eye, "sclera_color");
   eye.def_rw("limbal_arc", &EyeParams::limbalArc, "the limbal-arc teleportation cylinder in the sclera walk");
   Vec3Property<EyeParams, &EyeParams::scleraMeanFreePath>(eye, "sclera_mean_free_path");  // mm per RGB channel
   eye.def_prop_rw(
-         "iris_projection",
-         [](const EyeParams& e) { return FromMatrix(e.irisProjection); },
+         "iris_projection", [](const EyeParams& e) { return FromMatrix(e.irisProjection); },
          [](EyeParams& e, const Matrix& mtx) {
            e.irisProjection = ToMatrix(mtx);
            e.hasIrisProjection = true;
@@ -99,7 +102,6 @@ void BindParams(nb::module_& m) {
               "off: the projection is the model frame along the gaze (modelTransform x scale 7.54 mm)")
       .def_rw("reprojection", &EyeParams::reprojection,
               "eye meshes: re-project hits onto the analytic model (off: the affine-frame comparison baseline)");
-
 }
 
 }  // namespace hdeye::python

@@ -27,8 +27,8 @@ void BindPlan(nb::module_& m) {
       .def_rw("refine_level_ceiling", &PlanOverrides::refineLevelCeiling, "the --complexity level")
       .def(
           "set_authored_limbal_arc",
-          [](PlanOverrides& o, const PrimId& prim, bool value) { o.authored[prim].limbalArc = value; },
-          nb::arg("prim"), nb::arg("value"), "eye:limbalArc authored on the eye prim `prim`.");
+          [](PlanOverrides& o, const PrimId& prim, bool value) { o.authored[prim].limbalArc = value; }, nb::arg("prim"),
+          nb::arg("value"), "eye:limbalArc authored on the eye prim `prim`.");
 
   nb::class_<PlanRules>(m, "PlanRules", "The render plan's thresholds (docs/render_plan.md).")
       .def(nb::init<>())
@@ -105,8 +105,10 @@ void BindPlan(nb::module_& m) {
       .def(
           "apply",
           [](const RenderPlan& p, RenderSettings& s, RenderIndex* index) {
-            if (index) ApplyRenderPlan(p, index, &s);
-            else ApplyRenderPlan(p, &s);
+            if (index)
+              ApplyRenderPlan(p, index, &s);
+            else
+              ApplyRenderPlan(p, &s);
           },
           nb::arg("settings"), nb::arg("index").none() = nb::none(),
           "Applies the plan: with the render index, each eye rprim gets its own switches (MNEE per light, all "
@@ -117,9 +119,9 @@ void BindPlan(nb::module_& m) {
       .def_ro("mnee_all_solutions", &RenderPlan::mneeAllSolutions)
       .def_ro("sclera_scattering", &RenderPlan::scleraScattering);
 
-  m.def("clear_render_plan", [](RenderIndex& index) { ClearRenderPlan(&index); }, nb::arg("index"),
-        "Resets every eye of the index to unplanned: renders use the settings' global switches.");
-
+  m.def(
+      "clear_render_plan", [](RenderIndex& index) { ClearRenderPlan(&index); }, nb::arg("index"),
+      "Resets every eye of the index to unplanned: renders use the settings' global switches.");
 }
 
 }  // namespace hdeye::python

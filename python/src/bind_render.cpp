@@ -28,7 +28,6 @@ void BindRender(nb::module_& m) {
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
-
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)
       .def_ro("rays", &RenderStats::rays)
@@ -40,11 +39,11 @@ void BindRender(nb::module_& m) {
 
   nb::class_<RenderDelegate>(m, "RenderDelegate")
       .def(nb::init<>())
-      .def_prop_ro("settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
-                   nb::rv_policy::reference_internal)
+      .def_prop_ro(
+          "settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
+          nb::rv_policy::reference_internal)
       .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
       .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
-
 
   nb::class_<RenderPass>(m, "RenderPass")
       .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
@@ -58,10 +57,9 @@ void BindRender(nb::module_& m) {
           nb::arg("camera_id"), nb::arg("bindings"), nb::call_guard<nb::gil_scoped_release>(),
           "Syncs the index and renders settings.samples_per_pixel samples from settings.first_sample into the "
           "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
-      .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"),
-           nb::arg("overrides"), nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
+      .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"), nb::arg("overrides"),
+           nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
            "Syncs the index and returns the render plan for the camera and image size, without rendering.");
-
 }
 
 }  // namespace hdeye::python

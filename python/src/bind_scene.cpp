@@ -58,7 +58,8 @@ nb::ndarray<nb::numpy, float, nb::ndim<3>> Resolved(const RenderBuffer& buffer) 
 }
 
 /// A copy of `values` as a new numpy array of the given shape.
-template <class T> nb::ndarray<nb::numpy, T> CopyToNumpy(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
+template <class T>
+nb::ndarray<nb::numpy, T> CopyToNumpy(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
   auto* data = new T[values.size()];
   std::copy(values.begin(), values.end(), data);
   nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<T*>(d); });
@@ -77,16 +78,18 @@ void BindScene(nb::module_& m) {
   nb::class_<RenderIndex>(m, "RenderIndex")
       .def(nb::init<RenderDelegate*>(), nb::keep_alive<1, 2>())
       .def("sync_all", &RenderIndex::SyncAll)
-      .def("rprim_ids", [](const RenderIndex& index) {
-        std::vector<std::string> ids;
-        for (const auto& [id, entry] : index.Rprims()) ids.push_back(id);
-        return ids;
-      })
-      .def("sprim_ids", [](const RenderIndex& index) {
-        std::vector<std::string> ids;
-        for (const auto& [id, entry] : index.Sprims()) ids.push_back(id);
-        return ids;
-      })
+      .def("rprim_ids",
+           [](const RenderIndex& index) {
+             std::vector<std::string> ids;
+             for (const auto& [id, entry] : index.Rprims()) ids.push_back(id);
+             return ids;
+           })
+      .def("sprim_ids",
+           [](const RenderIndex& index) {
+             std::vector<std::string> ids;
+             for (const auto& [id, entry] : index.Sprims()) ids.push_back(id);
+             return ids;
+           })
       .def("dirty_bits", [](RenderIndex& index, const PrimId& id) { return index.GetChangeTracker().GetDirtyBits(id); })
       .def(
           "mesh_stats",
@@ -103,12 +106,12 @@ void BindScene(nb::module_& m) {
             return d;
           },
           "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
-      .def("resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
-           "A render buffer's per-pixel means, float32 (height, width, components).")
+      .def(
+          "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
+          "A render buffer's per-pixel means, float32 (height, width, components).")
       .def("clear_buffer", [](RenderIndex& index, const PrimId& id) { BufferOf(index, id).Clear(); })
-      .def("merge_buffer", [](RenderIndex& index, const PrimId& into, RenderIndex& other, const PrimId& from) {
-        BufferOf(index, into).Merge(BufferOf(other, from));
-      })
+      .def("merge_buffer", [](RenderIndex& index, const PrimId& into, RenderIndex& other,
+                              const PrimId& from) { BufferOf(index, into).Merge(BufferOf(other, from)); })
       .def(
           "buffer_state",
           [](RenderIndex& index, const PrimId& id) {
@@ -126,7 +129,6 @@ void BindScene(nb::module_& m) {
           },
           "Adds a state from buffer_state (of a render of other samples of the same frame): exact merging.");
 
-
   nb::class_<InMemorySceneDelegate>(m, "SceneStore",
                                     "The scene as the delegate pulls it (InMemorySceneDelegate); Set* mark dirty bits.")
       .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
@@ -138,7 +140,8 @@ void BindScene(nb::module_& m) {
                       material);
           },
           nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
-          nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0, nb::arg("left_handed") = false)
+          nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
+          nb::arg("left_handed") = false)
       .def(
           "add_eye_mesh",
           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
@@ -158,13 +161,15 @@ void BindScene(nb::module_& m) {
                            const Matrix& transform) { s.AddLight(id, type, p, ToMatrix(transform)); })
       .def("add_material", &InMemorySceneDelegate::AddMaterial)
       .def("add_render_buffer", &InMemorySceneDelegate::AddRenderBuffer)
-      .def("set_points", [](InMemorySceneDelegate& s, const PrimId& id, const Points& p) { s.SetPoints(id, ToPoints(p)); })
+      .def("set_points",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Points& p) { s.SetPoints(id, ToPoints(p)); })
       .def("set_topology",
            [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
               const Points& points, int refineLevel, bool leftHanded) {
              s.SetTopology(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points));
            })
-      .def("set_transform", [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
+      .def("set_transform",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
       .def("set_visible", &InMemorySceneDelegate::SetVisible)
       .def("set_primvar",
            [](InMemorySceneDelegate& s, const PrimId& id, const std::string& name, const std::string& interpolation,
@@ -181,7 +186,6 @@ void BindScene(nb::module_& m) {
       .def("set_eye_params", &InMemorySceneDelegate::SetEyeParams)
       .def("set_material_id", &InMemorySceneDelegate::SetMaterialId)
       .def("remove_prim", &InMemorySceneDelegate::RemovePrim);
-
 }
 
 }  // namespace hdeye::python

@@ -15,8 +15,7 @@ namespace hdeye::python {
 
 namespace nb = nanobind;
 
-template <class T, class... Shape>
-using InArray = nb::ndarray<const T, nb::c_contig, nb::device::cpu, Shape...>;
+template <class T, class... Shape> using InArray = nb::ndarray<const T, nb::c_contig, nb::device::cpu, Shape...>;
 using Points = InArray<float, nb::shape<-1, 3>>;
 using Indices = InArray<int, nb::ndim<1>>;
 /// 4x4 float64 in USD's layout (row vectors, row-major): glm's column-major layout of the same transform.

@@ -5,8 +5,11 @@
 namespace hdeye {
 
 EyeGeometry::EyeGeometry(const EyeParams& params, const Matrix4d& primTransform)
-    : chamber(params.chamber), irisColor(params.irisColor), scleraColor(params.scleraColor),
-      limbalArc(params.limbalArc), scleraMeanFreePath(params.scleraMeanFreePath) {
+    : chamber(params.chamber),
+      irisColor(params.irisColor),
+      scleraColor(params.scleraColor),
+      limbalArc(params.limbalArc),
+      scleraMeanFreePath(params.scleraMeanFreePath) {
   canonicalToWorld = primTransform * params.modelTransform;
   worldToCanonical = glm::inverse(canonicalToWorld);
   const glm::dmat3 linear(canonicalToWorld);

@@ -8,10 +8,10 @@ struct RenderSettings {
   int samplesPerPixel = 16;
   double timeLimitSeconds = 0;  ///< 0: no limit
   unsigned seed = 0;
-  int threads = 0;              ///< 0: all cores
-  int maxDepth = 8;             ///< path vertices after the camera
-  int firstSample = 0;          ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
-  bool mis = true;              ///< combine light and BSDF sampling (off: light sampling only, for tests)
+  int threads = 0;      ///< 0: all cores
+  int maxDepth = 8;     ///< path vertices after the camera
+  int firstSample = 0;  ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
+  bool mis = true;      ///< combine light and BSDF sampling (off: light sampling only, for tests)
   /// Eyes: the iris's direct light through MNEE (off: only by paths that refract out of the cornea and
   /// happen to hit a light: plain path tracing, for A/B comparisons).
   bool mnee = true;
