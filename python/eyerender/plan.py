@@ -8,8 +8,8 @@ setting (--no-mnee, --mnee, --mnee-all-solutions), the planner.
 import json
 import math
 
-from .eyes import is_eye
 from ._hdeye import LightStrategy, PlanOverrides, PlanRules, RenderPlan, ScleraModel, to_string
+from .eyes import is_eye
 
 PLAN_ATTRIBUTE = "eyerender:plan"  # the EXR header attribute holding the plan's JSON
 CONTRACT_KEYS = ("prim", "pixels", "mnee", "sss", "limbalArc", "why")  # every eye object has at least these
@@ -76,7 +76,8 @@ def _light_json(light):
 
 def _eye_json(eye):
     # What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
-    mnee_lights = "[" + ", ".join(json.dumps(l.light) for l in eye.lights if l.strategy == LightStrategy.MNEE) + "]"
+    mnee_lights = [json.dumps(light.light) for light in eye.lights if light.strategy == LightStrategy.MNEE]
+    mnee_lights = "[" + ", ".join(mnee_lights) + "]"
     walk = eye.sss == ScleraModel.RANDOM_WALK
     applied = _object((("mnee", _bool(eye.mnee)), ("mneeLights", mnee_lights),
                        ("allSolutions", _bool(eye.mnee_all_solutions)), ("maxChamberEvents", str(eye.chamber_events)),
@@ -92,7 +93,8 @@ def _eye_json(eye):
                     ("precision", '"double"'),  # the renderer's only eye arithmetic
                     ("pixelFootprintMm", _num(eye.pixel_footprint_mm)),
                     ("floatWouldSuffice", _bool(eye.float_would_suffice)), ("applied", applied),
-                    ("lights", "[" + ", ".join(_light_json(l) for l in eye.lights) + "]"), ("why", _reasons(eye.why))))
+                    ("lights", "[" + ", ".join(_light_json(light) for light in eye.lights) + "]"),
+                    ("why", _reasons(eye.why))))
 
 
 def plan_json(plan):

@@ -13,7 +13,8 @@ def test_the_installed_type_stub_declares_every_public_name_of_the_module():
     assert stub.with_name("py.typed").is_file(), "no PEP 561 marker beside the stub"
     tree = ast.parse(stub.read_text())
     declared = {node.name for node in tree.body if isinstance(node, (ast.ClassDef, ast.FunctionDef))}
-    declared |= {t.id for node in tree.body if isinstance(node, ast.Assign) for t in node.targets if isinstance(t, ast.Name)}
+    assigned = (t for node in tree.body if isinstance(node, ast.Assign) for t in node.targets)
+    declared |= {t.id for t in assigned if isinstance(t, ast.Name)}
     public = {name for name in dir(hdeye) if not name.startswith("_")}
     assert public - declared == set(), f"bound but missing from {stub.name}: {sorted(public - declared)}"
 
