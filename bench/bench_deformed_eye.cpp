@@ -1,4 +1,4 @@
-// Deformed, animated eyes on meshes (issue 7): what an animated frame costs against a full rebuild, and what
+// Deformed, animated eyes on meshes: what an animated frame costs against a full rebuild, and what
 // re-projecting a hit costs (docs/deformed_eyes.md). Prints markdown tables.
 //
 //   bench_deformed_eye [--frames N] [--hits N]
@@ -10,8 +10,8 @@
 // 2. Per-hit cost of the mapping (EyeMeshHitToCanonical) with re-projection and with the affine-frame
 //    baseline, on random hits of a deformed eye, single thread; and a whole render with each, for scale.
 #include "bench_util.h"
-#include "hdeye/eyeMesh.h"
-#include "hdeye/eyeMeshMapping.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/render/eyeMeshMapping.h"
 
 #include "../tests/delegate/deformed_eye_helpers.h"
 

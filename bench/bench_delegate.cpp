@@ -35,16 +35,16 @@
 //                 PREFIX_sync_reference.csv
 //   --threads N   the "all threads" count (default: std::thread::hardware_concurrency)
 #include "bench_util.h"
-#include "hdeye/camera.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/sampleScenes.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/camera.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
+#include "hdeye/scene/sampleScenes.h"
 
 #include <eyelib/sampling.h>
-#include "hdeye/subdivRefiner.h"
+#include "hdeye/prims/subdivRefiner.h"
 
 #include <embree3/rtcore.h>
 
@@ -212,7 +212,7 @@ struct Stage {
 const char* const kColor = "/Render/color";
 const PrimId& kCamera = sampleScenes::kCamera;
 
-/// The sample scenes (hdeye/sampleScenes.h) with a colour buffer.
+/// The sample scenes (hdeye/scene/sampleScenes.h) with a colour buffer.
 void BuildBallScene(InMemorySceneDelegate& scene, int width, int height) {
   sampleScenes::AddBallOnFloor(scene);
   scene.AddRenderBuffer(kColor, width, height, 4);

@@ -1,4 +1,4 @@
-"""bench_plan: the sweeps behind the render plan's thresholds (delegate/hdeye/renderPlan.h, docs/render_plan.md).
+"""bench_plan: the sweeps behind the render plan's thresholds (delegate/hdeye/plan/renderPlan.h, docs/render_plan.md).
 
 Each sweep renders small in-memory stages (millimetre units: an analytic eye -- an Xform with EyeAPI -- at the origin
 gazing +z, a grey backdrop card behind it, a camera on the gaze axis, and sphere / dome lights) through the installed

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what the build and tests need on Debian 12 (run as root). Idempotent and quiet when
-# everything is already there, so `make test` can call it every time.
+# everything is already there, so `make test` can call it every time. clang-format is for
+# scripts/check_format.sh.
 set -euo pipefail
 
-apt_packages=(cmake ninja-build g++ ccache pkg-config
+apt_packages=(cmake ninja-build g++ ccache pkg-config clang-format
               libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev libpng-dev catch2)
 
 missing=()

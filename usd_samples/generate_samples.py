@@ -8,7 +8,7 @@ written into the files, numbers rounded before they are written. Running it twic
 tests/python/test_samples.py checks that the committed files are what this script writes.
 
 Frames and units
-- Canonical eye frame (DESIGN.md): millimetres, corneal apex at the origin, gaze +z. The cornea formulas below
+- Canonical eye frame: millimetres, corneal apex at the origin, gaze +z. The cornea formulas below
   mirror eyelib/include/eyelib/anterior_surface.h and eye_constants.h exactly (same constants, same root).
 - Stages and the asset: centimetres (metersPerUnit 0.01), upAxis Y. The eyeball mesh has the eyeball centre at
   its local origin and gazes along local +z; eye:modelTransform (scale 0.1 plus the apex offset) maps the

@@ -7,13 +7,13 @@
 //                      [--threads N]
 //
 // Writes OUTPUT_PREFIX.exr and OUTPUT_PREFIX.png atomically; exits 1 with a one-line message on error.
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/sampleScenes.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
+#include "hdeye/scene/sampleScenes.h"
 
 #include <cstdio>
 #include <cstdlib>

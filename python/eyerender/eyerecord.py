@@ -108,7 +108,9 @@ def render_locally(args, spp):
         check_outputs(outputs)
     session = open_session(stage, session_options(args), frames[0])
     if args.plan:
-        print(session.plan().to_json())
+        from .plan import plan_json
+
+        print(plan_json(session.plan()))
         return 0
     report_plan_and_warnings(session, planned=not args.no_auto_plan)
     render_frames(session, frames, outputs, spp, args)

@@ -1,4 +1,4 @@
-"""The render plan from Python: what the planner (delegate/hdeye/renderPlan.h) decides for each eye, the overrides
+"""The render plan from Python: what the planner (delegate/hdeye/plan/renderPlan.h) decides for each eye, the overrides
 that win over it, and the JSON contract `eyerecord --plan` prints and EXRs carry in their `eyerender:plan` header
 attribute (docs/render_plan.md).
 
@@ -6,8 +6,9 @@ Precedence, highest first: an authored schema value on the eye prim (e.g. eye:li
 setting (--no-mnee, --mnee, --mnee-all-solutions), the planner.
 """
 import json
+import math
 
-from ._hdeye import PlanOverrides, PlanRules, RenderPlan
+from ._hdeye import LightStrategy, PlanOverrides, PlanRules, RenderPlan, ScleraModel, to_string
 from .eyes import is_eye
 
 PLAN_ATTRIBUTE = "eyerender:plan"  # the EXR header attribute holding the plan's JSON
@@ -45,9 +46,70 @@ def make_overrides(*, mnee=None, mnee_all_solutions=None, sclera_scattering=None
     return o
 
 
+def _num(value, digits=4):
+    """A number as the plan's JSON writes it: %g with `digits` significant digits; null when not finite."""
+    return "%.*g" % (digits, value) if math.isfinite(value) else "null"
+
+
+def _object(pairs):
+    """A JSON object from (key, already-encoded value) pairs, in order."""
+    return "{" + ", ".join(f"{json.dumps(k)}: {v}" for k, v in pairs) + "}"
+
+
+def _bool(value):
+    return "true" if value else "false"
+
+
+def _reasons(why):
+    """A decision -> reason map as a JSON object, keys sorted."""
+    return _object((k, json.dumps(why[k], ensure_ascii=False)) for k in sorted(why))
+
+
+def _light_json(light):
+    angle = "null" if light.angle_off_gaze_deg < 0 else _num(light.angle_off_gaze_deg)
+    return _object((("light", json.dumps(light.light)), ("kind", json.dumps(to_string(light.kind))),
+                    ("solidAngleSr", _num(light.solid_angle_sr)), ("angleOffGazeDeg", angle),
+                    ("angularRadiusDeg", _num(light.angular_radius_deg)), ("reachesIris", _bool(light.reaches_iris)),
+                    ("strategy", json.dumps(to_string(light.strategy))),
+                    ("why", json.dumps(light.why, ensure_ascii=False))))
+
+
+def _eye_json(eye):
+    # What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
+    mnee_lights = [json.dumps(light.light) for light in eye.lights if light.strategy == LightStrategy.MNEE]
+    mnee_lights = "[" + ", ".join(mnee_lights) + "]"
+    walk = eye.sss == ScleraModel.RANDOM_WALK
+    applied = _object((("mnee", _bool(eye.mnee)), ("mneeLights", mnee_lights),
+                       ("allSolutions", _bool(eye.mnee_all_solutions)), ("maxChamberEvents", str(eye.chamber_events)),
+                       ("scleraScattering", _bool(walk)), ("limbalArc", _bool(eye.limbal_arc)),
+                       ("refineLevel", str(eye.refine_level))))
+    return _object((("prim", json.dumps(eye.prim)), ("geometry", json.dumps(eye.geometry)),
+                    ("pixels", _num(eye.pixels, 6)), ("inView", _bool(eye.in_view)),
+                    ("behindCamera", _bool(eye.behind_camera)), ("viewAngleDeg", _num(eye.view_angle_deg)),
+                    ("limbusPixels", _num(eye.limbus_pixels)), ("mnee", _bool(eye.mnee)),
+                    ("mneeAllSolutions", _bool(eye.mnee_all_solutions)), ("chamberEvents", str(eye.chamber_events)),
+                    ("sss", json.dumps(to_string(eye.sss))), ("limbalArc", _bool(eye.limbal_arc)),
+                    ("refineLevel", str(eye.refine_level)),
+                    ("precision", '"double"'),  # the renderer's only eye arithmetic
+                    ("pixelFootprintMm", _num(eye.pixel_footprint_mm)),
+                    ("floatWouldSuffice", _bool(eye.float_would_suffice)), ("applied", applied),
+                    ("lights", "[" + ", ".join(_light_json(light) for light in eye.lights) + "]"),
+                    ("why", _reasons(eye.why))))
+
+
+def plan_json(plan):
+    """The plan as the JSON object `eyerecord --plan` prints and EXRs carry (docs/render_plan.md). "application"
+    is always "perEye": ApplyRenderPlan with the render index gives each eye its own decisions."""
+    applied = _object((("mnee", _bool(plan.mnee)), ("mneeAllSolutions", _bool(plan.mnee_all_solutions)),
+                       ("scleraScattering", _bool(plan.sclera_scattering))))
+    return _object((("version", "1"), ("camera", json.dumps(plan.camera)), ("width", str(plan.width)),
+                    ("height", str(plan.height)), ("application", '"perEye"'), ("applied", applied),
+                    ("why", _reasons(plan.why)), ("eyes", "[" + ", ".join(_eye_json(e) for e in plan.eyes) + "]")))
+
+
 def plan_dict(plan):
     """The plan (a RenderPlan or its JSON string) as a Python dict."""
-    return json.loads(plan if isinstance(plan, str) else plan.to_json())
+    return json.loads(plan if isinstance(plan, str) else plan_json(plan))
 
 
 def check_contract(plan):
@@ -69,4 +131,4 @@ def check_contract(plan):
 
 
 __all__ = ["PLAN_ATTRIBUTE", "CONTRACT_KEYS", "PlanOverrides", "PlanRules", "RenderPlan", "authored_eye_values",
-           "make_overrides", "plan_dict", "check_contract"]
+           "make_overrides", "plan_json", "plan_dict", "check_contract"]

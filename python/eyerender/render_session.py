@@ -151,7 +151,9 @@ class RenderSession:
     def write(self, path, exposure=0.0):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
         .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
-        attributes = {"eyerender:plan": self.last_plan.to_json()} if self.last_plan is not None else None
+        from .plan import plan_json
+
+        attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
         write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes)
 
 

@@ -1,5 +1,5 @@
 #pragma once
-// Deformed eyes on meshes (issue 7): the procedural eyeball, the deformations, and the read-back of the
+// Deformed eyes on meshes: the procedural eyeball, the deformations, and the read-back of the
 // iris caustic in iris texture space, shared by tests/delegate/test_deformed_eye.cpp and
 // bench/bench_deformed_eye.cpp.
 //
@@ -7,12 +7,12 @@
 // pixel is (sum E u, sum E v, sum E) over its samples: R / B and G / B are the light-weighted mean iris
 // texture position the pixel sees and B its iris radiance. Pixels are binned by that (u, v); a bin's
 // mean B is the caustic there, whatever the camera, the mesh or the mapping did to get there.
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <eyelib/anterior_surface.h>

@@ -1,11 +1,11 @@
 #pragma once
 // Small procedural scenes for the delegate tests, and the delegate stack they are rendered through.
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/types.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/hd/types.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 
 #include <eyelib/anterior_surface.h>
 

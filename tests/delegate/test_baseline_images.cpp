@@ -34,13 +34,13 @@
 // Regenerate the baselines (after an intended change of the images; review the diff first):
 //   HDEYE_UPDATE_BASELINES=1 build/tests/hdeye_tests "[baseline]"
 // A missing baseline fails with a message naming the file and that command.
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/sampleScenes.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
+#include "hdeye/scene/sampleScenes.h"
 
 #include <catch2/catch.hpp>
 
@@ -136,7 +136,7 @@ const SceneSpec kBall{"ball_on_floor", 64, 48, 256,
                       {{"R", {0.13, 0.003, 0.021}}, {"G", {0.10, 0.0025, 0.016}}, {"B", {0.09, 0.002, 0.013}},
                        {"A", {0.015, 0.0003, 0.0013}}}};
 
-/// The side-lit eye sample scene (hdeye/sampleScenes.h). AOVs: color, irisMnee, and primId for the
+/// The side-lit eye sample scene (hdeye/scene/sampleScenes.h). AOVs: color, irisMnee, and primId for the
 /// coverage mask.
 Image RenderEye(unsigned seed, float keyScale = 1) {
   RenderDelegate delegate;

@@ -1,10 +1,10 @@
-// Deformed, animated eyes on meshes (issue 7): the re-projection of hits through the iris projection from
+// Deformed, animated eyes on meshes: the re-projection of hits through the iris projection from
 // rest-pose positions (eyeMeshMapping.h), against the undeformed eye and against the affine-frame
 // baseline; the mapping's invariants; degenerate and inverted deformations; tiny and huge eyes; a
 // projection that does not cover the hits. Numbers in docs/deformed_eyes.md.
 #include "deformed_eye_helpers.h"
-#include "hdeye/eyeMesh.h"
-#include "hdeye/eyeMeshMapping.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/render/eyeMeshMapping.h"
 
 #include <catch2/catch.hpp>
 #include <glm/gtc/matrix_transform.hpp>

@@ -1,10 +1,10 @@
 // The delegate's Hydra-style flow: prim creation, dirty bits driving exactly the work they name, and
 // bad input reported by prim.
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

@@ -1,12 +1,12 @@
 // Eyes on meshes: a subdivided eyeball whose front follows the analytic cornea, rendered against the
 // analytic eye; its sclera; a rotated, centimetre-scaled copy; rays that start inside it.
-#include "hdeye/eyeMesh.h"
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Image output: EXR planes round-trip bit-exactly under their exact names, writes are atomic, bad input
 // is rejected with a reason, and the PNG preview is the documented clamp + sRGB curve.
-#include "hdeye/imageWriter.h"
+#include "hdeye/image/imageWriter.h"
 #include "test_support.h"
 
 #include <OpenEXR/ImfChannelList.h>

@@ -1,12 +1,12 @@
-// The limbal arc in the renderer (issue 8; docs/limbal_arc.md): eye-mesh sclera as a random-walk volume
+// The limbal arc in the renderer (docs/limbal_arc.md): eye-mesh sclera as a random-walk volume
 // bounded by the mesh itself, the teleportation cylinder, the limbalArc AOV, energy audits.
-#include "hdeye/eyeMesh.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/scleraScattering.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/eyeMesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/scleraScattering.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

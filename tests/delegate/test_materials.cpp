@@ -1,15 +1,15 @@
 // The UsdPreviewSurface subset: textures (decode, lookup), the BSDF (reciprocity, pdfs, sampling
 // weights, energy), the textured dome light (importance sampling and its pdf), and renders that
 // must return closed-form answers.
-#include "hdeye/imageWriter.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/previewSurface.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderLight.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/texture.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/image/imageWriter.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/previewSurface.h"
+#include "hdeye/render/renderLight.h"
+#include "hdeye/render/texture.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 #include "test_support.h"
 

@@ -1,14 +1,14 @@
 // Smooth shading normals through the delegate's public flow: limit normals for subdivided meshes,
 // Hd_SmoothNormals-style vertex normals for polygon meshes, interpolated at the hit by the renderer and
 // seen through the `normal` AOV; recomputed when points move.
-#include "hdeye/camera.h"
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/subdivRefiner.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/camera.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/prims/subdivRefiner.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

@@ -1,13 +1,13 @@
 // Mesh primvars through the delegate's public flow: "st", "displayColor", "normals" and "rest" under
 // every interpolation the mesh accepts, on polygon and subdivided meshes; bad primvars reported by prim
 // and primvar; DirtyPrimvar re-syncing primvars alone.
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/mesh.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
-#include "hdeye/subdivRefiner.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/prims/subdivRefiner.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

@@ -1,10 +1,10 @@
 // Radiometry of the path tracer against closed forms, and its determinism: the same image for any
 // thread count, and sample ranges that merge into the single render.
-#include "hdeye/inMemorySceneDelegate.h"
-#include "hdeye/renderBuffer.h"
-#include "hdeye/renderDelegate.h"
-#include "hdeye/renderIndex.h"
-#include "hdeye/renderPass.h"
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // Specification of hdeye::SubdivRefiner: Catmull-Clark counts and shape, exactness of the per-frame
 // stencil path, mixed polygons, limit normals, topology errors and affine invariance.
-#include "hdeye/subdivRefiner.h"
+#include "hdeye/prims/subdivRefiner.h"
 
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>

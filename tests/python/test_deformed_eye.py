@@ -1,4 +1,4 @@
-"""Deformed, animated eyes through USD (issue 7): eye:irisProjection resolved relative to the eye, eye:restTime and
+"""Deformed, animated eyes through USD: eye:irisProjection resolved relative to the eye, eye:restTime and
 primvars:Pref as rest poses, the squash-and-stretch sample refined once and re-evaluated per frame, and its iris
 caustic read back in iris texture space with re-projection on and off (docs/deformed_eyes.md)."""
 import pathlib

@@ -1,4 +1,4 @@
-"""The limbal arc through eyerender (issue 8): the EyeAPI's eye:limbalArc and eye:scleraMeanFreePath reach the
+"""The limbal arc through eyerender: the EyeAPI's eye:limbalArc and eye:scleraMeanFreePath reach the
 delegate, the limbalArc AOV holds the light of teleported sclera walks, and bad values are one-line errors naming the
 attribute and the prim. The stage is built in memory around the sample eye asset (usd_samples/assets/eye.usda),
 lit as usd_samples/side_lit.usda is: a small key light 75 degrees off the gaze on +x, the limbus on -x in the

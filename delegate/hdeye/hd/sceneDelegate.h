@@ -1,0 +1,42 @@
+#pragma once
+// The scene side (HdSceneDelegate's role): prims pull their data from it during Sync. The Python USD
+// scene delegate implements it through the bindings; InMemorySceneDelegate implements it for C++
+// programs and tests.
+#include "hdeye/hd/types.h"
+#include "hdeye/render/params.h"
+
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+/// How a primvar's values map onto a mesh (UsdGeom's interpolation names).
+enum class Interpolation { Constant, Uniform, Vertex, Varying, FaceVarying };
+
+/// A primvar's values, flattened: `components` floats per element (one element for Constant, one per
+/// face for Uniform, one per point for Vertex and Varying, one per face corner for FaceVarying, after
+/// any authored indices have been expanded). Empty values: not authored.
+struct Primvar {
+  Interpolation interpolation = Interpolation::Vertex;
+  int components = 0;
+  std::vector<float> values;
+  bool Empty() const { return values.empty() || components <= 0; }
+};
+
+class SceneDelegate {
+ public:
+  virtual ~SceneDelegate() = default;
+  virtual MeshTopology GetMeshTopology(const PrimId& id) = 0;
+  virtual std::vector<Vec3f> GetPoints(const PrimId& id) = 0;
+  virtual Matrix4d GetTransform(const PrimId& id) = 0;
+  virtual bool GetVisible(const PrimId& id) = 0;
+  /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); empty when not authored.
+  virtual Primvar GetPrimvar(const PrimId& /*id*/, const std::string& /*name*/) { return {}; }
+  virtual PrimId GetMaterialId(const PrimId& id) = 0;
+  virtual CameraParams GetCameraParams(const PrimId& id) = 0;
+  virtual LightParams GetLightParams(const PrimId& id) = 0;
+  virtual MaterialParams GetMaterialParams(const PrimId& id) = 0;
+  virtual EyeParams GetEyeParams(const PrimId& id) = 0;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,224 @@
+#include "hdeye/image/imageWriter.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <png.h>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace hdeye {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void Fail(const std::string& verb, const std::string& path, const std::string& reason) {
+  throw std::runtime_error("cannot " + verb + " " + path + ": " + reason);
+}
+
+/// Checks the image size and that `values` holds `components` floats per pixel, all finite. Returns
+/// an empty string if the data is good, else the reason, naming `what` and the first bad pixel.
+std::string CheckPixels(const std::string& what, int width, int height, int components,
+                        const std::vector<float>& values) {
+  const size_t expected = size_t(width) * size_t(height) * size_t(components);
+  if (values.size() != expected) {
+    std::ostringstream s;
+    s << what << " has " << values.size() << " values, expected " << expected << " (" << width << "x"
+      << height << (components > 1 ? "x" + std::to_string(components) : "") << ")";
+    return s.str();
+  }
+  const auto bad = std::find_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); });
+  if (bad == values.end()) return {};
+  const size_t pixel = size_t(bad - values.begin()) / size_t(components);
+  std::ostringstream s;
+  s << what << " has a non-finite value (" << *bad << ") at pixel x=" << pixel % size_t(width)
+    << " y=" << pixel / size_t(width);
+  return s.str();
+}
+
+/// Writes the file at `path` atomically: `write(tmp)` writes a complete file at the temporary path
+/// `tmp` (a hidden name in the same directory, so the rename cannot cross file systems) and throws on
+/// failure; the file is then fsync'ed and renamed over `path`. On any failure the temporary file is
+/// removed and a runtime_error naming `path` is thrown.
+void WriteAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) Fail("write", path, "directory does not exist");
+  if (!fs::is_directory(dir, ec)) Fail("write", path, dir.string() + " is not a directory");
+  if (fs::is_directory(target, ec)) Fail("write", path, "it is a directory");
+  if (!target.has_filename()) Fail("write", path, "no file name");
+
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp = (dir / ("." + target.filename().string() + ".tmp." +
+                                  std::to_string(getpid()) + "." + std::to_string(counter++)))
+                              .string();
+  try {
+    write(tmp);
+    // Flush the data to disk before the rename, so that after a crash `path` holds either the old
+    // file or the complete new one, never an empty one. fsync applies to the file, whichever fd.
+    const int fd = open(tmp.c_str(), O_RDONLY);
+    if (fd < 0 || fsync(fd) != 0) {
+      const int err = errno;
+      if (fd >= 0) close(fd);
+      throw std::runtime_error(std::string("fsync failed (") + std::strerror(err) + ")");
+    }
+    close(fd);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw std::runtime_error(std::string("rename failed (") + std::strerror(errno) + ")");
+  } catch (const std::exception& e) {
+    fs::remove(tmp, ec);
+    Fail("write", path, e.what());
+  }
+}
+
+}  // namespace
+
+void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
+              const std::vector<std::pair<std::string, std::string>>& attributes) {
+  if (width <= 0 || height <= 0)
+    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
+                            " is not positive");
+  if (planes.empty()) Fail("write", path, "no image planes given");
+  std::set<std::string> names;
+  for (const ImagePlane& plane : planes) {
+    if (plane.name.empty()) Fail("write", path, "a plane has an empty name");
+    if (!names.insert(plane.name).second)
+      Fail("write", path, "duplicate plane name \"" + plane.name + "\"");
+    const std::string bad = CheckPixels("plane \"" + plane.name + "\"", width, height, 1, plane.pixels);
+    if (!bad.empty()) Fail("write", path, bad);
+  }
+  {
+    // The attributes every header has; an extra attribute of the same name would replace them.
+    const Imf::Header required(1, 1);
+    std::set<std::string> attributeNames;
+    for (const auto& [name, value] : attributes) {
+      if (name.empty()) Fail("write", path, "a header attribute has an empty name");
+      if (!attributeNames.insert(name).second) Fail("write", path, "duplicate header attribute \"" + name + "\"");
+      if (required.find(name) != required.end())
+        Fail("write", path, "header attribute \"" + name + "\" is one of OpenEXR's required attributes");
+    }
+  }
+
+  WriteAtomically(path, [&](const std::string& tmp) {
+    Imf::Header header(width, height);  // data window = display window = (0,0)-(w-1,h-1)
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const auto& [name, value] : attributes) header.insert(name, Imf::StringAttribute(value));
+    Imf::FrameBuffer frameBuffer;
+    for (const ImagePlane& plane : planes) {
+      header.channels().insert(plane.name, Imf::Channel(Imf::FLOAT));
+      // OpenEXR's Slice takes a non-const pointer for reading and writing alike; it only reads here.
+      char* base = reinterpret_cast<char*>(const_cast<float*>(plane.pixels.data()));
+      frameBuffer.insert(plane.name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * width));
+    }
+    // Our own ofstream, not OutputFile(fileName): ~OutputFile writes the line offset table and
+    // swallows any error there, so the stream state is the only way to learn that the write failed.
+    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
+    if (!file)
+      throw std::runtime_error("cannot create temporary file " + tmp + " (" + std::strerror(errno) + ")");
+    {
+      Imf::StdOFStream stream(file, tmp.c_str());
+      Imf::OutputFile out(stream, header);
+      out.setFrameBuffer(frameBuffer);
+      out.writePixels(height);
+    }
+    file.close();
+    if (file.fail()) throw std::runtime_error("error writing temporary file " + tmp);
+  });
+}
+
+std::vector<ImagePlane> ReadExr(const std::string& path, int* width, int* height) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) Fail("read", path, "file does not exist");
+  try {
+    Imf::InputFile in(path.c_str());
+    const Imath::Box2i dataWindow = in.header().dataWindow();
+    const int w = dataWindow.max.x - dataWindow.min.x + 1;
+    const int h = dataWindow.max.y - dataWindow.min.y + 1;
+    std::vector<ImagePlane> planes;
+    for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it) {
+      if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+        throw std::runtime_error(std::string("channel \"") + it.name() + "\" is subsampled");
+      planes.push_back({it.name(), std::vector<float>(size_t(w) * size_t(h))});
+    }
+    Imf::FrameBuffer frameBuffer;
+    for (ImagePlane& plane : planes)
+      frameBuffer.insert(plane.name, Imf::Slice::Make(Imf::FLOAT, plane.pixels.data(), dataWindow));
+    in.setFrameBuffer(frameBuffer);
+    in.readPixels(dataWindow.min.y, dataWindow.max.y);
+    if (width) *width = w;
+    if (height) *height = h;
+    return planes;
+  } catch (const std::exception& e) {  // OpenEXR's Iex exceptions derive from std::exception
+    Fail("read", path, e.what());
+  }
+}
+
+std::map<std::string, std::string> ReadExrStringAttributes(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) Fail("read", path, "file does not exist");
+  try {
+    Imf::InputFile in(path.c_str());
+    std::map<std::string, std::string> out;
+    for (auto it = in.header().begin(); it != in.header().end(); ++it)
+      if (const auto* a = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) out[it.name()] = a->value();
+    return out;
+  } catch (const std::exception& e) {
+    Fail("read", path, e.what());
+  }
+}
+
+void WritePngPreview(const std::string& path, int width, int height, const std::vector<float>& rgb,
+                     float exposure) {
+  if (width <= 0 || height <= 0)
+    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
+                            " is not positive");
+  if (!std::isfinite(exposure)) Fail("write", path, "exposure is not finite");
+  const std::string bad = CheckPixels("rgb", width, height, 3, rgb);
+  if (!bad.empty()) Fail("write", path, bad);
+
+  const float scale = std::exp2(exposure);
+  std::vector<unsigned char> bytes(rgb.size());
+  for (size_t i = 0; i < rgb.size(); ++i)
+    bytes[i] = static_cast<unsigned char>(std::lround(255.0f * LinearToSrgb(rgb[i] * scale)));
+
+  WriteAtomically(path, [&](const std::string& tmp) {
+    png_image image;
+    std::memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    image.width = png_uint_32(width);
+    image.height = png_uint_32(height);
+    image.format = PNG_FORMAT_RGB;
+    // Checks fflush/ferror/fclose itself and removes the file on failure.
+    const int ok = png_image_write_to_file(&image, tmp.c_str(), 0, bytes.data(), 3 * width, nullptr);
+    const std::string message = image.message;
+    png_image_free(&image);
+    if (!ok)
+      throw std::runtime_error("libpng cannot write temporary file " + tmp + " (" + message + ")");
+  });
+}
+
+float LinearToSrgb(float x) {
+  const double v = std::clamp(double(x), 0.0, 1.0);
+  return float(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+}
+
+}  // namespace hdeye

@@ -1,0 +1,75 @@
+#include "hdeye/pass/renderPass.h"
+
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/prims/camera.h"
+#include "hdeye/prims/light.h"
+#include "hdeye/prims/material.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/renderContext.h"
+
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+
+AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& bindings) {
+  AovBuffers aovs;
+  for (const AovBinding& b : bindings) {
+    auto* buffer = dynamic_cast<RenderBuffer*>(index.GetBprim(b.renderBufferId));
+    if (!buffer) throw std::runtime_error("render pass: render buffer " + b.renderBufferId + " not found");
+    AccumulationBuffer** slot = b.aovName == "color"    ? &aovs.color
+                          : b.aovName == "albedo" ? &aovs.albedo
+                          : b.aovName == "normal" ? &aovs.normal
+                          : b.aovName == "depth"  ? &aovs.depth
+                          : b.aovName == "primId" ? &aovs.primId
+                          : b.aovName == "irisMnee" ? &aovs.irisMnee
+                          : b.aovName == "limbalArc" ? &aovs.limbalArc
+                                                  : nullptr;
+    if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
+    *slot = buffer;
+  }
+  return aovs;
+}
+
+}  // namespace
+
+RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
+  index_->SyncAll();
+  // The index was made with this delegate (HdEmbreeRenderPass reaches its render param the same way).
+  auto* delegate = static_cast<RenderDelegate*>(index_->GetRenderDelegate());
+  if (delegate->GetRenderParam()->SceneVersion() != committedVersion_) {
+    rtcCommitScene(delegate->RootScene());
+    committedVersion_ = delegate->GetRenderParam()->SceneVersion();
+  }
+
+  const auto* camera = dynamic_cast<const Camera*>(index_->GetSprim(cameraId));
+  if (!camera) throw std::runtime_error("render pass: camera " + cameraId + " not found");
+
+  std::vector<RenderLight> lights;
+  for (const auto& [id, entry] : index_->Sprims())
+    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+
+  // Resolve each rprim's material and primId for the renderer.
+  int primIndex = 0;
+  for (const auto& [id, entry] : index_->Rprims()) {
+    GeometryContext* context = entry.prim->Context();
+    if (!context) continue;
+    context->primIndex = primIndex++;
+    const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
+    context->material = material ? material->Params() : MaterialParams{};
+    context->diffuseTexture = material ? material->DiffuseTexture() : nullptr;
+  }
+  return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
+                          BindBuffers(*index_, bindings));
+}
+
+RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
+                            const PlanRules& rules) {
+  index_->SyncAll();
+  return MakeRenderPlan(*index_, cameraId, width, height, overrides, rules);
+}
+
+}  // namespace hdeye

@@ -1,0 +1,42 @@
+#pragma once
+// The render pass (HdRenderPass's role): a thin controller. Execute syncs the render index, commits
+// the Embree scene if any prim edited it, hands the renderer the camera view, the light list and
+// the bound AOV buffers, and returns what the renderer did.
+#include "hdeye/plan/renderPlan.h"
+#include "hdeye/render/renderer.h"
+
+#include <string>
+#include <vector>
+
+namespace hdeye {
+
+class RenderIndex;
+
+/// One AOV bound to a render buffer (HdRenderPassAovBinding's role). aovName: color, albedo,
+/// normal, depth, primId, irisMnee or limbalArc.
+struct AovBinding {
+  std::string aovName;
+  PrimId renderBufferId;
+};
+
+class RenderPass {
+ public:
+  explicit RenderPass(RenderIndex* renderIndex) : index_(renderIndex) {}
+
+  /// Throws std::runtime_error with a one-line message for a missing camera or buffer, an unknown
+  /// AOV name, or a prim whose data is bad.
+  RenderStats Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings);
+
+  /// The render plan (renderPlan.h) for the camera and a width x height image, without rendering:
+  /// syncs the index as Execute does, then measures and decides. Nothing is applied: the caller
+  /// passes the plan to ApplyRenderPlan (or only prints it). Throws std::runtime_error like Execute.
+  RenderPlan Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
+                  const PlanRules& rules = {});
+
+ private:
+  RenderIndex* index_;
+  Renderer renderer_;
+  std::uint64_t committedVersion_ = ~0ull;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,514 @@
+#include "hdeye/plan/renderPlan.h"
+
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/prims/camera.h"
+#include "hdeye/prims/light.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/renderContext.h"
+
+#include <eyelib/eye_constants.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <limits>
+
+namespace hdeye {
+
+namespace {
+
+using eyelib::paper::kPi;
+constexpr double kDeg = 180 / kPi;
+constexpr int kCirclePoints = 64;  // samples of the iris circle: the chord error is under 0.2% of its diameter
+
+std::string Num(double v, int digits = 4) {
+  if (!std::isfinite(v)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+/// The iris centre (canonical (0, 0, irisZ)) in world space: where the lights are measured from.
+glm::dvec3 IrisCentre(const EyeGeometry& eye) { return eye.ToWorld({0, 0, eye.chamber.IrisZ()}); }
+
+/// Solid angle (sr) of a cone of half-angle alpha (radians).
+double ConeSolidAngle(double cosAlpha) { return 2 * kPi * (1 - cosAlpha); }
+
+/// A flat emitter of `area` (world units^2) facing `normal`, seen from `p`: its solid angle as the
+/// small-light approximation area cos / d^2, capped at a hemisphere (sr).
+double FlatSolidAngle(double area, const glm::dvec3& centre, const glm::dvec3& normal, const glm::dvec3& p,
+                      bool* facing) {
+  const glm::dvec3 to = p - centre;
+  const double d = glm::length(to);
+  const double cosAtLight = d > 0 ? glm::dot(to / d, normal) : 1;
+  *facing = cosAtLight > 0;
+  if (!(d > 0)) return 2 * kPi;
+  return std::min(2 * kPi, area * std::max(0.0, cosAtLight) / (d * d));
+}
+
+}  // namespace
+
+const char* ToString(LightType type) {
+  switch (type) {
+    case LightType::Sphere: return "sphere";
+    case LightType::Distant: return "distant";
+    case LightType::Rect: return "rect";
+    case LightType::Disk: return "disk";
+    case LightType::Dome: return "dome";
+  }
+  return "?";
+}
+
+const char* ToString(LightStrategy strategy) {
+  switch (strategy) {
+    case LightStrategy::Mnee: return "mnee";
+    case LightStrategy::Bsdf: return "bsdf";
+    case LightStrategy::None: return "none";
+  }
+  return "?";
+}
+
+const char* ToString(ScleraModel model) {
+  switch (model) {
+    case ScleraModel::RandomWalk: return "randomWalk";
+    case ScleraModel::Diffuse: return "diffuse";
+    case ScleraModel::None: return "none";
+  }
+  return "?";
+}
+
+EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
+                   const CameraView& camera, int width, int height) {
+  EyePlan plan;
+  plan.prim = prim;
+  plan.geometry = geometry;
+  const glm::dmat4 worldToCamera = glm::inverse(camera.transform);
+  const CameraParams& cp = camera.params;
+  const double halfW = cp.horizontalAperture / 2, halfH = halfW * height / width;  // film (mm or units)
+
+  // The 15.08 mm circle at the iris plane, projected to pixels (x right, y down), as the camera's
+  // GenerateRay maps them.
+  std::vector<glm::dvec2> front;
+  int behind = 0;
+  const double R = eyelib::paper::kRimRadius;
+  for (int k = 0; k < kCirclePoints; ++k) {
+    const double a = 2 * kPi * k / kCirclePoints;
+    const glm::dvec3 c(worldToCamera * glm::dvec4(eye.ToWorld({R * std::cos(a), R * std::sin(a), eye.chamber.IrisZ()}), 1));
+    if (!(c.z < 0)) {  // on or behind the camera plane (the camera looks down its -z)
+      ++behind;
+      continue;
+    }
+    const double fx = cp.orthographic ? c.x : cp.focalLength * c.x / -c.z;
+    const double fy = cp.orthographic ? c.y : cp.focalLength * c.y / -c.z;
+    front.push_back({(fx / halfW + 1) / 2 * width, (1 - fy / halfH) / 2 * height});
+  }
+  plan.behindCamera = behind == kCirclePoints;
+  if (behind > 0 && !front.empty()) {
+    // The circle crosses the camera plane: it surrounds the camera and fills the view.
+    plan.pixels = std::hypot(double(width), double(height));
+    plan.inView = true;
+  } else if (!front.empty()) {
+    double longest = 0;
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (std::size_t i = 0; i < front.size(); ++i) {
+      lo = glm::min(lo, front[i]), hi = glm::max(hi, front[i]);
+      for (std::size_t j = i + 1; j < front.size(); ++j) longest = std::max(longest, glm::length(front[i] - front[j]));
+    }
+    plan.pixels = longest;
+    plan.inView = hi.x >= 0 && lo.x <= width && hi.y >= 0 && lo.y <= height;
+  }
+  plan.limbusPixels = plan.pixels * (eye.chamber.LimbusOuterRadius() - eye.chamber.LimbusInnerRadius()) /
+                      (2 * eyelib::paper::kRimRadius);
+
+  const glm::dvec3 centre = IrisCentre(eye), gaze = eye.DirToWorld({0, 0, 1});
+  const glm::dvec3 camPos(camera.transform * glm::dvec4(0, 0, 0, 1));
+  const glm::dvec3 toCamera = cp.orthographic ? glm::normalize(glm::dvec3(camera.transform * glm::dvec4(0, 0, 1, 0)))
+                                              : glm::normalize(camPos - centre);
+  plan.viewAngleDeg = std::acos(std::clamp(glm::dot(gaze, toCamera), -1.0, 1.0)) * kDeg;
+  return plan;
+}
+
+LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye) {
+  LightFacts f;
+  f.light = lightId;
+  f.kind = light.type;
+  const glm::dvec3 p = IrisCentre(eye), gaze = eye.DirToWorld({0, 0, 1});
+  glm::dvec3 dir(0);  // towards the light's centre
+  bool facing = true;
+  switch (light.type) {
+    case LightType::Dome:
+      f.solidAngleSr = 4 * kPi;
+      f.angleOffGazeDeg = -1;
+      f.angularRadiusDeg = 180;
+      f.reachesIris = true;
+      return f;
+    case LightType::Distant:
+      dir = glm::normalize(light.direction);
+      f.angularRadiusDeg = std::acos(std::clamp(light.cosHalfAngle, -1.0, 1.0)) * kDeg;
+      f.solidAngleSr = ConeSolidAngle(light.cosHalfAngle);
+      break;
+    case LightType::Sphere: {
+      const glm::dvec3 to = light.position - p;
+      const double d = glm::length(to);
+      if (!(d > light.radius)) {  // the eye is inside the light
+        f.solidAngleSr = 4 * kPi, f.angleOffGazeDeg = -1, f.angularRadiusDeg = 180;
+        return f;
+      }
+      dir = to / d;
+      const double sinA = light.radius / d;
+      f.angularRadiusDeg = std::asin(sinA) * kDeg;
+      f.solidAngleSr = ConeSolidAngle(std::sqrt(1 - sinA * sinA));
+      break;
+    }
+    case LightType::Rect:
+    case LightType::Disk: {
+      const double area = light.type == LightType::Rect ? 4 * glm::length(glm::cross(light.axisU, light.axisV))
+                                                        : kPi * light.radius * light.radius;
+      f.solidAngleSr = FlatSolidAngle(area, light.position, light.direction, p, &facing);
+      const glm::dvec3 to = light.position - p;
+      dir = glm::length(to) > 0 ? glm::normalize(to) : gaze;
+      // The cone of the same solid angle: a light's reach above the rim plane, approximately.
+      f.angularRadiusDeg = std::acos(std::clamp(1 - f.solidAngleSr / (2 * kPi), -1.0, 1.0)) * kDeg;
+      break;
+    }
+  }
+  f.angleOffGazeDeg = std::acos(std::clamp(glm::dot(dir, gaze), -1.0, 1.0)) * kDeg;
+  // Light reaches the iris through the cornea only from above the rim plane: below it the sclera is in
+  // the way (MNEE reports Occluded; docs/mnee.md). The planes of the rim and the iris differ by a micron.
+  f.reachesIris = facing && f.angleOffGazeDeg - f.angularRadiusDeg < 90;
+  return f;
+}
+
+namespace {
+
+/// A decision and its one-line reason.
+template <class T> struct Decision {
+  T value;
+  std::string why;
+};
+
+/// Why the camera cannot see the eye's iris, or empty when it can.
+std::string HiddenReason(const EyePlan& e) {
+  if (e.behindCamera) return "behind the camera";
+  if (!e.inView) return "out of view";
+  if (!(e.viewAngleDeg < 90)) return "iris faces away from the camera (" + Num(e.viewAngleDeg, 3) + " deg)";
+  return "";
+}
+
+/// How the iris gets light l's direct light: MNEE for small lights (the bound by angle off the gaze: sweep 2).
+Decision<LightStrategy> DecideLightStrategy(const LightFacts& l, const EyePlan& e, const std::string& hidden,
+                                            const PlanRules& rules, const PlanOverrides& ov) {
+  if (!l.reachesIris)
+    return {LightStrategy::None,
+            "below the rim plane (" + Num(l.angleOffGazeDeg, 3) + " deg off the gaze): the sclera hides it"};
+  if (ov.mnee) return {*ov.mnee ? LightStrategy::Mnee : LightStrategy::Bsdf, *ov.mnee ? "flag: MNEE on" : "flag: --no-mnee"};
+  if (!hidden.empty()) return {LightStrategy::Bsdf, hidden};
+  if (e.pixels < rules.mneeMinPixels)
+    return {LightStrategy::Bsdf,
+            "eye " + Num(e.pixels, 3) + " px < " + Num(rules.mneeMinPixels, 3) + " px: path tracing is cheaper"};
+  const bool dome = l.kind == LightType::Dome, grazing = l.angleOffGazeDeg >= rules.grazingAngleDeg;
+  const double limit = grazing ? rules.mneeMaxSolidAngleSrGrazing : rules.mneeMaxSolidAngleSr;
+  const std::string size = (dome ? std::string("4pi") : Num(l.solidAngleSr, 3)) + " sr";
+  const std::string at = " at " + Num(l.angleOffGazeDeg, 3) + " deg" + (grazing ? " (>= " : " (< ") +
+                         Num(rules.grazingAngleDeg, 3) + " deg)";
+  if (l.solidAngleSr > limit)
+    return {LightStrategy::Bsdf,
+            size + " > " + Num(limit, 3) + " sr" + (dome ? "" : at) + ": BSDF sampling with MIS (sweep 2)"};
+  return {LightStrategy::Mnee, size + " <= " + Num(limit, 3) + " sr" + at + ": MNEE (sweep 2)"};
+}
+
+/// Every light's strategy (into e->lights), and whether the eye runs MNEE at all, with every light's reason.
+Decision<bool> DecideMnee(EyePlan* e, const std::string& hidden, const PlanRules& rules, const PlanOverrides& ov) {
+  std::string perLight;
+  int mneeLights = 0, bsdfLights = 0;
+  for (LightFacts& l : e->lights) {
+    Decision<LightStrategy> d = DecideLightStrategy(l, *e, hidden, rules, ov);
+    l.strategy = d.value, l.why = std::move(d.why);
+    mneeLights += l.strategy == LightStrategy::Mnee;
+    bsdfLights += l.strategy == LightStrategy::Bsdf;
+    perLight += (perLight.empty() ? "" : "; ") + l.light + ": " + ToString(l.strategy) + " (" + l.why + ")";
+  }
+  std::string why = !e->lights.empty() ? perLight : ov.mnee ? "flag (no lights)" : "no lights";
+  if (mneeLights > 0 && bsdfLights > 0)
+    why += "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
+           "(each light by one of the two)";
+  return {mneeLights > 0, why};
+}
+
+/// All-solutions MNEE: only where second refraction paths carry measurable light (sweeps 3 and allsol-size).
+Decision<bool> DecideAllSolutions(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  if (ov.mneeAllSolutions) return {*ov.mneeAllSolutions, std::string("flag: ") + (*ov.mneeAllSolutions ? "on" : "off")};
+  if (!e.mnee) return {false, "no MNEE"};
+  const LightFacts* grazing = nullptr;
+  for (const LightFacts& l : e.lights)
+    if (l.strategy == LightStrategy::Mnee && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
+  if (grazing && e.pixels >= rules.allSolutionsMinPixels)
+    return {true, grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) + " deg >= " +
+                      Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.pixels, 4) +
+                      " px eye: caustic fold (sweep allsol-size: one path misses up to 47% in a pixel from 200 px)"};
+  if (grazing)
+    return {false, "grazing light but eye " + Num(e.pixels, 4) + " px < " + Num(rules.allSolutionsMinPixels, 4) +
+                       " px: one path per sample is cheaper for the same error (sweep allsol-size)"};
+  return {false, "no MNEE light at >= " + Num(rules.allSolutionsMinAngleDeg, 3) +
+                     " deg: one path per sample (second paths carry < 0.2% of the iris light)"};
+}
+
+/// The chamber walk's bound: the full walk (sweep chamber). Throws std::invalid_argument for a flag below 1.
+Decision<int> DecideChamberEvents(const PlanRules& rules, const PlanOverrides& ov) {
+  if (ov.chamberEvents) {
+    if (*ov.chamberEvents < 1)
+      throw std::invalid_argument("render plan: chamber events " + std::to_string(*ov.chamberEvents) + " < 1");
+    return {*ov.chamberEvents, "flag: " + std::to_string(*ov.chamberEvents) + " events"};
+  }
+  return {rules.chamberEvents, "full walk (" + std::to_string(rules.chamberEvents) +
+                                   " events): cutting it saves no measurable time and loses light below 8 events "
+                                   "(sweep chamber: 2 events lose 1.55% side-lit, 2.3% front-lit; 8 lose 0.02-0.03%)"};
+}
+
+/// The sclera: a random walk on eye meshes large enough on screen (sweep sclera); analytic eyes have no volume.
+Decision<ScleraModel> DecideSclera(const EyePlan& e, const std::string& hidden, const PlanRules& rules,
+                                   const PlanOverrides& ov) {
+  if (e.geometry != primTypes::kEyeMesh)
+    return {ScleraModel::None, "analytic eye: no sclera volume (the renderer walks eye meshes only)"};
+  if (ov.scleraScattering) {
+    const ScleraModel model = *ov.scleraScattering ? ScleraModel::RandomWalk : ScleraModel::Diffuse;
+    return {model, std::string("flag: ") + ToString(model)};
+  }
+  if (!hidden.empty()) return {ScleraModel::Diffuse, hidden};
+  if (e.pixels >= rules.sssMinPixels)
+    return {ScleraModel::RandomWalk,
+            "eye " + Num(e.pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
+                " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.6-6.7x the walk's "
+                "at 2.5 px, 2.0-10.5x at 3 px, 1.4-3.3x from 4 to 32 px)"};
+  return {ScleraModel::Diffuse,
+          "eye " + Num(e.pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
+              " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera at 2 px: its MSE "
+              "0.15-0.70x the walk's front-lit, 1.1-12x side-lit, on 4 eye pixels)"};
+}
+
+/// The limbal arc, applied per eye in place of the eye's EyeParams::limbalArc: with the sclera walk (sweeps
+/// sclera and dome-arc), unless the artist authored eye:limbalArc or a flag says otherwise.
+Decision<bool> DecideLimbalArc(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  const auto authored = ov.authored.find(e.prim);
+  if (authored != ov.authored.end() && authored->second.limbalArc) {
+    const bool on = *authored->second.limbalArc;
+    return {on, std::string("authored: eye:limbalArc = ") + (on ? "true" : "false")};
+  }
+  if (ov.limbalArc) return {*ov.limbalArc, std::string("flag: ") + (*ov.limbalArc ? "on" : "off")};
+  if (e.sss != ScleraModel::RandomWalk) return {false, "no sclera walk"};
+  if (e.limbusPixels < rules.sssMinLimbusPixels)
+    return {false, "limbus band " + Num(e.limbusPixels, 3) + " px < " + Num(rules.sssMinLimbusPixels, 3) + " px"};
+  if (rules.limbalArcMinLightAngleDeg <= 0)
+    return {true, "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
+                  "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera); under a dome alone 1.1-1.4x, "
+                  "losing 5-6% of the eye's light (sweep dome-arc)"};
+  const LightFacts* side = nullptr;
+  for (const LightFacts& l : e.lights)
+    if (l.reachesIris && l.kind != LightType::Dome && l.angleOffGazeDeg >= rules.limbalArcMinLightAngleDeg) side = &l;
+  if (!side) return {false, "no side light: no shadowed limbus side"};
+  return {true, side->light + " at " + Num(side->angleOffGazeDeg, 3) + " deg: a shadowed limbus side"};
+}
+
+/// Eye meshes' Catmull-Clark level, applied: one level per doubling of the eye's size, capped (sweep refine).
+/// The mesh renders min(this, its populate level) and re-refines when it changes (EyeMesh::RefineLevelFor).
+Decision<int> DecideRefineLevel(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
+  if (e.geometry != primTypes::kEyeMesh) return {-1, "analytic eye: no mesh"};
+  int level = 0;
+  if (e.pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e.pixels / rules.refinePixelsLevel1)));
+  const bool capped = level > rules.refineMaxLevel;
+  level = std::min(level, rules.refineMaxLevel);
+  const bool held = level > ov.refineLevelCeiling;
+  return {std::min(level, ov.refineLevelCeiling),
+          Num(e.pixels, 4) + " px -> level " + std::to_string(level) +
+              (held ? ", held at the --complexity ceiling " : " (ceiling ") + std::to_string(ov.refineLevelCeiling) +
+              (held ? "" : ")") + ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) +
+              " px, at most level " + std::to_string(rules.refineMaxLevel) +
+              " (sweep refine: level 0 matches level 3 in image error below it; level 2 needed at 200 px" +
+              (capped ? "; level 3 never changed the outline or image vs level 2 from 200 to 1600 px)" : ")")};
+}
+
+/// Whether float would be enough for the eye's intersections (reported only: the renderer traces eyes in double).
+Decision<bool> DecideFloatWouldSuffice(const EyePlan& e, const PlanRules& rules) {
+  const double floatErrorPixels = rules.floatHitErrorMm / e.pixelFootprintMm;
+  const bool enough = floatErrorPixels <= rules.floatMaxErrorPixels;
+  return {enough, "double (no float eye path); float's worst hit error " + Num(rules.floatHitErrorMm * 1000, 2) +
+                      " um (docs/intersection_benchmark.md) is " + Num(floatErrorPixels, 2) + " px at " +
+                      Num(e.pixelFootprintMm, 3) + " mm/px: float " +
+                      (enough ? "would be enough (<= " : "would not be enough (> ") +
+                      Num(rules.floatMaxErrorPixels, 2) + " px)"};
+}
+
+/// Stores a decision's value in *field and its reason under `name`.
+template <class T, class U> void Record(EyePlan* e, T* field, const char* name, Decision<U> decision) {
+  *field = decision.value;
+  e->why[name] = std::move(decision.why);
+}
+
+}  // namespace
+
+void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
+  const std::string hidden = HiddenReason(*e);
+  Record(e, &e->mnee, "mnee", DecideMnee(e, hidden, rules, ov));
+  Record(e, &e->mneeAllSolutions, "mneeAllSolutions", DecideAllSolutions(*e, rules, ov));
+  Record(e, &e->chamberEvents, "chamberEvents", DecideChamberEvents(rules, ov));
+  Record(e, &e->sss, "sss", DecideSclera(*e, hidden, rules, ov));
+  Record(e, &e->limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
+  Record(e, &e->refineLevel, "refineLevel", DecideRefineLevel(*e, rules, ov));
+  e->pixelFootprintMm = e->pixels > 0 ? eyelib::paper::kRimRadius * 2 / e->pixels : std::numeric_limits<double>::infinity();
+  Record(e, &e->floatWouldSuffice, "precision", DecideFloatWouldSuffice(*e, rules));
+}
+
+RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int width, int height,
+                          const PlanOverrides& overrides, const PlanRules& rules) {
+  if (width < 1 || height < 1)
+    throw std::runtime_error("render plan: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                             " is not positive");
+  const auto* camera = dynamic_cast<const Camera*>(index.GetSprim(cameraId));
+  if (!camera) throw std::runtime_error("render plan: camera " + cameraId + " not found");
+  RenderPlan plan;
+  plan.width = width, plan.height = height, plan.camera = cameraId;
+
+  std::vector<std::pair<PrimId, RenderLight>> lights;
+  for (const auto& [id, entry] : index.Sprims())
+    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
+      lights.emplace_back(id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+
+  for (const auto& [id, entry] : index.Rprims()) {
+    if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
+    GeometryContext* context = entry.prim->Context();
+    const EyeGeometry* eye = context ? (context->eye ? context->eye : context->meshEye) : nullptr;
+    if (!eye) continue;  // not synced yet
+    EyePlan e = MeasureEye(id, entry.type, *eye, camera->View(), width, height);
+    if (entry.sceneDelegate && !entry.sceneDelegate->GetVisible(id)) e.inView = false;
+    for (const auto& [lightId, light] : lights) e.lights.push_back(MeasureLight(lightId, light, *eye));
+    DecideEye(&e, rules, overrides);
+    plan.eyes.push_back(std::move(e));
+  }
+
+  DecideGlobals(&plan, overrides);
+  return plan;
+}
+
+namespace {
+
+/// Any planned eye's value of `field`.
+template <class F> bool AnyEye(const RenderPlan& plan, F field) { return std::any_of(plan.eyes.begin(), plan.eyes.end(), field); }
+
+}  // namespace
+
+void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides) {
+  const std::string scope =
+      plan->eyes.size() <= 1 ? "" : " (default for eyes without a plan: on if any eye needs it; each planned eye "
+                                   "renders with its own)";
+  if (overrides.mnee) {
+    plan->mnee = *overrides.mnee;
+    plan->why["mnee"] = "flag";
+  } else if (plan->eyes.empty()) {
+    plan->mnee = false;
+    plan->why["mnee"] = "no eyes";
+  } else {
+    plan->mnee = AnyEye(*plan, [](const EyePlan& e) { return e.mnee; });
+    plan->why["mnee"] = "from the eyes' plans" + scope;
+  }
+  if (overrides.mneeAllSolutions) {
+    plan->mneeAllSolutions = *overrides.mneeAllSolutions;
+    plan->why["mneeAllSolutions"] = "flag";
+  } else {
+    plan->mneeAllSolutions =
+        plan->mnee && AnyEye(*plan, [](const EyePlan& e) { return e.mneeAllSolutions; });
+    plan->why["mneeAllSolutions"] = plan->eyes.empty() ? "no eyes" : "from the eyes' plans" + scope;
+  }
+  if (overrides.scleraScattering) {
+    plan->scleraScattering = *overrides.scleraScattering;
+    plan->why["scleraScattering"] = "flag";
+  } else {
+    plan->scleraScattering =
+        AnyEye(*plan, [](const EyePlan& e) { return e.sss == ScleraModel::RandomWalk; });
+    plan->why["scleraScattering"] = plan->eyes.empty() ? "no eyes" : "from the eye meshes' plans" + scope;
+  }
+}
+
+EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) const {
+  EyeRenderOptions o;
+  o.planned = true;
+  o.mnee = mnee;
+  o.mneeLights.reserve(lightOrder.size());
+  for (const PrimId& id : lightOrder) {
+    const auto l = std::find_if(lights.begin(), lights.end(), [&](const LightFacts& f) { return f.light == id; });
+    // Unmeasured (added after planning): MNEE, as without a plan. "none" (below the rim plane): not MNEE's,
+    // so a path leaving the iris still counts it if it finds it -- the partition stays complete.
+    o.mneeLights.push_back(l == lights.end() ? true : l->strategy == LightStrategy::Mnee);
+  }
+  o.allSolutions = mneeAllSolutions;
+  o.maxChamberEvents = chamberEvents;
+  o.scleraScattering = sss == ScleraModel::RandomWalk;
+  o.limbalArc = limbalArc;
+  o.refineLevel = refineLevel;  // -1 for analytic eyes: nothing to refine
+  return o;
+}
+
+std::vector<PrimId> RenderLightOrder(const RenderIndex& index) {
+  std::vector<PrimId> order;  // RenderPass::Execute's loop: the sprim map (id order), lights only
+  for (const auto& [id, entry] : index.Sprims())
+    if (dynamic_cast<const Light*>(entry.prim.get())) order.push_back(id);
+  return order;
+}
+
+namespace {
+
+/// Gives an eye rprim its options. The switches are read per ray; a refinement level is geometry: when the
+/// mesh would now render another level than it does, its topology is marked dirty (only this mesh's), and the
+/// next sync (Execute's) re-refines it. A mesh not synced yet refines with the options at its first sync.
+void SetEyeOptions(RenderIndex* index, const PrimId& id, Rprim* prim, const EyeRenderOptions& options) {
+  GeometryContext* context = prim->Context();
+  if (!context) return;
+  context->eyeOptions = options;
+  auto* mesh = dynamic_cast<Mesh*>(prim);
+  if (mesh && mesh->SceneRefineLevel() >= 0 && mesh->RefineLevelFor(mesh->SceneRefineLevel()) != mesh->RefineLevel())
+    index->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
+}
+
+}  // namespace
+
+void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings* settings) {
+  const std::vector<PrimId> lightOrder = RenderLightOrder(*index);
+  for (const auto& [id, entry] : index->Rprims()) {
+    if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
+    const auto e = std::find_if(plan.eyes.begin(), plan.eyes.end(), [&](const EyePlan& p) { return p.prim == id; });
+    SetEyeOptions(index, id, entry.prim.get(), e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder));
+  }
+  ApplyRenderPlan(plan, settings);
+}
+
+void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) {
+  settings->mnee = plan.mnee;
+  settings->mneeAllSolutions = plan.mneeAllSolutions;
+  settings->scleraScattering = plan.scleraScattering;
+}
+
+void ClearRenderPlan(RenderIndex* index) {
+  // Unplanned eye meshes go back to the scene's level (--complexity), re-refining if the plan had lowered it.
+  for (const auto& [id, entry] : index->Rprims()) SetEyeOptions(index, id, entry.prim.get(), EyeRenderOptions{});
+}
+
+std::vector<std::string> RenderPlan::SummaryLines() const {
+  std::vector<std::string> lines;
+  for (const EyePlan& e : eyes) {
+    std::string mneeLights;
+    for (const LightFacts& l : e.lights)
+      if (l.strategy == LightStrategy::Mnee) mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
+    std::string line = "plan " + e.prim + ": " + Num(e.pixels, 4) + " px" +
+                       (e.behindCamera ? " (behind camera)" : e.inView ? "" : " (out of view)") +
+                       ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) +
+                       ", all solutions " + (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) +
+                       ", limbal arc " + (e.limbalArc ? "on" : "off") + ", chamber " + std::to_string(e.chamberEvents);
+    if (e.refineLevel >= 0) line += ", subdiv " + std::to_string(e.refineLevel);
+    lines.push_back(line);
+  }
+  if (eyes.empty()) lines.push_back("plan: no eyes in the scene");
+  return lines;
+}
+
+}  // namespace hdeye

@@ -1,0 +1,21 @@
+#include "hdeye/prims/eyeParamsSync.h"
+
+#include <eyelib/anterior_chamber.h>
+
+#include <stdexcept>
+
+namespace hdeye {
+
+void SyncEyeParams(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::string& kind, const PrimId& id,
+                   EyeParams* params, std::shared_ptr<const Texture>* irisTexture) {
+  *params = sceneDelegate->GetEyeParams(id);
+  const std::string problem = eyelib::ValidateChamberParams(params->chamber);
+  if (!problem.empty()) throw std::runtime_error(kind + " " + id + ": " + problem);
+  try {
+    *irisTexture = params->irisTexture.empty() ? nullptr : renderParam->Textures().Get(params->irisTexture);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(kind + " " + id + ": iris texture: " + e.what());
+  }
+}
+
+}  // namespace hdeye

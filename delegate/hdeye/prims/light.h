@@ -1,0 +1,31 @@
+#pragma once
+// A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
+// transform; the render pass turns lights into the renderer's world-space light list.
+#include "hdeye/hd/prim.h"
+#include "hdeye/render/renderLight.h"
+
+#include <memory>
+
+namespace hdeye {
+
+class Light final : public Sprim {
+ public:
+  /// The light's kind is its prim type (as in Hydra), not a parameter: LightParams::type is ignored.
+  Light(PrimId id, LightType type) : Sprim(std::move(id)), type_(type) {}
+  DirtyBits GetInitialDirtyBitsMask() const override { return dirty::DirtyTransform | dirty::DirtyParams; }
+  void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
+
+  const LightParams& Params() const { return params_; }
+  const Matrix4d& Transform() const { return transform_; }
+  /// A dome's texture with its sampling distribution, loaded through RenderParam::Textures() when
+  /// the params change; null for other lights and a constant dome.
+  std::shared_ptr<const DomeTexture> Dome() const { return dome_; }
+
+ private:
+  LightType type_;
+  LightParams params_;
+  std::shared_ptr<const DomeTexture> dome_;
+  Matrix4d transform_{1.0};
+};
+
+}  // namespace hdeye

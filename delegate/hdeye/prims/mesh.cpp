@@ -1,0 +1,262 @@
+#include "hdeye/prims/mesh.h"
+
+#include "hdeye/prims/renderParam.h"
+#include "hdeye/prims/subdivRefiner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hdeye {
+
+namespace {
+
+[[noreturn]] void Fail(const PrimId& id, const std::string& what) {
+  throw std::runtime_error("mesh " + id + ": " + what);
+}
+
+/// Copies `width`-float elements into a vector of glm vectors of that width.
+template <class V> std::vector<V> ToVectors(const std::vector<float>& values) {
+  static_assert(sizeof(V) == sizeof(float) * V::length(), "packed glm vector");
+  std::vector<V> out(values.size() / V::length());
+  std::copy(values.begin(), values.end(), &out.data()->x);
+  return out;
+}
+
+/// Unit vectors (zero stays zero: the renderer then falls back to the flat normal).
+void Normalize(std::vector<Vec3f>* normals) {
+  for (Vec3f& n : *normals) {
+    const float length = glm::length(n);
+    n = length > 0 && std::isfinite(length) ? n / length : Vec3f(0);
+  }
+}
+
+/// Smooth vertex normals of a polygon mesh (Hd_SmoothNormals' formula): each face corner adds the cross
+/// product of its two edges (next - corner) x (previous - corner), a normal weighted by the corner's
+/// parallelogram area, to its point; the sums are normalised. Over the authored polygons, not the fan
+/// triangles, so the triangulation cannot tilt them (fan-triangle areas tilt a UV sphere's normals by 1.3
+/// degrees; corner weights are radial there). Counter-clockwise faces get outward normals; a point no face
+/// spans (or whose corners cancel) gets a zero normal, which the renderer treats as "use the flat normal".
+std::vector<Vec3f> SmoothNormals(const MeshTopology& topology, const std::vector<Vec3f>& points) {
+  std::vector<glm::dvec3> sum(points.size(), glm::dvec3(0));
+  std::size_t base = 0;
+  for (int n : topology.faceVertexCounts) {
+    const int* face = &topology.faceVertexIndices[base];
+    for (int k = 0; k < n; ++k) {
+      const glm::dvec3 p(points[face[k]]), next(points[face[(k + 1) % n]]), prev(points[face[(k + n - 1) % n]]);
+      sum[face[k]] += glm::cross(next - p, prev - p);
+    }
+    base += std::size_t(n);
+  }
+  std::vector<Vec3f> normals(points.size(), Vec3f(0));
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    const double length = glm::length(sum[i]);
+    if (length > 0) normals[i] = Vec3f(sum[i] / length);
+  }
+  return normals;
+}
+
+}  // namespace
+
+Mesh::Mesh(PrimId id) : Rprim(std::move(id)) {}
+Mesh::~Mesh() = default;
+
+DirtyBits Mesh::GetInitialDirtyBitsMask() const {
+  return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTopology | dirty::DirtyTransform |
+         dirty::DirtyPrimvar | dirty::DirtyVisibility | dirty::DirtyMaterialId;
+}
+
+void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
+  const DirtyBits bits = *dirtyBits;
+  const bool topologyDirty = bits & (dirty::DirtyTopology | dirty::InitRepr);
+  if (topologyDirty || (bits & dirty::DirtyPoints)) {
+    // Fetched once: the topology is checked against their count, then they are evaluated.
+    const std::vector<Vec3f> control = sceneDelegate->GetPoints(Id());
+    if (topologyDirty) SyncTopology(sceneDelegate, renderParam, int(control.size()));
+    SyncPoints(control);
+    renderParam->AcquireSceneForEdit();
+    UploadPoints();
+  }
+  // Primvars after points: "rest" is refined through the same refiner the topology just built.
+  if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncPrimvars(sceneDelegate);
+  if (topologyDirty || (bits & dirty::DirtyTransform)) {
+    transform_ = sceneDelegate->GetTransform(Id());
+    const glm::mat4 m(transform_);
+    renderParam->AcquireSceneForEdit();
+    rtcSetGeometryTransform(instance_, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
+    context_.normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform_)));
+    rtcCommitGeometry(instance_);
+    ++stats_.transformUpdates;
+  }
+  if (topologyDirty || (bits & dirty::DirtyVisibility)) {
+    renderParam->AcquireSceneForEdit();
+    if (sceneDelegate->GetVisible(Id())) rtcEnableGeometry(instance_);
+    else rtcDisableGeometry(instance_);
+    rtcCommitGeometry(instance_);
+  }
+  if (topologyDirty || (bits & dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
+  *dirtyBits = dirty::Clean;
+}
+
+void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount) {
+  const int previousLevel = sceneRefineLevel_ < 0 ? -1 : topology_.refineLevel;
+  topology_ = sceneDelegate->GetMeshTopology(Id());
+  sceneRefineLevel_ = topology_.refineLevel;
+  topology_.refineLevel = RefineLevelFor(sceneRefineLevel_);
+  if (previousLevel >= 0 && previousLevel != topology_.refineLevel) ++stats_.refineLevelChanges;
+  controlPointCount_ = controlPointCount;
+  std::size_t expected = 0;
+  for (std::size_t f = 0; f < topology_.faceVertexCounts.size(); ++f) {
+    const int n = topology_.faceVertexCounts[f];
+    if (n < 3) Fail(Id(), "face " + std::to_string(f) + " has " + std::to_string(n) + " vertices (need 3 or more)");
+    expected += std::size_t(n);
+  }
+  if (topology_.faceVertexCounts.empty()) Fail(Id(), "no faces");
+  if (expected != topology_.faceVertexIndices.size())
+    Fail(Id(), "faceVertexCounts add up to " + std::to_string(expected) + " but there are " +
+                   std::to_string(topology_.faceVertexIndices.size()) + " faceVertexIndices");
+  for (std::size_t i = 0; i < topology_.faceVertexIndices.size(); ++i) {
+    const int v = topology_.faceVertexIndices[i];
+    if (v < 0 || v >= controlPointCount_)
+      Fail(Id(), "faceVertexIndices[" + std::to_string(i) + "] = " + std::to_string(v) + " is outside the " +
+                     std::to_string(controlPointCount_) + " points");
+  }
+
+  if (topology_.refineLevel > 0) {
+    refiner_ = std::make_unique<SubdivRefiner>(topology_, controlPointCount_, topology_.refineLevel);
+    ++stats_.refinements;
+    const std::vector<int>& quads = refiner_->RefinedQuadIndices();
+    layout_ = TriangulateFaces(std::vector<int>(quads.size() / 4, 4), quads, refiner_->RefinedFaceParents());
+  } else {
+    refiner_.reset();
+    layout_ = TriangulateFaces(topology_.faceVertexCounts, topology_.faceVertexIndices, {});
+  }
+  triangles_ = layout_.vertices;
+
+  // New connectivity: a new Embree geometry (its buffers have new sizes), a new prototype scene.
+  ReleaseGeometry(renderParam);
+  const RTCDevice device = renderParam->Device();
+  const int pointCount = refiner_ ? refiner_->RefinedPointCount() : controlPointCount_;
+  triangleGeometry_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Points move every frame while the connectivity stays: refit the BVH instead of rebuilding it.
+  rtcSetGeometryBuildQuality(triangleGeometry_, RTC_BUILD_QUALITY_REFIT);
+  ConfigureTriangles(triangleGeometry_);
+  rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
+                          std::size_t(pointCount));
+  auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      triangleGeometry_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, triangles_.size() / 3));
+  for (std::size_t i = 0; i < triangles_.size(); ++i) index[i] = unsigned(triangles_[i]);
+  prototype_ = rtcNewScene(device);
+  rtcSetSceneFlags(prototype_, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(prototype_, RTC_BUILD_QUALITY_LOW);
+  rtcAttachGeometry(prototype_, triangleGeometry_);
+  context_.prototypeScene = prototype_;
+
+  instance_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(instance_, prototype_);
+  rtcSetGeometryUserData(instance_, &context_);
+  instanceId_ = rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance_);
+  context_.triangleVertices = &triangles_;
+  ++stats_.topologyBuilds;
+}
+
+void Mesh::SyncPoints(const std::vector<Vec3f>& control) {
+  if (int(control.size()) != controlPointCount_)
+    Fail(Id(), std::to_string(control.size()) + " points but the topology was built for " +
+                   std::to_string(controlPointCount_) + " (mark the topology dirty too)");
+  for (std::size_t i = 0; i < control.size(); ++i)
+    if (!std::isfinite(control[i].x) || !std::isfinite(control[i].y) || !std::isfinite(control[i].z))
+      Fail(Id(), "point " + std::to_string(i) + " is not finite");
+  // Points and normals change together (this runs only when points or topology are dirty): the renderer
+  // interpolates normals_ over the triangles whose vertices are points_.
+  if (refiner_) {
+    // Limit positions, not the refined points: see the header (the geometry must match the normals).
+    refiner_->EvaluateLimit(control, &points_, &normals_);
+    ++stats_.stencilEvaluations;
+  } else {
+    points_ = control;
+    normals_ = SmoothNormals(topology_, points_);
+  }
+  // Both normal formulas follow the winding, which a left-handed mesh reverses.
+  if (topology_.leftHanded)
+    for (Vec3f& n : normals_) n = -n;
+  ++stats_.normalEvaluations;
+  context_.vertexNormals = &normals_;
+  context_.points = &points_;
+}
+
+void Mesh::UploadPoints() {
+  auto* vertex = static_cast<float*>(rtcGetGeometryBufferData(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0));
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    vertex[3 * i + 0] = points_[i].x;
+    vertex[3 * i + 1] = points_[i].y;
+    vertex[3 * i + 2] = points_[i].z;
+  }
+  rtcUpdateGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0);
+  rtcCommitGeometry(triangleGeometry_);
+  rtcCommitScene(prototype_);
+  rtcCommitGeometry(instance_);  // the instance's bounds follow its prototype
+  ++stats_.pointUploads;
+}
+
+void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate) {
+  ++stats_.primvarSyncs;
+  // Each primvar: read, checked against the topology (a bad one is an error naming the mesh and the
+  // primvar), expanded to triangle corners. Nothing is kept from a primvar that fails.
+  auto read = [&](const std::string& name, int components) {
+    Primvar primvar = sceneDelegate->GetPrimvar(Id(), name);
+    if (primvar.Empty()) return Primvar{};
+    try {
+      ValidatePrimvar(primvar, name, components, topology_, controlPointCount_);
+    } catch (const std::runtime_error& e) {
+      Fail(Id(), e.what());
+    }
+    if (refiner_ && primvar.interpolation == Interpolation::FaceVarying) ++stats_.faceVaryingRefinements;
+    return primvar;
+  };
+  const Primvar st = read("st", 2), color = read("displayColor", 3), normals = read("normals", 3),
+                rest = read("rest", 3);
+  if (!rest.Empty() && rest.interpolation != Interpolation::Vertex && rest.interpolation != Interpolation::Varying)
+    Fail(Id(), "primvar rest: must be vertex-interpolated (a position per point)");
+
+  st_ = st.Empty() ? std::vector<Vec2f>{} : ToVectors<Vec2f>(PrimvarAtCorners(st, layout_, refiner_.get()));
+  displayColor_ = color.Empty() ? std::vector<Vec3f>{} : ToVectors<Vec3f>(PrimvarAtCorners(color, layout_, refiner_.get()));
+  // Authored normals shade polygon meshes only: a subdivided mesh's limit normals describe the surface
+  // it renders, which the authored (control-cage) normals do not (Hydra ignores them there too).
+  cornerNormals_.clear();
+  if (!normals.Empty() && !refiner_) {
+    cornerNormals_ = ToVectors<Vec3f>(PrimvarAtCorners(normals, layout_, nullptr));
+    Normalize(&cornerNormals_);
+  }
+  rest_.clear();
+  if (!rest.Empty()) {
+    rest_ = ToVectors<Vec3f>(rest.values);
+    // Pushed to the limit like the points, so an undeformed mesh's rest positions equal its points.
+    if (refiner_) {
+      std::vector<Vec3f> unusedNormals;
+      refiner_->EvaluateLimit(std::vector<Vec3f>(rest_), &rest_, &unusedNormals);
+    }
+  }
+  context_.st = st_.empty() ? nullptr : &st_;
+  context_.displayColor = displayColor_.empty() ? nullptr : &displayColor_;
+  context_.cornerNormals = cornerNormals_.empty() ? nullptr : &cornerNormals_;
+  context_.restPoints = rest_.empty() ? nullptr : &rest_;
+}
+
+void Mesh::ReleaseGeometry(RenderParam* renderParam) {
+  if (instance_) {
+    rtcDetachGeometry(renderParam->AcquireSceneForEdit(), instanceId_);
+    rtcReleaseGeometry(instance_);
+  }
+  if (triangleGeometry_) rtcReleaseGeometry(triangleGeometry_);
+  if (prototype_) rtcReleaseScene(prototype_);
+  instance_ = triangleGeometry_ = nullptr;
+  prototype_ = nullptr;
+  context_.prototypeScene = nullptr;
+  instanceId_ = RTC_INVALID_GEOMETRY_ID;
+}
+
+void Mesh::Finalize(RenderParam* renderParam) { ReleaseGeometry(renderParam); }
+
+}  // namespace hdeye

@@ -1,0 +1,117 @@
+#pragma once
+// A polygon mesh rprim (HdMesh's role): triangles, quads and n-gons, optionally Catmull-Clark refined
+// through OpenSubdiv, held in Embree as a prototype scene under one instance in the root scene.
+// Topology is refined once; when only points change, the stencils re-evaluate them and the Embree
+// vertex buffer is updated in place; a transform change only touches the instance.
+//
+// Smooth shading: every points change also recomputes per-vertex normals for the renderer
+// (GeometryContext::vertexNormals). Refined meshes render the limit surface: the vertices are the limit
+// positions of the refined points and the normals the limit normals there, so the Embree triangles are
+// inscribed in the surface the normals describe (the refined points lie off it, inside a convex hull, and
+// pairing them with limit normals would shade one surface and silhouette another). Polygon meshes get
+// Hd_SmoothNormals' normals: per face corner, the cross product of its two edges, summed per point.
+// Left-handed meshes get them flipped. Authored "normals" replace them on polygon meshes only
+// (subdivided meshes keep their limit normals, as Hydra does).
+//
+// Primvars (DirtyPrimvar): "st", "displayColor" and "normals" are expanded to rendered triangle corners
+// (meshPrimvars.h); "rest" (vertex) is refined to the limit like the points, for eyes on meshes.
+#include "hdeye/hd/prim.h"
+#include "hdeye/prims/meshPrimvars.h"
+#include "hdeye/render/renderContext.h"
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <vector>
+
+namespace hdeye {
+
+class SubdivRefiner;
+
+/// What Sync did, counted, so tests can check that dirty bits drive exactly the work they should.
+struct MeshSyncStats {
+  int topologyBuilds = 0;      ///< Embree geometry (re)created
+  int refinements = 0;         ///< OpenSubdiv topology refinements
+  int stencilEvaluations = 0;  ///< refined points re-evaluated from control points
+  int pointUploads = 0;        ///< Embree vertex buffer updates
+  int normalEvaluations = 0;   ///< per-vertex shading normals recomputed (limit or smooth normals)
+  int transformUpdates = 0;
+  int primvarSyncs = 0;            ///< primvars re-read and re-expanded (DirtyPrimvar or new topology)
+  int faceVaryingRefinements = 0;  ///< face-varying channels refined (subdivided meshes)
+  /// Topology syncs that rendered another refinement level than the previous one (a render plan's level change
+  /// on an eye mesh, or new scene topology with another level).
+  int refineLevelChanges = 0;
+};
+
+/// Not final: EyeMesh is a Mesh that also carries an eye.
+class Mesh : public Rprim {
+ public:
+  explicit Mesh(PrimId id);
+  ~Mesh() override;
+
+  DirtyBits GetInitialDirtyBitsMask() const override;
+  void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
+  void Finalize(RenderParam* renderParam) override;
+
+  const MeshSyncStats& Stats() const { return stats_; }
+  /// The rendered points and their shading normals, object space (for tests and debugging).
+  const std::vector<Vec3f>& Points() const { return points_; }
+  const std::vector<Vec3f>& Normals() const { return normals_; }
+  PrimId MaterialId() const override { return materialId_; }
+  GeometryContext* Context() override { return &context_; }
+  int TriangleCount() const { return int(triangles_.size() / 3); }
+  /// The Catmull-Clark level rendered now (0: the control polygons), and the level the scene delegate's
+  /// topology asked for at the last topology sync; they differ when RefineLevelFor lowers it (eye meshes).
+  int RefineLevel() const { return topology_.refineLevel; }
+  int SceneRefineLevel() const { return sceneRefineLevel_; }
+  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: that level. EyeMesh: capped by
+  /// its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
+  /// changes the rendered level, i.e. whether the mesh's topology is dirty.
+  virtual int RefineLevelFor(int sceneLevel) { return sceneLevel; }
+  /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
+  const std::vector<Vec2f>& St() const { return st_; }
+  const std::vector<Vec3f>& AuthoredNormals() const { return cornerNormals_; }
+  /// Rest positions per rendered point, object space (empty when not authored).
+  const std::vector<Vec3f>& RestPoints() const { return rest_; }
+  const TriangleLayout& Layout() const { return layout_; }
+  /// The prototype scene (object space, this mesh's triangles only; committed after every points upload),
+  /// or null before the first sync. Also in Context()->prototypeScene, where the renderer reads it.
+  RTCScene PrototypeScene() const { return prototype_; }
+
+ protected:
+  const Matrix4d& Transform() const { return transform_; }
+  /// Called when a new Embree triangle geometry is made (new topology), before it is committed:
+  /// subclasses install what they need on it (EyeMesh: its inside-hit filters).
+  virtual void ConfigureTriangles(RTCGeometry /*triangles*/) {}
+
+ private:
+  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount);
+  void SyncPoints(const std::vector<Vec3f>& control);
+  void SyncPrimvars(SceneDelegate* sceneDelegate);
+  void UploadPoints();
+  void ReleaseGeometry(RenderParam* renderParam);
+
+  MeshTopology topology_;    ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
+  int sceneRefineLevel_ = -1;  ///< the scene delegate's refineLevel at the last topology sync; -1 before it
+  int controlPointCount_ = 0;
+  std::unique_ptr<SubdivRefiner> refiner_;
+  std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
+  std::vector<Vec3f> normals_;       ///< unit shading normal per rendered point, object space
+  std::vector<int> triangles_;       ///< 3 indices per rendered triangle (layout_.vertices)
+  TriangleLayout layout_;
+  std::vector<Vec3f> displayColor_;  ///< per rendered triangle corner, or empty
+  std::vector<Vec2f> st_;            ///< per rendered triangle corner, or empty
+  std::vector<Vec3f> cornerNormals_; ///< authored normals per rendered triangle corner (polygon meshes), or empty
+  std::vector<Vec3f> rest_;          ///< rest positions per rendered point (limit, if refined), or empty
+  Matrix4d transform_{1.0};
+  PrimId materialId_;
+
+  RTCScene prototype_ = nullptr;
+  RTCGeometry triangleGeometry_ = nullptr;
+  RTCGeometry instance_ = nullptr;
+  unsigned instanceId_ = RTC_INVALID_GEOMETRY_ID;
+  GeometryContext context_;
+  MeshSyncStats stats_;
+};
+
+}  // namespace hdeye

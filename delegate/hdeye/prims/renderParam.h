@@ -1,0 +1,34 @@
+#pragma once
+// What every Sync receives (HdEmbreeRenderParam's role): the one door through which prims edit the
+// Embree scene, which also bumps the scene version so render passes know to restart.
+#include "hdeye/render/texture.h"
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+
+namespace hdeye {
+
+class RenderParam {
+ public:
+  RenderParam(RTCDevice device, RTCScene scene) : device_(device), scene_(scene) {}
+
+  /// The root scene, for editing. Every call marks the scene changed.
+  RTCScene AcquireSceneForEdit() {
+    ++sceneVersion_;
+    return scene_;
+  }
+  RTCDevice Device() const { return device_; }
+  std::uint64_t SceneVersion() const { return sceneVersion_; }
+  /// Textures (material, iris, dome) by file path, loaded once per render delegate and shared by the
+  /// prims that use them. Thread-safe; lives as long as the render delegate.
+  TextureCache& Textures() { return textures_; }
+
+ private:
+  RTCDevice device_;
+  RTCScene scene_;
+  std::uint64_t sceneVersion_ = 0;
+  TextureCache textures_;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,106 @@
+#pragma once
+// What happens to a world ray that meets an eye: the hit moves to the canonical
+// frame; the limbus blend decides cornea or sclera; the cornea reflects or refracts (Fresnel, chosen
+// stochastically); inside the chamber the path walks against the analytic model: the iris gets its
+// direct light from every light through MNEE and scatters diffusely, the cornea's inside reflects
+// (total internal reflection included) or lets the path out, the pupil absorbs. Light that bounces
+// inside the chamber is kept: the walk continues until the path leaves or is absorbed.
+//
+// Two doors lead to one walk: ScatterAtEye (an analytic eye: the hit found again in double precision)
+// and ScatterAtEyeMesh (an eye mesh: the hit mapped onto the analytic cornea) both end in
+// ScatterFromCornea, which owns everything from "a point on the analytic cornea and an incoming
+// canonical direction" onward.
+#include "hdeye/render/eyeGeometry.h"
+#include "hdeye/render/eyeMeshMapping.h"
+#include "hdeye/render/renderLight.h"
+
+#include <functional>
+#include <vector>
+
+namespace hdeye {
+
+/// What the eye needs from the renderer: its lights, a world-space occlusion test, random numbers.
+struct EyeLighting {
+  const std::vector<RenderLight>* lights = nullptr;
+  std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> occluded;
+  bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
+  /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
+  /// path tracing, for A/B comparisons); MNEE is not run.
+  bool mnee = true;
+  /// With `mnee`: which lights MNEE counts (EyeRenderOptions::mneeLights, over *lights); the others reach
+  /// the iris only by paths that leave it. Null or of another length: every light.
+  const std::vector<bool>* mneeLights = nullptr;
+  /// The chamber walk's bound: events inside the anterior chamber before the path is dropped.
+  int maxChamberEvents = 64;
+};
+
+/// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris
+/// must therefore skip it): the one place both sides of the split read, so no light is counted twice or
+/// not at all.
+inline bool MneeCountsLight(const EyeLighting& lighting, std::size_t index) {
+  if (!lighting.mnee) return false;
+  const std::vector<bool>* mask = lighting.mneeLights;
+  if (!mask || !lighting.lights || mask->size() != lighting.lights->size()) return true;
+  return (*mask)[index];
+}
+
+struct EyeEvent {
+  enum Kind { Continue, Sclera, Absorbed } kind = Absorbed;
+  glm::dvec3 origin{0}, dir{0};  ///< Continue: the next world ray
+  glm::dvec3 weight{1};          ///< Continue: multiplies the path throughput
+  /// Radiance the walk gathered (iris direct light through MNEE), already weighted by the walk's
+  /// own throughput; the renderer multiplies it by the path throughput that reached the eye.
+  glm::dvec3 radiance{0};
+  /// The path left the eye straight from an iris bounce through one refraction: the lights MNEE counts
+  /// (MneeCountsLight) are MNEE's (it already did), so the renderer skips those when the path hits them;
+  /// lights MNEE does not count, it must count in full (they have no other estimator at the iris).
+  bool skipLightHits = false;
+  /// Continue: the ray did not interact (an eye mesh seen from inside); the renderer keeps the path's
+  /// light-weighting state as it was.
+  bool passThrough = false;
+  /// Continue: reflected off the cornea at the entry point (never entered the chamber).
+  bool reflectedAtEntry = false;
+  glm::dvec3 scleraAlbedo{0}, normal{0};  ///< Sclera: shade as a diffuse surface (world normal)
+  /// Sclera on an eye mesh: shade the mesh surface itself (its shading normal; `normal` is unset) with
+  /// scleraAlbedo, or with its bound material when EyeGeometry::scleraUsesMaterial.
+  bool scleraOnSurface = false;
+  int internalEvents = 0;        ///< events inside the chamber
+  bool walkCapReached = false;   ///< the walk hit its event bound (reported, the path is dropped)
+};
+
+/// A path arriving at the analytic cornea from outside, in the canonical frame.
+struct CorneaEntry {
+  glm::dvec3 point;   ///< mm, on the analytic anterior surface
+  glm::dvec3 normal;  ///< unit, outward, the analytic surface's normal at point
+  glm::dvec3 dir;     ///< unit, incoming: dot(dir, normal) < 0
+};
+
+/// Scatters a world ray (origin, unit direction) that hit `part` of an analytic eye. The hit is found
+/// again in the canonical frame in double precision: Embree reports a user geometry's distance in
+/// float, which puts the point microns off the cornea, on either side.
+EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
+                      EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random);
+
+/// Scatters a world ray (unit direction) that hit an eye mesh, mapped by EyeMeshHitToCanonical.
+/// Off the cornea (past the outer limbus edge, below the iris plane, outside the projection) it is
+/// sclera (the mesh surface's). On it, the path continues against the analytic model from the
+/// analytic point at the hit's projected (x, y) with the mapped direction (eyeMeshMapping.h). Re-projected
+/// hits send every leaving ray (reflection, exit) from the deformed hit point, turned back by the hit's
+/// local rotation; baseline hits leave as the analytic eye in the affine frame puts them (a reflection at
+/// entry from the mesh point). A hit from inside passes through.
+EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
+                          const EyeLighting& lighting, const std::function<double()>& random);
+
+/// Everything from a point on the analytic cornea onward: the limbus (sclera with its weight's
+/// probability), Fresnel reflection or refraction, the chamber walk, the exit. World rays of Continue
+/// events come from the analytic geometry through eye.canonicalToWorld.
+EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
+                           const std::function<double()>& random);
+
+/// Irradiance (world units) at iris point x (canonical, mm) from one of the lights MNEE counts
+/// (MneeCountsLight), chosen uniformly among them, through the cornea by MNEE: a one-sample estimate of
+/// their sum.
+glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
+                              const std::function<double()>& random);
+
+}  // namespace hdeye

@@ -1,0 +1,84 @@
+#pragma once
+// What the renderer is given of cameras, lights, materials and eyes: the parameters a scene delegate returns
+// (hd/sceneDelegate.h) and the prims hand on to the renderer. World units are whatever the scene uses (USD:
+// usually cm or m); eyes carry their own transform into eyelib's canonical millimetre frame.
+#include <eyelib/anterior_chamber.h>
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace hdeye {
+
+using Matrix4d = glm::dmat4;  ///< column vectors: world = M * local
+using Vec3f = glm::vec3;
+using Vec2f = glm::vec2;
+
+/// Camera parameters, in the units USD uses for them.
+struct CameraParams {
+  bool orthographic = false;
+  double focalLength = 50;          ///< mm (perspective)
+  double horizontalAperture = 36;   ///< mm, or scene units of width (orthographic)
+  double verticalAperture = 24;     ///< mm, or scene units of height (orthographic)
+  double nearClip = 1e-3, farClip = 1e7;  ///< scene units
+};
+
+/// The light kinds the delegate renders.
+enum class LightType { Sphere, Distant, Rect, Disk, Dome };
+
+/// Light parameters (UsdLux subset). Radiance of an area light = color * intensity * 2^exposure.
+struct LightParams {
+  /// Set by the light sprim from its prim type (what a scene delegate passes here is ignored).
+  LightType type = LightType::Sphere;
+  glm::vec3 color{1, 1, 1};
+  float intensity = 1, exposure = 0;
+  float radius = 0.5f;      ///< sphere, disk (scene units)
+  float width = 1, height = 1;  ///< rect (scene units)
+  float angle = 0.53f;      ///< distant: angular diameter, degrees
+  std::string textureFile;  ///< dome: lat-long texture (empty: constant colour)
+};
+
+/// Material parameters (UsdPreviewSurface subset). Colours are linear; opacity below 1 makes the
+/// surface a dielectric of index `ior` (glass) rather than a cut-out.
+struct MaterialParams {
+  glm::vec3 diffuseColor{0.18f, 0.18f, 0.18f};
+  /// Image (PNG: sRGB, EXR: linear) looked up by the mesh's `st` primvar; replaces diffuseColor where set.
+  std::string diffuseTexture;
+  glm::vec3 emissiveColor{0, 0, 0};
+  float roughness = 0.5f;  ///< GGX, perceptual (alpha = roughness^2), [0, 1]
+  float metallic = 0;      ///< [0, 1]
+  float opacity = 1;       ///< [0, 1]
+  float ior = 1.5f;        ///< dielectric index of refraction (>= 1)
+};
+
+/// An eye's parameters (the EyeAPI schema's attributes). Lengths in the canonical frame are mm.
+struct EyeParams {
+  eyelib::ChamberParams chamber;          ///< model, iris depth, pupil, limbus ratios, cornea ior
+  glm::vec3 irisColor{0.35f, 0.2f, 0.1f};  ///< diffuse albedo of the iris
+  glm::vec3 scleraColor{0.8f, 0.78f, 0.75f};
+  /// Image over the iris disk in the canonical frame (u along +x, v along +y, the disk of diameter
+  /// ChamberParams' iris diameter filling [0, 1]^2); irisColor multiplies it (white: the texture as is).
+  std::string irisTexture;
+  /// Canonical frame (mm, apex at the origin, gaze +z) to the prim's local space. A similarity
+  /// (rotation, uniform scale, translation); e.g. scale 0.1 for a scene in centimetres.
+  Matrix4d modelTransform{1.0};
+  /// The limbal arc (Chiang and Burley 2018, section 3): the teleportation cylinder inside the sclera's
+  /// random walk. Only eye meshes have a sclera volume; analytic eyes ignore it.
+  bool limbalArc = true;
+  /// Sclera scattering distance per RGB channel, mm (the artist's mean free path; > 0 and finite).
+  glm::vec3 scleraMeanFreePath{1.0f, 0.8f, 0.6f};  ///< mm
+  /// Eye meshes: the artist's iris projection frame (eye:irisProjection) to the prim's local
+  /// space, so it moves with the eye. A rest point q in this frame projects along its z onto its xy
+  /// plane: canonical (x, y) = 7.54 mm * (q.x, q.y), i.e. the frame's [-1, 1]^2 square is the iris
+  /// texture's square (the 15.08 mm iris disk inscribed). Unused unless hasIrisProjection; the default
+  /// is the model frame along the gaze: modelTransform * scale(7.54).
+  Matrix4d irisProjection{1.0};
+  bool hasIrisProjection = false;
+  /// Eye meshes: re-project hits onto the analytic model (the paper's method). Off is the comparison
+  /// baseline of docs/deformed_eyes.md: the analytic eye carried by the mesh's best-fit affine
+  /// deformation, its optics following that frame (what putting the deformation into the eye's
+  /// transform would give).
+  bool reprojection = true;
+};
+
+}  // namespace hdeye

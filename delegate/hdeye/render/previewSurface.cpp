@@ -1,0 +1,192 @@
+#include "hdeye/render/previewSurface.h"
+
+#include <eyelib/eye_constants.h>
+#include <eyelib/optics.h>
+#include <eyelib/sampling.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdeye {
+
+namespace {
+
+using eyelib::paper::kPi;
+
+double Luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+bool Finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// The shading frame: z along n. Local vectors make the microfacet formulas short.
+struct Frame {
+  glm::dvec3 t, b, n;
+  explicit Frame(const glm::dvec3& normal) : n(normal) { eyelib::OrthonormalBasis(n, &t, &b); }
+  glm::dvec3 ToLocal(const glm::dvec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+  glm::dvec3 ToWorld(const glm::dvec3& v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+/// Exact dielectric Fresnel reflectance from outside (cos > 0) for index ior over air; 0 for ior = 1.
+double FresnelCoat(double cosTheta, double ior) { return eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior); }
+
+/// The specular reflectance at a microfacet seen at cosine c: the spec's F0/F90 interpolation by metallic.
+glm::dvec3 SpecularFresnel(const PreviewSurface& s, double c) {
+  return glm::mix(glm::dvec3(FresnelCoat(c, s.ior)), s.albedo, s.metallic);
+}
+
+bool IsMirror(const PreviewSurface& s) { return s.roughness < kMirrorRoughness; }
+double Alpha(const PreviewSurface& s) { return std::max(kMinAlpha, s.roughness * s.roughness); }
+
+// GGX (Trowbridge-Reitz), isotropic, in the local frame (z = normal).
+double GgxD(double alpha, const glm::dvec3& h) {
+  const double a2 = alpha * alpha, c2 = h.z * h.z;
+  const double d = c2 * (a2 - 1) + 1;
+  return h.z > 0 ? a2 / (kPi * d * d) : 0;  // d >= min(1, a2) > 0
+}
+/// Smith's Lambda for GGX; w.z > 0.
+double GgxLambda(double alpha, const glm::dvec3& w) {
+  const double c2 = w.z * w.z;
+  const double tan2 = std::max(0.0, 1 - c2) / std::max(c2, 1e-300);
+  return 0.5 * (std::sqrt(1 + alpha * alpha * tan2) - 1);
+}
+double GgxG1(double alpha, const glm::dvec3& w) { return 1 / (1 + GgxLambda(alpha, w)); }
+
+/// A microfacet normal from the distribution of normals visible from wo (Heitz 2018, "Sampling the
+/// GGX distribution of visible normals"); its reflection pdf is D(h) G1(wo) / (4 cos_o).
+glm::dvec3 SampleGgxVisibleNormal(double alpha, const glm::dvec3& wo, double u1, double u2) {
+  const glm::dvec3 vh = glm::normalize(glm::dvec3(alpha * wo.x, alpha * wo.y, wo.z));
+  const double lensq = vh.x * vh.x + vh.y * vh.y;
+  const glm::dvec3 t1 = lensq > 0 ? glm::dvec3(-vh.y, vh.x, 0) / std::sqrt(lensq) : glm::dvec3(1, 0, 0);
+  const glm::dvec3 t2 = glm::cross(vh, t1);
+  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
+  const double p1 = r * std::cos(phi), s = 0.5 * (1 + vh.z);
+  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * std::sin(phi);
+  const glm::dvec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
+  const glm::dvec3 ne(alpha * nh.x, alpha * nh.y, std::max(0.0, nh.z));
+  const double len = glm::length(ne);
+  return len > 0 ? ne / len : glm::dvec3(0, 0, 1);
+}
+
+/// Lobe selection probabilities from wo, proportional to each lobe's estimated reflectance.
+struct LobeProbabilities {
+  double diffuse = 0, specular = 0, glass = 0;
+};
+LobeProbabilities SelectLobes(const PreviewSurface& s, double cosO) {
+  const double coat = FresnelCoat(cosO, s.ior);
+  const double wD = s.opacity * (1 - s.metallic) * Luminance(s.albedo) * (1 - coat);
+  const double wS = s.opacity * Luminance(SpecularFresnel(s, cosO));
+  const double wG = 1 - s.opacity;
+  const double total = wD + wS + wG;
+  if (!(total > 0) || !std::isfinite(total)) return {};
+  return {wD / total, wS / total, wG / total};
+}
+
+/// Diffuse plus rough specular f (1/sr), without the opacity factor, both directions above (local).
+glm::dvec3 OpaqueF(const PreviewSurface& s, const glm::dvec3& wo, const glm::dvec3& wi) {
+  const glm::dvec3 diffuse = (1 - s.metallic) * s.albedo / kPi * (1 - FresnelCoat(wo.z, s.ior)) *
+                             (1 - FresnelCoat(wi.z, s.ior));
+  if (IsMirror(s)) return diffuse;
+  const glm::dvec3 sum = wo + wi;
+  const double len = glm::length(sum);
+  if (!(len > 0)) return diffuse;
+  const glm::dvec3 h = sum / len;
+  const double alpha = Alpha(s);
+  const double g2 = 1 / (1 + GgxLambda(alpha, wo) + GgxLambda(alpha, wi));
+  const glm::dvec3 specular = GgxD(alpha, h) * g2 * SpecularFresnel(s, glm::dot(wo, h)) / (4 * wo.z * wi.z);
+  return diffuse + specular;
+}
+
+/// Non-delta pdf, local directions, both above.
+double OpaquePdf(const PreviewSurface& s, const LobeProbabilities& p, const glm::dvec3& wo, const glm::dvec3& wi) {
+  double pdf = p.diffuse * wi.z / kPi;
+  if (!IsMirror(s) && p.specular > 0) {
+    const glm::dvec3 sum = wo + wi;
+    const double len = glm::length(sum);
+    if (len > 0) {
+      const double alpha = Alpha(s);
+      pdf += p.specular * GgxD(alpha, sum / len) * GgxG1(alpha, wo) / (4 * wo.z);
+    }
+  }
+  return pdf;
+}
+
+// Below this cosine a direction is treated as lying in the surface: no scattering from or into it.
+constexpr double kMinCos = 1e-9;
+
+}  // namespace
+
+glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
+  const Frame frame(n);
+  const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
+  if (!(lo.z > kMinCos) || !(li.z > kMinCos)) return glm::dvec3(0);
+  const glm::dvec3 f = s.opacity * OpaqueF(s, lo, li);
+  return Finite(f) ? f : glm::dvec3(0);
+}
+
+double PdfPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
+  const Frame frame(n);
+  const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
+  if (!(lo.z > kMinCos) || !(li.z > kMinCos)) return 0;
+  const double pdf = OpaquePdf(s, SelectLobes(s, lo.z), lo, li);
+  return std::isfinite(pdf) ? pdf : 0;
+}
+
+bool HasSmoothLobe(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo) {
+  const double cosO = glm::dot(n, wo);
+  if (!(cosO > kMinCos)) return false;
+  const LobeProbabilities p = SelectLobes(s, cosO);
+  return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s));
+}
+
+bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, bool inside, double u0,
+                          double u1, double u2, BsdfSample* out) {
+  *out = BsdfSample{};
+  const Frame frame(n);
+  const glm::dvec3 lo = frame.ToLocal(wo);
+  if (!(lo.z > kMinCos)) return false;
+  const LobeProbabilities p = SelectLobes(s, lo.z);
+
+  if (u0 >= p.diffuse + p.specular) {
+    // Glass: reflect with the Fresnel probability, else refract.
+    if (!(p.glass > 0)) return false;
+    const double eta = inside ? 1 / s.ior : s.ior;  // index of the far side over wo's side
+    const double fresnel = eyelib::FresnelDielectric(lo.z, eta);
+    glm::dvec3 wt(0);
+    const double scale = (1 - s.opacity) / p.glass;
+    if (u1 < fresnel || !eyelib::Refract(wo, n, eta, &wt)) {
+      out->wi = eyelib::Reflect(wo, n);
+      out->weight = glm::dvec3(scale);
+    } else {
+      out->wi = wt;
+      out->weight = glm::dvec3(scale / (eta * eta));  // radiance compresses into the denser side
+      out->transmitted = true;
+    }
+    out->pdf = p.glass;
+    out->delta = true;
+    return Finite(out->weight);
+  }
+
+  if (u0 >= p.diffuse && IsMirror(s)) {
+    out->wi = eyelib::Reflect(wo, n);
+    out->weight = s.opacity * SpecularFresnel(s, lo.z) / p.specular;  // p.specular > 0 here
+    out->pdf = p.specular;
+    out->delta = true;
+    return Finite(out->weight);
+  }
+
+  glm::dvec3 li;
+  if (u0 < p.diffuse) {
+    li = frame.ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
+  } else {
+    const glm::dvec3 h = SampleGgxVisibleNormal(Alpha(s), lo, u1, u2);
+    li = 2 * glm::dot(lo, h) * h - lo;
+  }
+  if (!(li.z > kMinCos)) return false;  // a microfacet reflection below the horizon: lost energy
+  const double pdf = OpaquePdf(s, p, lo, li);
+  if (!(pdf > 0) || !std::isfinite(pdf)) return false;
+  out->wi = glm::normalize(frame.ToWorld(li));
+  out->weight = s.opacity * OpaqueF(s, lo, li) * (li.z / pdf);
+  out->pdf = pdf;
+  return Finite(out->weight);
+}
+
+}  // namespace hdeye

@@ -1,0 +1,49 @@
+#pragma once
+// What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
+// geometry user data. The renderer sees these, never prim classes.
+#include "hdeye/render/eyeRenderOptions.h"
+#include "hdeye/render/params.h"
+
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+namespace hdeye {
+
+struct EyeGeometry;
+class Texture;
+
+struct GeometryContext {
+  int primIndex = -1;                 ///< the primId AOV value
+  glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
+  MaterialParams material;            ///< resolved from the bound material (or the fallback)
+  /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
+  const std::vector<Vec3f>* displayColor = nullptr;
+  const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle: indices into points, normals, rest
+  /// The rendered points (object space), for mapping a hit to its surface point exactly (eye meshes).
+  const std::vector<Vec3f>* points = nullptr;
+  /// Unit shading normals per vertex of the rendered triangles, object space (refined meshes: the limit
+  /// normals; polygon meshes: smooth vertex normals), or null: the renderer then shades with the flat
+  /// geometric normal. A zero normal (degenerate vertex) is allowed; the renderer falls back there too.
+  const std::vector<Vec3f>* vertexNormals = nullptr;
+  /// Authored normals per rendered triangle corner (3 per triangle), object space, unit or zero; when
+  /// set they replace vertexNormals (polygon meshes only: subdivided meshes keep their limit normals).
+  const std::vector<Vec3f>* cornerNormals = nullptr;
+  const std::vector<Vec2f>* st = nullptr; ///< 3 per rendered triangle (corner order), or null
+  /// Rest positions per rendered point (object space; refined to the limit like the points), or null.
+  const std::vector<Vec3f>* restPoints = nullptr;
+  const EyeGeometry* eye = nullptr;   ///< set for analytic eyes (user geometry): shaded through the analytic model
+  /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
+  /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
+  const EyeGeometry* meshEye = nullptr;
+  /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
+  const Texture* diffuseTexture = nullptr;
+  /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
+  /// finds the eyeball's boundary in it, never in the rest of the scene.
+  RTCScene prototypeScene = nullptr;
+  /// Eyes (analytic and mesh): the render plan's per-eye switches, written by ApplyRenderPlan. Kept here,
+  /// in the rprim's context, because the context outlives sync while EyeGeometry is rebuilt by it.
+  EyeRenderOptions eyeOptions;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,259 @@
+#include "hdeye/render/renderLight.h"
+
+#include <eyelib/sampling.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using eyelib::SampleUniformCone;
+using eyelib::UniformConePdf;
+
+/// Area pdf to solid angle pdf.
+double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
+  return cosAtLight > 0 ? areaPdf * distance * distance / cosAtLight : 0;
+}
+
+double PlanarArea(const RenderLight& l) {
+  return l.type == LightType::Rect ? 4 * glm::length(glm::cross(l.axisU, l.axisV)) : kPi * l.radius * l.radius;
+}
+
+double Luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+/// The rotation part of m's upper 3x3 (Gram-Schmidt on its columns, keeping the handedness of a
+/// right-handed frame); identity if degenerate.
+glm::dmat3 RotationOf(const glm::dmat4& m) {
+  glm::dvec3 x(m[0]), y(m[1]);
+  const double lx = glm::length(x);
+  if (!(lx > 0) || !std::isfinite(lx)) return glm::dmat3(1.0);
+  x /= lx;
+  y -= glm::dot(y, x) * x;
+  const double ly = glm::length(y);
+  if (!(ly > 0) || !std::isfinite(ly)) return glm::dmat3(1.0);
+  y /= ly;
+  return glm::dmat3(x, y, glm::cross(x, y));
+}
+
+// The dome's lat-long parameterisation (see DomeTexture in renderLight.h).
+glm::dvec3 LatLongToDirection(const glm::dvec2& uv) {
+  const double lat = kPi * (uv.y - 0.5), lon = kPi * (1 - 2 * uv.x);
+  return {std::cos(lat) * std::sin(lon), std::sin(lat), std::cos(lat) * std::cos(lon)};
+}
+/// (u, v) in [0, 1]^2 of a unit local direction; *cosLat = sin(theta) = the lat-long Jacobian factor.
+glm::dvec2 DirectionToLatLong(const glm::dvec3& d, double* cosLat) {
+  *cosLat = std::sqrt(d.x * d.x + d.z * d.z);
+  const double lat = std::asin(std::clamp(d.y, -1.0, 1.0)), lon = std::atan2(d.x, d.z);
+  double u = 0.5 - lon / (2 * kPi);
+  if (u >= 1) u -= 1;
+  if (u < 0) u = 0;
+  return {u, std::clamp(0.5 + lat / kPi, 0.0, 1.0)};
+}
+/// Solid-angle pdf from the (u, v) density: d omega = 2 pi^2 sin(theta) du dv.
+double UvToSolidAngle(double pdfUv, double cosLat) {
+  return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0;
+}
+/// Radiance of the textured dome at (u, v): clamped at the poles (repeat would blend the two poles).
+glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
+  const Texture& image = *l.dome->image;
+  const double halfTexel = 0.5 / image.Height();
+  uv.y = std::clamp(uv.y, halfTexel, 1 - halfTexel);
+  return l.radiance * glm::dvec3(image.Lookup(glm::vec2(uv)));
+}
+}  // namespace
+
+std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
+  if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
+  const int w = image->Width(), h = image->Height();
+  std::vector<double> luminance(std::size_t(w) * std::size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(image->Texel(x, y)));
+  // Distribution row r is image row h-1-r (v = 0 at the bottom).
+  std::vector<double> weights(luminance.size());
+  for (int r = 0; r < h; ++r) {
+    const int y = h - 1 - r;
+    const double sinTheta = std::cos(kPi * ((r + 0.5) / h - 0.5));
+    for (int x = 0; x < w; ++x) {
+      double m = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int yy = std::clamp(y + dy, 0, h - 1), xx = (x + dx + w) % w;
+          m = std::max(m, luminance[std::size_t(yy) * w + xx]);
+        }
+      weights[std::size_t(r) * w + x] = m * sinTheta;
+    }
+  }
+  auto dome = std::make_shared<DomeTexture>();
+  dome->image = std::move(image);
+  dome->distribution = Distribution2D(w, h, weights);
+  return dome;
+}
+
+RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome) {
+  RenderLight l;
+  l.type = p.type;
+  l.radiance = glm::dvec3(p.color) * double(p.intensity) * std::exp2(double(p.exposure));
+  l.position = glm::dvec3(m * glm::dvec4(0, 0, 0, 1));
+  const glm::dvec3 x(m * glm::dvec4(1, 0, 0, 0)), y(m * glm::dvec4(0, 1, 0, 0)), z(m * glm::dvec4(0, 0, 1, 0));
+  const double scale = std::max({glm::length(x), glm::length(y), glm::length(z)});
+  switch (p.type) {
+    case LightType::Sphere: l.radius = p.radius * scale; break;
+    case LightType::Distant: {
+      l.direction = glm::normalize(z);
+      const double half = std::max(1e-4, double(p.angle) * kPi / 360);
+      l.cosHalfAngle = std::cos(half);
+      // Intensity is the irradiance on a surface facing the light: spread it over the sun's disk.
+      l.radiance /= kPi * std::sin(half) * std::sin(half);
+      break;
+    }
+    case LightType::Rect:
+      l.direction = -glm::normalize(z);
+      l.axisU = x * (p.width / 2.0);
+      l.axisV = y * (p.height / 2.0);
+      break;
+    case LightType::Disk:
+      l.direction = -glm::normalize(z);
+      l.axisU = glm::normalize(x);
+      l.axisV = glm::normalize(y);
+      l.radius = p.radius * scale;
+      break;
+    case LightType::Dome:
+      if (!p.textureFile.empty()) {
+        l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
+        l.domeToWorld = RotationOf(m);
+      }
+      break;
+  }
+  return l;
+}
+
+LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {
+  LightSample s;
+  switch (l.type) {
+    case LightType::Sphere: {
+      const glm::dvec3 toC = l.position - p;
+      const double d = glm::length(toC);
+      if (!(d > l.radius)) return s;  // inside the light: not sampled
+      const double sinMax = l.radius / d, cosMax = std::sqrt(std::max(0.0, 1 - sinMax * sinMax));
+      s.dir = SampleUniformCone(toC / d, cosMax, u1, u2);
+      // Distance to the sphere along dir (the near root).
+      const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
+      s.distance = b - std::sqrt(std::max(0.0, b * b - c));
+      s.radiance = l.radiance;
+      s.pdf = UniformConePdf(cosMax);
+      return s;
+    }
+    case LightType::Distant:
+      s.dir = SampleUniformCone(l.direction, l.cosHalfAngle, u1, u2);
+      s.distance = kInf;
+      s.radiance = l.radiance;
+      s.pdf = UniformConePdf(l.cosHalfAngle);
+      return s;
+    case LightType::Dome: {
+      if (l.dome) {
+        // Importance sampling by luminance x sin(theta) over the lat-long image.
+        double pdfUv = 0;
+        const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
+        const glm::dvec3 local = LatLongToDirection(uv);
+        s.pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return LightSample{};
+        s.dir = glm::normalize(l.domeToWorld * local);
+        s.distance = kInf;
+        s.radiance = DomeRadiance(l, uv);
+        return s;
+      }
+      // Uniform sphere (a constant dome gains nothing from importance sampling).
+      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
+      s.dir = {r * std::cos(phi), r * std::sin(phi), z};
+      s.distance = kInf;
+      s.radiance = l.radiance;
+      s.pdf = 1 / (4 * kPi);
+      return s;
+    }
+    case LightType::Rect:
+    case LightType::Disk: {
+      glm::dvec3 q;
+      if (l.type == LightType::Rect) {
+        q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
+      } else {
+        const double r = l.radius * std::sqrt(u1), phi = 2 * kPi * u2;
+        q = l.position + r * (std::cos(phi) * l.axisU + std::sin(phi) * l.axisV);
+      }
+      const glm::dvec3 toQ = q - p;
+      s.distance = glm::length(toQ);
+      if (!(s.distance > 0)) return s;
+      s.dir = toQ / s.distance;
+      s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
+      if (s.pdf > 0) s.radiance = l.radiance;
+      return s;
+    }
+  }
+  return s;
+}
+
+bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3& dir, double maxDistance,
+                    glm::dvec3* radiance, double* pdf, double* distance) {
+  switch (l.type) {
+    case LightType::Sphere: {
+      const glm::dvec3 toC = l.position - p;
+      const double d2 = glm::dot(toC, toC);
+      if (!(d2 > l.radius * l.radius)) return false;
+      const double b = glm::dot(dir, toC), disc = b * b - (d2 - l.radius * l.radius);
+      if (disc < 0) return false;
+      const double t = b - std::sqrt(disc);
+      if (!(t > 0) || t >= maxDistance) return false;
+      const double sinMax2 = l.radius * l.radius / d2;
+      *radiance = l.radiance;
+      *pdf = UniformConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
+      *distance = t;
+      return true;
+    }
+    case LightType::Distant:
+      if (maxDistance < kInf || glm::dot(dir, l.direction) < l.cosHalfAngle) return false;
+      *radiance = l.radiance;
+      *pdf = UniformConePdf(l.cosHalfAngle);
+      *distance = kInf;
+      return true;
+    case LightType::Dome:
+      if (maxDistance < kInf) return false;
+      *distance = kInf;
+      if (l.dome) {
+        double cosLat = 0;
+        // The rotation is orthonormal: its transpose is its inverse.
+        const glm::dvec2 uv = DirectionToLatLong(glm::normalize(glm::transpose(l.domeToWorld) * dir), &cosLat);
+        *radiance = DomeRadiance(l, uv);
+        *pdf = UvToSolidAngle(l.dome->distribution.Pdf(uv), cosLat);
+        return true;
+      }
+      *radiance = l.radiance;
+      *pdf = 1 / (4 * kPi);
+      return true;
+    case LightType::Rect:
+    case LightType::Disk: {
+      const double cosL = glm::dot(-dir, l.direction);
+      if (!(cosL > 0)) return false;  // one-sided
+      const double t = glm::dot(l.position - p, l.direction) / glm::dot(dir, l.direction);
+      if (!(t > 0) || t >= maxDistance) return false;
+      const glm::dvec3 q = p + t * dir - l.position;
+      if (l.type == LightType::Rect) {
+        const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU), b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
+        if (std::abs(a) > 1 || std::abs(b) > 1) return false;
+      } else if (glm::dot(q, q) > l.radius * l.radius) {
+        return false;
+      }
+      *radiance = l.radiance;
+      *pdf = AreaToSolidAngle(1 / PlanarArea(l), t, cosL);
+      *distance = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace hdeye

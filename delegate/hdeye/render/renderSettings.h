@@ -1,0 +1,25 @@
+#pragma once
+// The render settings the renderer reads (HdRenderSettingsMap's role, as a struct): set on the render
+// delegate, handed to the renderer by the render pass for each Execute.
+namespace hdeye {
+
+/// Render settings (name, default), read by the render pass for each Execute.
+struct RenderSettings {
+  int samplesPerPixel = 16;
+  double timeLimitSeconds = 0;  ///< 0: no limit
+  unsigned seed = 0;
+  int threads = 0;      ///< 0: all cores
+  int maxDepth = 8;     ///< path vertices after the camera
+  int firstSample = 0;  ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
+  bool mis = true;      ///< combine light and BSDF sampling (off: light sampling only, for tests)
+  /// Eyes: the iris's direct light through MNEE (off: only by paths that refract out of the cornea and
+  /// happen to hit a light: plain path tracing, for A/B comparisons).
+  bool mnee = true;
+  bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
+  /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
+  /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
+  /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
+  bool scleraScattering = true;
+};
+
+}  // namespace hdeye

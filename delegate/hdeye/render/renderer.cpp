@@ -1,0 +1,612 @@
+#include "hdeye/render/renderer.h"
+
+#include "hdeye/render/eyeShading.h"
+#include "hdeye/render/previewSurface.h"
+#include "hdeye/render/renderContext.h"
+#include "hdeye/render/scleraScattering.h"
+#include "hdeye/render/surfacePoint.h"
+#include "hdeye/render/texture.h"
+
+#include <eyelib/optics.h>
+#include <eyelib/random.h>
+#include <eyelib/sampling.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <type_traits>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+namespace hdeye {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kTile = 16;
+// Dimensions per pixel sample: room for the deepest path (world bounces times chamber walks) with no reuse.
+constexpr std::uint64_t kDimsPerSample = std::uint64_t(1) << 16;
+
+/// The random numbers of one pixel sample: dimension d of sample s of pixel p.
+class SampleStream {
+ public:
+  SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
+      : seed_(seed), pixel_(pixel), base_(sample * kDimsPerSample) {}
+  double Next() { return eyelib::UniformAt(seed_, pixel_, base_ + dim_++ % kDimsPerSample); }
+
+ private:
+  std::uint64_t seed_, pixel_, base_, dim_ = 0;
+};
+
+double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+
+/// The UsdPreviewSurface BSDF of a non-eye hit: the bound material's parameters, with its diffuse
+/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
+PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& albedo, const glm::dvec2& st) {
+  const MaterialParams& m = context.material;
+  PreviewSurface s;
+  s.albedo = context.diffuseTexture ? glm::dvec3(context.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
+  s.roughness = m.roughness;
+  s.metallic = m.metallic;
+  s.opacity = m.opacity;
+  s.ior = m.ior;
+  return s;
+}
+
+
+struct SurfaceHit {
+  double t;
+  glm::dvec3 p, n;  // n (the shading normal) faces the incoming ray
+  glm::dvec3 ng{0};  // the geometric normal, facing the incoming ray
+  glm::dvec3 albedo, emission;
+  int primIndex;
+  const GeometryContext* context;
+  unsigned part;    // the primitive; for eyes, EyeGeometry::Part
+  double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
+  glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
+};
+
+/// The eye a hit belongs to (analytic or mesh), or null.
+const EyeGeometry* EyeOf(const GeometryContext& context) { return context.eye ? context.eye : context.meshEye; }
+
+/// An object-space shading normal carried to world space (not normalised), with its length. Degenerate (zero
+/// or not finite) ones are not Valid: the caller keeps its geometric normal there.
+struct WorldNormal {
+  glm::dvec3 v;
+  double length;
+  WorldNormal(const GeometryContext& context, const glm::dvec3& local)
+      : v(context.normalToWorld * local), length(glm::length(v)) {}
+  bool Valid() const { return length > 1e-12 && std::isfinite(length); }
+};
+
+/// The switches one eye renders with: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else
+/// the render settings' and the eye's own EyeParams::limbalArc.
+struct EyeSwitches {
+  bool mnee = true, allSolutions = false;
+  const std::vector<bool>* mneeLights = nullptr;  ///< null: MNEE counts every light
+  int maxChamberEvents = 64;
+  bool scleraScattering = true, limbalArc = true;
+};
+
+EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye, const RenderSettings& settings) {
+  if (options.planned)
+    return {options.mnee,          options.allSolutions,     &options.mneeLights, options.maxChamberEvents,
+            options.scleraScattering, options.limbalArc};
+  static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
+  return {settings.mnee,          settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents,
+          settings.scleraScattering, eye.limbalArc};
+}
+
+/// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
+/// it met (for the data AOVs).
+struct PathSample {
+  glm::dvec3 L{0};
+  glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
+  glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
+  bool hitAny = false;      ///< the camera ray met geometry
+  SurfaceHit first{};       ///< that first hit (its albedo the one shaded); meaningful when hitAny
+};
+
+/// What a path carries from one vertex to the next.
+struct PathState {
+  explicit PathState(const WorldRay& ray) : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar) {}
+
+  glm::dvec3 o, d;  ///< the next ray
+  double tNear, tFar;
+  glm::dvec3 beta{1};
+  // How the current ray was chosen, for weighting the lights it meets: after a specular event (the camera,
+  // the cornea) a light counts in full; after a diffuse bounce, by MIS against light sampling (or not at all
+  // without MIS); straight out of an iris (skipMnee), the lights MNEE counted there not at all, and every
+  // other light in full. Why in full and not by MIS: the iris bounce's cosine-hemisphere pdf exists, but for
+  // a light MNEE does not handle there is no second strategy at the iris (light sampling cannot see through
+  // the refracting cornea; that is what MNEE is for), so the path leaving the iris is that light's only
+  // estimator and its weight is 1. Nor is MNEE MIS-weighted against the exiting path for the lights it does
+  // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
+  // by light, never a mixture.
+  bool specular = true, skipLights = false, skipMnee = false;
+  double bsdfPdf = 0;        ///< the pdf the current ray was sampled with (after a diffuse bounce)
+  EyeLighting eyeLighting;   ///< the lights and switches of the eye last met
+  EyeLighting skipMneeOf;    ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
+  // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry no
+  // front/back flag, so this assumes the camera is outside and glass objects are closed and do not nest.
+  bool insideGlass = false;
+  // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only grows, so
+  // L at the end minus L then).
+  bool arc = false;
+  glm::dvec3 lAtArc{0};
+
+  /// The next ray starts at `origin` along unit `dir`, unbounded.
+  void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
+  /// After a delta event: lights the ray meets count in full.
+  void SetSpecular() { specular = true, skipLights = false, skipMnee = false; }
+};
+
+/// What the integrator does with a hit after the eye shaded it.
+enum class EyeOutcome { Continue, End, ShadeSurface };
+
+class Tracer {
+ public:
+  /// Counters a tracer keeps while it renders (RenderStats' rays and sclera walks).
+  struct Counts {
+    std::int64_t rays = 0, walks = 0, teleportedWalks = 0, cappedWalks = 0, invalidWalks = 0;
+  };
+
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
+      : scene_(scene), lights_(lights), settings_(settings) {}
+
+  /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
+  /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
+  PathSample Li(const WorldRay& ray, SampleStream& rng) const {
+    PathSample sample;
+    const std::function<double()> random = [&rng] { return rng.Next(); };
+    PathState path(ray);
+    path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
+                                     return Occluded(po, pd, t);
+                                   }, settings_.mneeAllSolutions, settings_.mnee};
+    for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
+      SurfaceHit hit;
+      const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
+      if (depth == 0) {
+        sample.hitAny = hitGeometry;
+        if (hitGeometry) sample.first = hit;
+      }
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
+      if (!hitGeometry) break;
+      sample.L += path.beta * hit.emission;
+      if (const EyeGeometry* eye = EyeOf(*hit.context)) {
+        const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
+        if (outcome == EyeOutcome::Continue) continue;
+        if (outcome == EyeOutcome::End) break;
+      }
+      // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
+      // UsdPreviewSurface.
+      const bool eyeSurface = EyeOf(*hit.context) != nullptr;
+      const PreviewSurface bsdf =
+          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
+      if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
+      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
+      sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
+      if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
+    }
+    if (path.arc) sample.limbalArc = sample.L - path.lAtArc;
+    return sample;
+  }
+
+  const Counts& GetCounts() const { return counts_; }
+
+ private:
+  /// Closest hit of the scene's geometry along the ray, if any.
+  bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+    rh.ray.tnear = float(tNear);
+    rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
+    rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
+    rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    ++counts_.rays;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    // Meshes sit under instances; eyes are user geometry in the root scene.
+    const unsigned id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+    const auto* ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, id)));
+    hit->t = rh.ray.tfar;
+    hit->p = o + hit->t * d;
+    glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    if (glm::dot(n, d) > 0) n = -n;
+    hit->ng = n;
+    hit->u = rh.hit.u, hit->v = rh.hit.v;
+    hit->part = rh.hit.primID;
+    hit->context = ctx;
+    FillPrimvars(hit);
+    return true;
+  }
+
+  /// The hit's shading normal, st, albedo and emission from its geometry's primvars: per-vertex values
+  /// (triangleVertices) or per-corner ones (3 per triangle), weighted by the hit's barycentrics.
+  static void FillPrimvars(SurfaceHit* hit) {
+    const GeometryContext& ctx = *hit->context;
+    const double bu = hit->u, bv = hit->v, bw = 1 - bu - bv;
+    const std::size_t firstCorner = 3 * std::size_t(hit->part);
+    auto atCorners = [&](const auto& values) {
+      using D = glm::vec<std::decay_t<decltype(values[0])>::length(), double>;
+      return bw * D(values[firstCorner]) + bu * D(values[firstCorner + 1]) + bv * D(values[firstCorner + 2]);
+    };
+    // Smooth shading: authored corner normals, else the per-vertex normals, interpolated. The flat
+    // geometric normal still decides the side: the shading normal is flipped onto the side the ray came
+    // from, so the renderer's cosines (taken against hit->n and clamped at 0) stay on the lit side.
+    // Analytic eyes, meshes without normals and degenerate (zero) normals keep the flat one.
+    glm::dvec3 local(0);
+    if (ctx.cornerNormals) {
+      local = glm::dvec3(atCorners(*ctx.cornerNormals));
+    } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
+      local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
+    }
+    const WorldNormal shading(ctx, local);
+    hit->n = !shading.Valid()                    ? hit->ng
+             : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
+                                                 : shading.v / shading.length;
+    hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
+    hit->albedo = ctx.displayColor ? glm::dvec3(atCorners(*ctx.displayColor)) : glm::dvec3(ctx.material.diffuseColor);
+    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(ctx.material.emissiveColor);
+    hit->primIndex = ctx.primIndex;
+  }
+
+  bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    ray.org_x = float(o.x), ray.org_y = float(o.y), ray.org_z = float(o.z);
+    ray.dir_x = float(d.x), ray.dir_y = float(d.y), ray.dir_z = float(d.z);
+    ray.tnear = 0;
+    ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
+    ray.mask = ~0u, ray.flags = 0, ray.time = 0;
+    rtcOccluded1(scene_, &context, &ray);
+    ++counts_.rays;
+    return ray.tfar < 0;
+  }
+
+  /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
+  /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
+  /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
+  /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
+  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
+                const EyeLighting* skipMneeOf = nullptr) const {
+    double best = kInf;
+    bool found = false;
+    for (std::size_t k = 0; k < lights_.size(); ++k) {
+      if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
+      const RenderLight& l = lights_[k];
+      glm::dvec3 le(0);
+      double lpdf = 0, dist = kInf;
+      if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
+        best = dist, *radiance = le, *pdf = lpdf, found = true;
+      }
+    }
+    return found;
+  }
+
+  /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
+  /// ray was chosen (PathState's flags).
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
+    glm::dvec3 le(0);
+    double lpdf = 0;
+    if (path.skipLights || !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr))
+      return glm::dvec3(0);
+    if (path.specular) return path.beta * le;
+    if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
+    return glm::dvec3(0);
+  }
+
+  /// The probability of picking any one light for next event estimation (uniform).
+  double LightSelectPdf() const { return lights_.empty() ? 0 : 1.0 / double(lights_.size()); }
+
+  /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
+  /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
+  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, const std::function<double()>& random, SurfaceHit* hit,
+                         PathState* path, PathSample* sample) const {
+    const GeometryContext& ctx = *hit->context;
+    const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
+    EyeLighting& lighting = path->eyeLighting;
+    lighting.mnee = switches.mnee;
+    lighting.allSolutions = switches.allSolutions;
+    lighting.mneeLights = switches.mneeLights;
+    lighting.maxChamberEvents = switches.maxChamberEvents;
+    const EyeEvent ev = ctx.eye ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
+                                : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
+                                                   path->d, lighting, random);
+    sample->L += path->beta * ev.radiance;
+    sample->irisMnee += path->beta * ev.radiance;
+    if (ev.kind == EyeEvent::Continue) {
+      path->beta *= ev.weight;
+      path->SetRay(ev.origin, ev.dir);
+      if (!ev.passThrough) {
+        path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
+        if (path->skipMnee) path->skipMneeOf = lighting;
+      }
+      return EyeOutcome::Continue;
+    }
+    if (ev.kind == EyeEvent::Absorbed) return EyeOutcome::End;
+    ShadeScleraSurface(eye, ev, path->d, hit);
+    if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
+    // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
+    // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
+    if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
+      return EnterSclera(eye, switches.limbalArc, random, hit, path, sample->L);
+    return EyeOutcome::ShadeSurface;
+  }
+
+  /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
+  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st).
+  static void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, SurfaceHit* hit) {
+    if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+    if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
+    else if (hit->context->diffuseTexture) hit->albedo = glm::dvec3(hit->context->diffuseTexture->Lookup(glm::vec2(hit->st)));
+    hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
+  }
+
+  /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
+  /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
+  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random,
+                         SurfaceHit* hit, PathState* path, const glm::dvec3& L) const {
+    const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
+    if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
+    if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+      path->SetRay(step.origin, step.dir);
+      path->SetSpecular();
+      return EyeOutcome::Continue;
+    }
+    // The exit is a diffuse transmission lobe: the walk decides where light leaves and how much (its Fresnel
+    // test at the boundary included); the direction it leaves in is then taken as Lambertian about the exit's
+    // outward normal, as Cycles and Hyperion do. The walk's own refracted exit direction is dropped, not
+    // followed: its pdf is unknown (it depends on the whole walk), so it could be neither MIS-weighted against
+    // light sampling nor combined with next event estimation at the exit without counting the light twice.
+    // With a Lambertian lobe, next event estimation and the sampled continuation are weighted by the power
+    // heuristic like any diffuse bounce. What this approximates: light refracted out of a dielectric is
+    // Lambertian times (1 - F(theta)), a little darker at grazing exit.
+    if (!path->arc && step.teleported) path->arc = true, path->lAtArc = L;
+    path->beta *= step.weight;
+    hit->p = step.point;
+    hit->n = hit->ng = step.normal;
+    hit->albedo = glm::dvec3(1);  // the colour is in the walk's weight
+    path->d = -step.normal;       // wo = the outward normal: the lobe is the outward hemisphere
+    return EyeOutcome::ShadeSurface;
+  }
+
+  /// What a sclera hit on an eye mesh did: reflected off the wet surface, or entered, walked and left.
+  struct ScleraStep {
+    enum Kind { Reflected, Exited, Ended } kind = Ended;
+    glm::dvec3 origin{0}, dir{0};  ///< Reflected: the mirror ray
+    glm::dvec3 point{0}, normal{0};  ///< Exited: the exit (world) and the outward shading normal there
+    glm::dvec3 weight{0};            ///< Exited: the walk's RGB throughput
+    bool teleported = false;         ///< Exited: the walk lit the limbal arc
+  };
+
+  /// The sclera of an eye mesh as a volume: at the hit, a smooth dielectric boundary of the eye's tissue index
+  /// (EyeParams' cornea ior: cornea and sclera share it) reflects with the Fresnel probability or refracts in;
+  /// inside, eyelib's random walk runs in the canonical frame against the mesh itself (its own Embree scene),
+  /// with the teleportation cylinder if the eye asks for it. Both Fresnel choices are sampled with their own
+  /// probability, so no weight changes there.
+  ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
+                        bool limbalArc, const std::function<double()>& random) const {
+    ScleraStep step;
+    const double ior = eye.chamber.CorneaIor();
+    // Fresnel against the shading normal (smooth highlights); which side is inside, against the
+    // geometric one (the walk's boundary is the triangles themselves).
+    const glm::dvec3 wo = -d;
+    const double cosO = std::max(0.0, glm::dot(wo, hit.n));
+    if (random() < eyelib::FresnelDielectric(cosO, ior)) {
+      step.kind = ScleraStep::Reflected;
+      step.dir = eyelib::Reflect(wo, hit.n);
+      // A shading normal can tilt the mirror direction under the triangle: lift it just above.
+      const double cosG = glm::dot(step.dir, hit.ng);
+      if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
+      step.origin = SpawnOrigin(hit.p, hit.ng);
+      return step;
+    }
+    glm::dvec3 inward;
+    if (!eyelib::Refract(wo, hit.n, ior, &inward)) return step;  // cannot happen from outside (ior >= 1)
+    // The refracted direction must enter the triangle the ray met (hit.ng faces the ray: inside is -ng).
+    const double cosIn = glm::dot(inward, hit.ng);
+    if (cosIn > -1e-4) inward = glm::normalize(inward - (cosIn + 1e-4) * hit.ng);
+
+    // The walk meets the mesh as it is now (deformed or not): its own triangles, placed by the prim
+    // transform; the cylinder lives in the eye's canonical frame (ScatterInSclera), so it follows the eye.
+    std::int64_t queries = 0;
+    MeshCrossing exitCrossing;
+    const WorldBoundary boundary =
+        EyeMeshBoundary(hit.context->prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
+    ScleraScatteringSettings ws;
+    ws.ior = ior;
+    ws.limbalArc = limbalArc;
+    const ScleraExit exit = ScatterInSclera(eye, hit.p, inward, albedo, eye.scleraMeanFreePath, boundary, random, ws);
+    CountWalk(exit, queries);
+    if (!exit.Exited()) return step;
+
+    step.kind = ScleraStep::Exited;
+    step.point = exit.origin;
+    step.weight = exit.weight;
+    step.teleported = exit.teleported;
+    step.normal = ExitShadingNormal(*hit.context, exitCrossing, exit.normal);
+    return step;
+  }
+
+  void CountWalk(const ScleraExit& exit, std::int64_t queries) const {
+    counts_.rays += queries;
+    ++counts_.walks;
+    if (exit.teleported) ++counts_.teleportedWalks;
+    if (exit.status == eyelib::WalkStatus::Capped) ++counts_.cappedWalks;
+    if (exit.status == eyelib::WalkStatus::Invalid) ++counts_.invalidWalks;
+  }
+
+  /// The outward shading normal where a sclera walk left the mesh: the mesh's interpolated normals at the last
+  /// crossing, if they agree with the geometric normal's side; else the geometric normal `outward`.
+  static glm::dvec3 ExitShadingNormal(const GeometryContext& ctx, const MeshCrossing& crossing, const glm::dvec3& outward) {
+    if (!ctx.vertexNormals || !ctx.triangleVertices || crossing.triangle == RTC_INVALID_GEOMETRY_ID ||
+        3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
+      return outward;
+    const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
+    const WorldNormal shading(ctx, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+    return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
+  }
+
+  /// Next event estimation (pbrt's SampleLd): one light chosen uniformly, sampled from `origin`, weighted by the
+  /// power heuristic against BSDF sampling; nothing for mirrors and glass (delta lobes). Returns beta times the
+  /// light's contribution. Always takes three random numbers.
+  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& wo, const glm::dvec3& origin,
+                      const glm::dvec3& beta, SampleStream& rng) const {
+    const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
+    if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
+    const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+    const LightSample ls = SampleLight(light, origin, u1, u2);
+    const double cosS = glm::dot(ls.dir, hit.n);
+    if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
+    const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
+    if (!(f.x > 0 || f.y > 0 || f.z > 0) || Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) return glm::dvec3(0);
+    const double pl = ls.pdf * LightSelectPdf();
+    const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    return beta * f * ls.radiance * (cosS * w / pl);
+  }
+
+  /// The path's next ray, sampled from the BSDF (its weight f |cos| / pdf), then Russian roulette after three
+  /// bounces. False: the path ends here.
+  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& origin, int depth,
+                          SampleStream& rng, PathState* path) const {
+    const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
+    BsdfSample bs;
+    if (!SamplePreviewSurface(bsdf, hit.n, -path->d, path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
+    if (bs.transmitted) path->insideGlass = !path->insideGlass;
+    path->bsdfPdf = bs.pdf;
+    path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
+    path->beta *= bs.weight;
+    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n), bs.wi);
+    if (depth >= 3) {
+      const double q = std::min(0.95, std::max({path->beta.x, path->beta.y, path->beta.z}));
+      if (rng.Next() >= q) return false;
+      path->beta /= q;
+    }
+    return true;
+  }
+
+  RTCScene scene_;
+  const std::vector<RenderLight>& lights_;
+  const RenderSettings& settings_;
+  mutable Counts counts_;
+};
+
+/// Throws std::invalid_argument unless a colour buffer is bound and every bound buffer has its size.
+void CheckBuffers(const AovBuffers& aovs) {
+  if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
+  const int width = aovs.color->Width(), height = aovs.color->Height();
+  for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc})
+    if (b && (b->Width() != width || b->Height() != height))
+      throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
+                                  std::to_string(height));
+}
+
+void AddRgb(AccumulationBuffer* buffer, int x, int y, const glm::dvec3& v) {
+  if (!buffer) return;
+  const float rgb[3] = {float(v.x), float(v.y), float(v.z)};
+  buffer->AddSample(x, y, rgb);
+}
+
+/// Adds one path sample of pixel (x, y), sample index s, to the bound AOVs: colour and the light AOVs always,
+/// the data AOVs (albedo, normal, depth, primId) from sample 0 only. A non-finite radiance is dropped (black)
+/// and reported through the return value.
+bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sample) {
+  const glm::dvec3& L = sample.L;
+  const bool finite = std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z);
+  if (!finite) sample.L = sample.irisMnee = sample.limbalArc = glm::dvec3(0);  // never let it into the image
+  const float color[4] = {float(L.x), float(L.y), float(L.z), sample.hitAny ? 1.0f : 0.0f};
+  aovs.color->AddSample(x, y, color);
+  AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
+  AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
+  if (s != 0) return finite;
+  const SurfaceHit& first = sample.first;
+  AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));
+  AddRgb(aovs.normal, x, y, sample.hitAny ? first.n : glm::dvec3(0));
+  const float depth = sample.hitAny ? float(first.t) : 0.0f, id = sample.hitAny ? float(first.primIndex) : -1.0f;
+  if (aovs.depth) aovs.depth->AddSample(x, y, &depth);
+  if (aovs.primId) aovs.primId->AddSample(x, y, &id);
+  return finite;
+}
+
+/// The counters every tile's tracer adds to, shared across threads.
+struct SharedCounts {
+  std::atomic<std::int64_t> rays{0}, nonFinite{0}, walks{0}, teleported{0}, capped{0}, invalid{0};
+  void Add(const Tracer::Counts& c) {
+    rays += c.rays, walks += c.walks, teleported += c.teleportedWalks, capped += c.cappedWalks;
+    invalid += c.invalidWalks;
+  }
+};
+
+/// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
+void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, const AovBuffers& aovs,
+                 SharedCounts* counts) {
+  const int width = aovs.color->Width(), height = aovs.color->Height();
+  const int tilesX = (width + kTile - 1) / kTile;
+  const double aspect = double(width) / height;
+  Tracer tracer(scene, lights, settings);
+  for (int tile = range.begin(); tile != range.end(); ++tile) {
+    const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
+    for (int y = y0; y < std::min(height, y0 + kTile); ++y)
+      for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
+        SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
+        const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
+        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
+      }
+  }
+  counts->Add(tracer.GetCounts());
+}
+
+}  // namespace
+
+RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                             const RenderSettings& settings, const AovBuffers& aovs) const {
+  CheckBuffers(aovs);
+  const int width = aovs.color->Width(), height = aovs.color->Height();
+  RenderStats stats;
+  if (width == 0 || height == 0) return stats;
+  const auto start = std::chrono::steady_clock::now();
+  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
+  SharedCounts counts;
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+
+  // One pass per sample index, so a time limit stops between whole passes and every pixel has
+  // the same samples.
+  for (int pass = 0; pass < settings.samplesPerPixel; ++pass) {
+    const int s = settings.firstSample + pass;
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
+        RenderTiles(range, s, scene, camera, lights, settings, aovs, &counts);
+      });
+    });
+    ++stats.passes;
+    stats.samples += std::int64_t(width) * height;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (settings.timeLimitSeconds > 0 && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+      stats.timeLimitReached = true;
+      break;
+    }
+  }
+  stats.rays = counts.rays;
+  stats.nonFiniteSamples = counts.nonFinite;
+  stats.scleraWalks = counts.walks;
+  stats.teleportedWalks = counts.teleported;
+  stats.cappedWalks = counts.capped;
+  stats.invalidWalks = counts.invalid;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace hdeye

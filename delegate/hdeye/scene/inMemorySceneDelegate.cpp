@@ -1,0 +1,127 @@
+#include "hdeye/scene/inMemorySceneDelegate.h"
+
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+
+namespace hdeye {
+
+void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+                                    const Matrix4d& transform, const PrimId& materialId) {
+  meshes_[id] = MeshData{topology, points, {}, materialId};
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kMesh, this, id);
+}
+
+void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& topology,
+                                       const std::vector<Vec3f>& points, const EyeParams& eyeParams,
+                                       const Matrix4d& transform, const PrimId& materialId) {
+  meshes_[id] = MeshData{topology, points, {}, materialId};
+  eyes_[id] = eyeParams;
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kEyeMesh, this, id);
+}
+
+void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
+  cameras_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertSprim(primTypes::kCamera, this, id);
+}
+
+void InMemorySceneDelegate::AddLight(const PrimId& id, const std::string& type, const LightParams& params,
+                                     const Matrix4d& transform) {
+  lights_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertSprim(type, this, id);
+}
+
+void InMemorySceneDelegate::AddMaterial(const PrimId& id, const MaterialParams& params) {
+  materials_[id] = params;
+  index_->InsertSprim(primTypes::kMaterial, this, id);
+}
+
+void InMemorySceneDelegate::AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform) {
+  eyes_[id] = params;
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kAnalyticEye, this, id);
+}
+
+void InMemorySceneDelegate::AddRenderBuffer(const PrimId& id, int width, int height, int components) {
+  index_->InsertBprim(primTypes::kRenderBuffer, this, id);
+  static_cast<RenderBuffer*>(index_->GetBprim(id))->Allocate(width, height, components);
+}
+
+void InMemorySceneDelegate::SetPoints(const PrimId& id, const std::vector<Vec3f>& points) {
+  meshes_.at(id).points = points;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPoints);
+}
+
+void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points) {
+  meshes_.at(id).topology = topology;
+  meshes_.at(id).points = points;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
+}
+
+void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
+  transforms_.at(id) = transform;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
+}
+
+void InMemorySceneDelegate::SetVisible(const PrimId& id, bool visible) {
+  if (visible) hidden_.erase(id);
+  else hidden_.insert(id);
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyVisibility);
+}
+
+void InMemorySceneDelegate::SetPrimvar(const PrimId& id, const std::string& name, const Primvar& primvar) {
+  std::map<std::string, Primvar>& primvars = meshes_.at(id).primvars;
+  if (primvar.Empty()) primvars.erase(name);
+  else primvars[name] = primvar;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPrimvar);
+}
+
+void InMemorySceneDelegate::SetDisplayColor(const PrimId& id, const std::vector<Vec3f>& colors) {
+  Primvar primvar{Interpolation::Vertex, 3, {}};
+  for (const Vec3f& c : colors) primvar.values.insert(primvar.values.end(), {c.x, c.y, c.z});
+  SetPrimvar(id, "displayColor", primvar);
+}
+
+Primvar InMemorySceneDelegate::GetPrimvar(const PrimId& id, const std::string& name) {
+  const auto mesh = meshes_.find(id);
+  if (mesh == meshes_.end()) return {};
+  const auto it = mesh->second.primvars.find(name);
+  return it == mesh->second.primvars.end() ? Primvar{} : it->second;
+}
+
+void InMemorySceneDelegate::SetLightParams(const PrimId& id, const LightParams& params) {
+  lights_.at(id) = params;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyParams);
+}
+
+void InMemorySceneDelegate::SetCameraParams(const PrimId& id, const CameraParams& params) {
+  cameras_.at(id) = params;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyParams);
+}
+
+void InMemorySceneDelegate::SetMaterialParams(const PrimId& id, const MaterialParams& params) {
+  materials_.at(id) = params;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyParams);
+}
+
+void InMemorySceneDelegate::SetEyeParams(const PrimId& id, const EyeParams& params) {
+  eyes_.at(id) = params;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyParams);
+}
+
+void InMemorySceneDelegate::SetMaterialId(const PrimId& id, const PrimId& materialId) {
+  meshes_.at(id).materialId = materialId;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyMaterialId);
+}
+
+void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
+  index_->RemovePrim(id);
+  meshes_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
+  materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
+}
+
+}  // namespace hdeye

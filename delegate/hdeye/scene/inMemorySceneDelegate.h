@@ -1,0 +1,80 @@
+#pragma once
+// A scene delegate that holds its scene in memory (Hd_UnitTestDelegate's role): C++ programs and
+// tests build a scene with it, change it between frames with the Set* calls, which mark exactly the
+// matching dirty bits, and render it through the render index.
+#include "hdeye/hd/sceneDelegate.h"
+
+#include <map>
+#include <set>
+#include <string>
+
+namespace hdeye {
+
+class RenderIndex;
+
+class InMemorySceneDelegate final : public SceneDelegate {
+ public:
+  explicit InMemorySceneDelegate(RenderIndex* renderIndex) : index_(renderIndex) {}
+
+  void AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+  void AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform);
+  /// type: one of the light prim types (sphereLight, distantLight, rectLight, diskLight, domeLight).
+  void AddLight(const PrimId& id, const std::string& type, const LightParams& params,
+                const Matrix4d& transform = Matrix4d(1.0));
+  void AddMaterial(const PrimId& id, const MaterialParams& params);
+  /// An eye on a mesh (primTypes::kEyeMesh): the mesh is what rays hit; its cornea continues against
+  /// the analytic model of `eyeParams` (whose modelTransform places the canonical frame in the mesh's
+  /// local space).
+  void AddEyeMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+                  const EyeParams& eyeParams, const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+  /// An analytic eye (the anterior segment alone, no mesh).
+  void AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform = Matrix4d(1.0));
+  void AddRenderBuffer(const PrimId& id, int width, int height, int components);
+
+  void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
+  void SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points);
+  void SetTransform(const PrimId& id, const Matrix4d& transform);
+  void SetVisible(const PrimId& id, bool visible);
+  /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); an empty one removes it.
+  /// Marks DirtyPrimvar.
+  void SetPrimvar(const PrimId& id, const std::string& name, const Primvar& primvar);
+  /// Shorthand for SetPrimvar(id, "displayColor", a vertex primvar of `colors`).
+  void SetDisplayColor(const PrimId& id, const std::vector<Vec3f>& colors);
+  void SetLightParams(const PrimId& id, const LightParams& params);
+  void SetCameraParams(const PrimId& id, const CameraParams& params);
+  void SetMaterialParams(const PrimId& id, const MaterialParams& params);
+  void SetEyeParams(const PrimId& id, const EyeParams& params);
+  void SetMaterialId(const PrimId& id, const PrimId& materialId);
+  /// Removes a prim from the render index and forgets its data; unknown ids are ignored.
+  void RemovePrim(const PrimId& id);
+
+  MeshTopology GetMeshTopology(const PrimId& id) override { return meshes_.at(id).topology; }
+  std::vector<Vec3f> GetPoints(const PrimId& id) override { return meshes_.at(id).points; }
+  Matrix4d GetTransform(const PrimId& id) override { return transforms_.at(id); }
+  bool GetVisible(const PrimId& id) override { return !hidden_.count(id); }
+  Primvar GetPrimvar(const PrimId& id, const std::string& name) override;
+  PrimId GetMaterialId(const PrimId& id) override { return meshes_.at(id).materialId; }
+  CameraParams GetCameraParams(const PrimId& id) override { return cameras_.at(id); }
+  LightParams GetLightParams(const PrimId& id) override { return lights_.at(id); }
+  MaterialParams GetMaterialParams(const PrimId& id) override { return materials_.at(id); }
+  EyeParams GetEyeParams(const PrimId& id) override { return eyes_.at(id); }
+
+ private:
+  struct MeshData {
+    MeshTopology topology;
+    std::vector<Vec3f> points;
+    std::map<std::string, Primvar> primvars;
+    PrimId materialId;
+  };
+  RenderIndex* index_;
+  std::map<PrimId, MeshData> meshes_;
+  std::map<PrimId, Matrix4d> transforms_;
+  std::map<PrimId, CameraParams> cameras_;
+  std::map<PrimId, LightParams> lights_;
+  std::map<PrimId, MaterialParams> materials_;
+  std::map<PrimId, EyeParams> eyes_;
+  std::set<PrimId> hidden_;
+};
+
+}  // namespace hdeye

@@ -1,0 +1,107 @@
+// The parameters a scene delegate hands the render delegate: camera, light, material, eye (mm in the canonical frame).
+#include "bindings.h"
+
+#include "hdeye/render/params.h"
+
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+
+namespace hdeye::python {
+
+namespace {
+
+/// A glm vector exposed as a Python 3-tuple property.
+template <class C, glm::vec3 C::*Member> void Vec3Property(nb::class_<C>& cls, const char* name) {
+  cls.def_prop_rw(
+      name,
+      [](const C& c) {
+        return std::array<float, 3>{(c.*Member).x, (c.*Member).y, (c.*Member).z};
+      },
+      [](C& c, std::array<float, 3> v) { c.*Member = glm::vec3(v[0], v[1], v[2]); });
+}
+
+/// A read-write property `name` on the flat Python EyeParams for one field of EyeParams::chamber.
+template <class T, T eyelib::ChamberParams::*Field>
+void ChamberProperty(nb::class_<EyeParams>& cls, const char* name, const char* doc = nullptr) {
+  auto get = [](const EyeParams& e) { return e.chamber.*Field; };
+  auto set = [](EyeParams& e, T v) { e.chamber.*Field = v; };
+  if (doc)
+    cls.def_prop_rw(name, get, set, doc);
+  else
+    cls.def_prop_rw(name, get, set);
+}
+
+}  // namespace
+
+void BindParams(nb::module_& m) {
+  nb::enum_<eyelib::CorneaModel>(m, "CorneaModel")
+      .value("ellipsoidCone", eyelib::CorneaModel::EllipsoidCone)
+      .value("paraboloid", eyelib::CorneaModel::Paraboloid);
+
+  nb::class_<CameraParams>(m, "CameraParams")
+      .def(nb::init<>())
+      .def_rw("orthographic", &CameraParams::orthographic)
+      .def_rw("focal_length", &CameraParams::focalLength, "mm (perspective)")
+      .def_rw("horizontal_aperture", &CameraParams::horizontalAperture, "mm, or scene units (orthographic)")
+      .def_rw("vertical_aperture", &CameraParams::verticalAperture, "mm, or scene units (orthographic)")
+      .def_rw("near_clip", &CameraParams::nearClip, "scene units")
+      .def_rw("far_clip", &CameraParams::farClip, "scene units");
+
+  nb::class_<LightParams> light(m, "LightParams");
+  light.def(nb::init<>())
+      .def_rw("intensity", &LightParams::intensity)
+      .def_rw("exposure", &LightParams::exposure, "stops")
+      .def_rw("radius", &LightParams::radius, "scene units (sphere, disk)")
+      .def_rw("width", &LightParams::width, "scene units (rect)")
+      .def_rw("height", &LightParams::height, "scene units (rect)")
+      .def_rw("angle", &LightParams::angle, "degrees, angular diameter (distant)")
+      .def_rw("texture_file", &LightParams::textureFile, "lat-long image (dome)");
+  Vec3Property<LightParams, &LightParams::color>(light, "color");
+
+  nb::class_<MaterialParams> material(m, "MaterialParams");
+  material.def(nb::init<>())
+      .def_rw("diffuse_texture", &MaterialParams::diffuseTexture)
+      .def_rw("roughness", &MaterialParams::roughness)
+      .def_rw("metallic", &MaterialParams::metallic)
+      .def_rw("opacity", &MaterialParams::opacity)
+      .def_rw("ior", &MaterialParams::ior);
+  Vec3Property<MaterialParams, &MaterialParams::diffuseColor>(material, "diffuse_color");
+  Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
+
+  nb::class_<EyeParams> eye(m, "EyeParams");
+  ChamberProperty<eyelib::CorneaModel, &eyelib::ChamberParams::model>(eye, "cornea_model");
+  ChamberProperty<double, &eyelib::ChamberParams::irisDepth>(eye, "iris_depth", "mm below the corneal apex");
+  ChamberProperty<double, &eyelib::ChamberParams::pupilDiameter>(eye, "pupil_diameter", "mm");
+  ChamberProperty<double, &eyelib::ChamberParams::limbusInnerRatio>(eye, "limbus_inner_ratio",
+                                                                    "over the 15.08 mm iris diameter");
+  ChamberProperty<double, &eyelib::ChamberParams::limbusOuterRatio>(eye, "limbus_outer_ratio",
+                                                                    "over the 15.08 mm iris diameter");
+  ChamberProperty<double, &eyelib::ChamberParams::corneaIor>(eye, "cornea_ior");
+  eye.def(nb::init<>())
+      .def_rw("iris_texture", &EyeParams::irisTexture)
+      .def_prop_rw(
+          "model_transform", [](const EyeParams& e) { return FromMatrix(e.modelTransform); },
+          [](EyeParams& e, const Matrix& mtx) { e.modelTransform = ToMatrix(mtx); },
+          "canonical frame (mm) to the prim's local space, 4x4 in USD's layout")
+      .def(
+          "validate", [](const EyeParams& e) { return eyelib::ValidateChamberParams(e.chamber); },
+          "An empty string if the chamber parameters are valid, else a one-line message.");
+  Vec3Property<EyeParams, &EyeParams::irisColor>(eye, "iris_color");
+  Vec3Property<EyeParams, &EyeParams::scleraColor>(eye, "sclera_color");
+  eye.def_rw("limbal_arc", &EyeParams::limbalArc, "the limbal-arc teleportation cylinder in the sclera walk");
+  Vec3Property<EyeParams, &EyeParams::scleraMeanFreePath>(eye, "sclera_mean_free_path");  // mm per RGB channel
+  eye.def_prop_rw(
+         "iris_projection", [](const EyeParams& e) { return FromMatrix(e.irisProjection); },
+         [](EyeParams& e, const Matrix& mtx) {
+           e.irisProjection = ToMatrix(mtx);
+           e.hasIrisProjection = true;
+         },
+         "the iris projection frame to the prim's local space, 4x4 in USD's layout; its [-1, 1]^2 xy square "
+         "is the iris texture square. Setting it sets has_iris_projection")
+      .def_rw("has_iris_projection", &EyeParams::hasIrisProjection,
+              "off: the projection is the model frame along the gaze (modelTransform x scale 7.54 mm)")
+      .def_rw("reprojection", &EyeParams::reprojection,
+              "eye meshes: re-project hits onto the analytic model (off: the affine-frame comparison baseline)");
+}
+
+}  // namespace hdeye::python

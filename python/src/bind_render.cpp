@@ -1,0 +1,65 @@
+// Rendering: the render settings, the render delegate that holds them, the render pass (run with the GIL released)
+// and what it reports.
+#include "bindings.h"
+
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/pass/renderPass.h"
+#include "hdeye/prims/renderDelegate.h"
+
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+namespace hdeye::python {
+
+void BindRender(nb::module_& m) {
+  nb::class_<RenderSettings>(m, "RenderSettings")
+      .def(nb::init<>())
+      .def_rw("samples_per_pixel", &RenderSettings::samplesPerPixel)
+      .def_rw("time_limit_seconds", &RenderSettings::timeLimitSeconds)
+      .def_rw("seed", &RenderSettings::seed)
+      .def_rw("threads", &RenderSettings::threads)
+      .def_rw("max_depth", &RenderSettings::maxDepth)
+      .def_rw("first_sample", &RenderSettings::firstSample)
+      .def_rw("mis", &RenderSettings::mis)
+      .def_rw("mnee", &RenderSettings::mnee)
+      .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
+
+  nb::class_<RenderStats>(m, "RenderStats")
+      .def_ro("samples", &RenderStats::samples)
+      .def_ro("rays", &RenderStats::rays)
+      .def_ro("seconds", &RenderStats::seconds)
+      .def_ro("passes", &RenderStats::passes)
+      .def_ro("non_finite_samples", &RenderStats::nonFiniteSamples)
+      .def_ro("capped_walks", &RenderStats::cappedWalks, "sclera walks dropped at their step cap")
+      .def_ro("time_limit_reached", &RenderStats::timeLimitReached);
+
+  nb::class_<RenderDelegate>(m, "RenderDelegate")
+      .def(nb::init<>())
+      .def_prop_ro(
+          "settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
+          nb::rv_policy::reference_internal)
+      .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
+      .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
+
+  nb::class_<RenderPass>(m, "RenderPass")
+      .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
+      .def(
+          "execute",
+          [](RenderPass& pass, const PrimId& camera, const std::vector<std::pair<std::string, PrimId>>& bindings) {
+            std::vector<AovBinding> b;
+            for (const auto& [aov, buffer] : bindings) b.push_back({aov, buffer});
+            return pass.Execute(camera, b);
+          },
+          nb::arg("camera_id"), nb::arg("bindings"), nb::call_guard<nb::gil_scoped_release>(),
+          "Syncs the index and renders settings.samples_per_pixel samples from settings.first_sample into the "
+          "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
+      .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"), nb::arg("overrides"),
+           nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
+           "Syncs the index and returns the render plan for the camera and image size, without rendering.");
+}
+
+}  // namespace hdeye::python

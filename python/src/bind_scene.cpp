@@ -1,0 +1,191 @@
+// The scene side: the render index (prims, dirty bits, render buffers' pixels and raw state) and the scene store
+// (InMemorySceneDelegate) Python's USD scene delegate pushes a stage into. Points, indices and primvars are taken as
+// C-contiguous buffers (numpy arrays, or pxr Vt arrays through the buffer protocol) and copied once, into the store.
+#include "bindings.h"
+
+#include "hdeye/hd/renderIndex.h"
+#include "hdeye/prims/mesh.h"
+#include "hdeye/prims/renderBuffer.h"
+#include "hdeye/prims/renderDelegate.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
+
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace hdeye::python {
+
+namespace {
+
+std::vector<Vec3f> ToPoints(const Points& a) {
+  const auto* p = reinterpret_cast<const Vec3f*>(a.data());
+  return {p, p + a.shape(0)};
+}
+
+std::vector<int> ToInts(const Indices& a) { return {a.data(), a.data() + a.shape(0)}; }
+
+MeshTopology ToTopology(const Indices& counts, const Indices& indices, int refineLevel, bool leftHanded) {
+  MeshTopology t;
+  t.faceVertexCounts = ToInts(counts);
+  t.faceVertexIndices = ToInts(indices);
+  t.refineLevel = refineLevel;
+  t.leftHanded = leftHanded;
+  return t;
+}
+
+Interpolation ToInterpolation(const std::string& name) {
+  if (name == "constant") return Interpolation::Constant;
+  if (name == "uniform") return Interpolation::Uniform;
+  if (name == "vertex") return Interpolation::Vertex;
+  if (name == "varying") return Interpolation::Varying;
+  if (name == "faceVarying") return Interpolation::FaceVarying;
+  throw std::invalid_argument("unknown primvar interpolation '" + name + "'");
+}
+
+/// A render buffer's resolved pixels as a new float32 array of shape (height, width, components).
+nb::ndarray<nb::numpy, float, nb::ndim<3>> Resolved(const RenderBuffer& buffer) {
+  const std::size_t w = std::size_t(buffer.Width()), h = std::size_t(buffer.Height()),
+                    c = std::size_t(buffer.Components());
+  auto* data = new float[w * h * c];
+  const auto planes = buffer.ResolvedPlanes();
+  for (std::size_t p = 0; p < w * h; ++p)
+    for (std::size_t k = 0; k < c; ++k) data[p * c + k] = planes[k][p];
+  nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<float*>(d); });
+  return nb::ndarray<nb::numpy, float, nb::ndim<3>>(data, {h, w, c}, owner);
+}
+
+/// A copy of `values` as a new numpy array of the given shape.
+template <class T>
+nb::ndarray<nb::numpy, T> CopyToNumpy(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
+  auto* data = new T[values.size()];
+  std::copy(values.begin(), values.end(), data);
+  nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<T*>(d); });
+  return nb::ndarray<nb::numpy, T>(data, shape, owner);
+}
+
+RenderBuffer& BufferOf(RenderIndex& index, const PrimId& id) {
+  auto* buffer = dynamic_cast<RenderBuffer*>(index.GetBprim(id));
+  if (!buffer) throw std::invalid_argument("no render buffer " + id);
+  return *buffer;
+}
+
+}  // namespace
+
+void BindScene(nb::module_& m) {
+  nb::class_<RenderIndex>(m, "RenderIndex")
+      .def(nb::init<RenderDelegate*>(), nb::keep_alive<1, 2>())
+      .def("sync_all", &RenderIndex::SyncAll)
+      .def("rprim_ids",
+           [](const RenderIndex& index) {
+             std::vector<std::string> ids;
+             for (const auto& [id, entry] : index.Rprims()) ids.push_back(id);
+             return ids;
+           })
+      .def("sprim_ids",
+           [](const RenderIndex& index) {
+             std::vector<std::string> ids;
+             for (const auto& [id, entry] : index.Sprims()) ids.push_back(id);
+             return ids;
+           })
+      .def("dirty_bits", [](RenderIndex& index, const PrimId& id) { return index.GetChangeTracker().GetDirtyBits(id); })
+      .def(
+          "mesh_stats",
+          [](const RenderIndex& index, const PrimId& id) {
+            const auto* mesh = dynamic_cast<const Mesh*>(index.GetRprim(id));
+            if (!mesh) throw std::invalid_argument("no mesh " + id);
+            const MeshSyncStats& s = mesh->Stats();
+            nb::dict d;
+            d["topology_builds"] = s.topologyBuilds, d["refinements"] = s.refinements;
+            d["stencil_evaluations"] = s.stencilEvaluations, d["point_uploads"] = s.pointUploads;
+            d["normal_evaluations"] = s.normalEvaluations, d["transform_updates"] = s.transformUpdates;
+            d["triangles"] = mesh->TriangleCount();
+            d["refine_level"] = mesh->RefineLevel(), d["refine_level_changes"] = s.refineLevelChanges;
+            return d;
+          },
+          "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
+      .def(
+          "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
+          "A render buffer's per-pixel means, float32 (height, width, components).")
+      .def("clear_buffer", [](RenderIndex& index, const PrimId& id) { BufferOf(index, id).Clear(); })
+      .def("merge_buffer", [](RenderIndex& index, const PrimId& into, RenderIndex& other,
+                              const PrimId& from) { BufferOf(index, into).Merge(BufferOf(other, from)); })
+      .def(
+          "buffer_state",
+          [](RenderIndex& index, const PrimId& id) {
+            const RenderBuffer& b = BufferOf(index, id);
+            const std::size_t h = std::size_t(b.Height()), w = std::size_t(b.Width()), c = std::size_t(b.Components());
+            return nb::make_tuple(CopyToNumpy(b.Sums(), {h, w, c}), CopyToNumpy(b.Counts(), {h, w}));
+          },
+          "A render buffer's raw state: (sums float64 (height, width, components), counts float64 (height, width)).")
+      .def(
+          "add_buffer_state",
+          [](RenderIndex& index, const PrimId& id, const InArray<double, nb::ndim<3>>& sums,
+             const InArray<double, nb::ndim<2>>& counts) {
+            BufferOf(index, id).AddState({sums.data(), sums.data() + sums.size()},
+                                         {counts.data(), counts.data() + counts.size()});
+          },
+          "Adds a state from buffer_state (of a render of other samples of the same frame): exact merging.");
+
+  nb::class_<InMemorySceneDelegate>(m, "SceneStore",
+                                    "The scene as the delegate pulls it (InMemorySceneDelegate); Set* mark dirty bits.")
+      .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
+      .def(
+          "add_mesh",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+             const Points& points, const Matrix& transform, const PrimId& material, int refineLevel, bool leftHanded) {
+            s.AddMesh(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points), ToMatrix(transform),
+                      material);
+          },
+          nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
+          nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
+          nb::arg("left_handed") = false)
+      .def(
+          "add_eye_mesh",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+             const Points& points, const EyeParams& eye, const Matrix& transform, const PrimId& material,
+             int refineLevel, bool leftHanded) {
+            s.AddEyeMesh(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points), eye,
+                         ToMatrix(transform), material);
+          },
+          nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
+          nb::arg("eye"), nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
+          nb::arg("left_handed") = false)
+      .def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
+                                  const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
+      .def("add_camera", [](InMemorySceneDelegate& s, const PrimId& id, const CameraParams& p,
+                            const Matrix& transform) { s.AddCamera(id, p, ToMatrix(transform)); })
+      .def("add_light", [](InMemorySceneDelegate& s, const PrimId& id, const std::string& type, const LightParams& p,
+                           const Matrix& transform) { s.AddLight(id, type, p, ToMatrix(transform)); })
+      .def("add_material", &InMemorySceneDelegate::AddMaterial)
+      .def("add_render_buffer", &InMemorySceneDelegate::AddRenderBuffer)
+      .def("set_points",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Points& p) { s.SetPoints(id, ToPoints(p)); })
+      .def("set_topology",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
+              const Points& points, int refineLevel, bool leftHanded) {
+             s.SetTopology(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points));
+           })
+      .def("set_transform",
+           [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
+      .def("set_visible", &InMemorySceneDelegate::SetVisible)
+      .def("set_primvar",
+           [](InMemorySceneDelegate& s, const PrimId& id, const std::string& name, const std::string& interpolation,
+              const InArray<float, nb::ndim<2>>& values) {
+             Primvar p;
+             p.interpolation = ToInterpolation(interpolation);
+             p.components = int(values.shape(1));
+             p.values.assign(values.data(), values.data() + values.size());
+             s.SetPrimvar(id, name, p);
+           })
+      .def("set_light_params", &InMemorySceneDelegate::SetLightParams)
+      .def("set_camera_params", &InMemorySceneDelegate::SetCameraParams)
+      .def("set_material_params", &InMemorySceneDelegate::SetMaterialParams)
+      .def("set_eye_params", &InMemorySceneDelegate::SetEyeParams)
+      .def("set_material_id", &InMemorySceneDelegate::SetMaterialId)
+      .def("remove_prim", &InMemorySceneDelegate::RemovePrim);
+}
+
+}  // namespace hdeye::python
