@@ -19,6 +19,7 @@ import numpy as np
 from pxr import Usd, UsdGeom, UsdShade
 
 from . import cameras, eyes, lights, materials
+from .skinning import SkinningError, StageSkinning
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 
@@ -66,6 +67,7 @@ class UsdSceneDelegate:
         self._xforms = UsdGeom.XformCache(self.time)
         self._updaters = []      # (kind, callable(time)) for what varies in time
         self._materials = {}     # material path -> st primvar name
+        self._skinning = None    # StageSkinning, from populate
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -74,6 +76,7 @@ class UsdSceneDelegate:
         if self._populated:
             raise RuntimeError("populate() was already called")
         self._populated = True
+        self._skinning = StageSkinning(self.stage, self.warnings)
         it = iter(Usd.PrimRange(self.stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
         for prim in it:
             if prim.IsPseudoRoot():
@@ -117,11 +120,22 @@ class UsdSceneDelegate:
         return False
 
     def _world_of(self, prim):
-        return self._xforms.GetLocalToWorldTransform(prim)
+        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint."""
+        try:
+            return self._skinning.world(prim, self._xforms, self.time)
+        except SkinningError as e:
+            self._skinning.drop(self._skinning.rigid_anchor(prim), e)
+            return self._xforms.GetLocalToWorldTransform(prim)
+
+    def _transform_varies(self, prim):
+        """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
+        ancestor is rigidly bound to."""
+        anchor = self._skinning.rigid_anchor(prim) if self._skinning else None
+        return (anchor is not None and anchor.might_vary(self._xforms_vary)) or self._xforms_vary(prim)
 
     @staticmethod
-    def _transform_varies(prim):
-        """Whether prim's local-to-world transform may change: its own or an ancestor's xform ops are animated."""
+    def _xforms_vary(prim):
+        """Whether prim's own or an ancestor's xform ops are animated."""
         p = prim
         while p and not p.IsPseudoRoot():
             xformable = UsdGeom.Xformable(p)
@@ -133,8 +147,8 @@ class UsdSceneDelegate:
     def _track_transform(self, prim):
         if self._transform_varies(prim):
             prim_id = prim.GetPath().pathString
-            self._updaters.append(
-                ("transform", lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
+            kind = "transform" if self._skinning.rigid_anchor(prim) is None else "skinned transform"
+            self._updaters.append((kind, lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
 
     def _track_visibility(self, prim, prim_id):
         imageable = UsdGeom.Imageable(prim)
@@ -173,6 +187,11 @@ class UsdSceneDelegate:
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
+        skinned = self._skinned_points_of(prim, prim_id)
+        if skinned is not None:
+            points = self._skinned_points(skinned, self.time, points)
+            if self._skinning.get(prim) is None and skinned.moves_frame:  # dropped: its bind frame, unskinned
+                world = self._xforms.GetLocalToWorldTransform(prim)
         scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
         if scheme not in SUBDIVISION_SCHEMES:
             raise EyeRenderError(f"{path}: subdivisionScheme '{scheme}' is not one of {', '.join(SUBDIVISION_SCHEMES)}")
@@ -190,10 +209,14 @@ class UsdSceneDelegate:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
+        if skinned is not None and names["normals"] and self._primvar_attrs(prim, "normals") and \
+                any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals")):
+            names["normals"] = None  # smooth normals of the skinned points instead of stale bind-pose ones
+            self.warnings.append(f"{path}: authored normals are not skinned (rendered with smooth normals)")
         for name, source in names.items():
             self._push_primvar(prim, prim_id, name, source, self.time)
         if names["rest"] is None:
-            self._push_rest_time_points(prim, prim_id, mesh, len(points))
+            self._push_rest_time_points(prim, prim_id, mesh, len(points), skinned)
         self._track_visibility(prim, prim_id)
 
         points_attr = mesh.GetPointsAttr()
@@ -202,6 +225,10 @@ class UsdSceneDelegate:
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
             self._updaters.append(("topology", update_topology))
+        elif skinned is not None:
+            if skinned.might_vary(self._xforms_vary):
+                self._updaters.append(("skinned points", lambda t: self.store.set_points(
+                    prim_id, self._skinned_points(skinned, t, None))))
         elif _varies([points_attr]):
             self._updaters.append(("points", lambda t: self.store.set_points(
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
@@ -227,18 +254,40 @@ class UsdSceneDelegate:
                 return name
         return None
 
-    def _push_rest_time_points(self, prim, prim_id, mesh, count):
-        """An eye mesh with eye:restTime and no rest/Pref primvar: its points at that time code are its rest pose
-        (sent as the vertex primvar "rest"). Nothing for other meshes, or without eye:restTime."""
+    def _skinned_points_of(self, prim, prim_id):
+        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
+        skinned = self._skinning.get(prim)
+        return skinned if skinned is not None and skinned.deforms_points and prim_id == prim.GetPath().pathString \
+            else None
+
+    def _skinned_points(self, skinned, time, fallback):
+        """A skinned mesh's points at `time`; after bad skel data (one warning) its authored points, unskinned."""
+        if self._skinning.get(skinned.prim) is skinned:
+            try:
+                return skinned.points(time, self._xforms if time == self.time else UsdGeom.XformCache(time))
+            except SkinningError as e:
+                self._skinning.drop(skinned, e)
+        return fallback if fallback is not None else _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
+
+    def _push_rest_time_points(self, prim, prim_id, mesh, count, skinned=None):
+        """An eye mesh with eye:restTime and no rest/Pref primvar: its points (skinned, for a skinned mesh) at that
+        time code are its rest pose (sent as the vertex primvar "rest"). A skinned eye mesh without eye:restTime
+        rests in its bind pose (its authored points). Nothing for other meshes."""
         if not eyes.is_eye(prim):
             return
         attr = prim.GetAttribute("eye:restTime")
         rest_time = attr.Get() if attr and attr.HasAuthoredValue() else None
         if rest_time is None:
+            if skinned is not None:
+                bind = skinned.rest_points(self.time)
+                self.store.set_primvar(prim_id, "rest", "vertex", _array(bind, 3, f"{prim.GetPath()}: bind points"))
             return
         if not np.isfinite(rest_time):
             raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is not finite")
-        rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
+        if skinned is not None:
+            rest = self._skinned_points(skinned, Usd.TimeCode(rest_time), None)
+        else:
+            rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
         if rest is None or len(rest) != count:
             raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time:g} has {0 if rest is None else len(rest)} "
                                  f"points, the mesh has {count}")
