@@ -28,6 +28,15 @@ from .eyes import is_eye
 PREDICATE = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
 
 
+def skel_root_of(prim):
+    """prim's nearest SkelRoot ancestor-or-self, or None (also for an invalid prim)."""
+    while prim and not prim.IsPseudoRoot():
+        if prim.IsA(UsdSkel.Root):
+            return prim
+        prim = prim.GetParent()
+    return None
+
+
 class SkinningError(Exception):
     """Bad skeleton data for one prim: the caller warns once and renders it unskinned."""
 

@@ -18,39 +18,20 @@ import collections
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade
 
-from . import cameras, eyes, lights, materials
-from .skinning import SkinningError, StageSkinning
+from . import cameras, eyes, lights, materials, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .skinning import SkinningError, StageSkinning
+from .usd_values import to_float_array as _array, to_matrix as _matrix, varies as _varies
 
 SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
 
 
-def _matrix(m):
-    """A Gf.Matrix4d as the 4x4 float64 array the delegate takes (same layout: no transpose)."""
-    return np.array(m, dtype=np.float64).reshape(4, 4)
-
-
-def _array(values, components, what):
-    """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
-    a = np.asarray(values, dtype=np.float32)
-    if a.size % components:
-        raise EyeRenderError(f"{what} does not hold {components}-component values")
-    a = a.reshape(-1, components)
-    if not np.isfinite(a).all():
-        raise EyeRenderError(f"{what} holds NaN or infinite values")
-    return np.ascontiguousarray(a)
-
-
-def _varies(attrs):
-    return any(a and a.ValueMightBeTimeVarying() for a in attrs)
-
-
-class UsdSceneDelegate:
+class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
-    def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("default",), refine_level=2,
+    def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
                  cornea_model=None):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
@@ -65,7 +46,11 @@ class UsdSceneDelegate:
         self.warnings = []       # one line each: what was skipped or ignored
         self.last_update = collections.Counter()
         self._xforms = UsdGeom.XformCache(self.time)
-        self._updaters = []      # (kind, callable(time)) for what varies in time
+        self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
+        self._owned = {}         # owner prim path -> delegate prim ids it added
+        self._owner = None       # the prim _add_prim is adding
+        self._changes = stage_notices.StageChangeQueue(stage)
+        self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
         self._skinning = None    # StageSkinning, from populate
         self._populated = False
@@ -77,7 +62,11 @@ class UsdSceneDelegate:
             raise RuntimeError("populate() was already called")
         self._populated = True
         self._skinning = StageSkinning(self.stage, self.warnings)
-        it = iter(Usd.PrimRange(self.stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        self._add_subtree(self.stage.GetPseudoRoot())
+        self._changes.take()  # edits before now are in what was just read
+
+    def _add_subtree(self, root):
+        it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
         for prim in it:
             if prim.IsPseudoRoot():
                 continue
@@ -93,15 +82,24 @@ class UsdSceneDelegate:
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
-        for kind, update in self._updaters:
+        for _, kind, update in self._updaters:
             update(self.time)
             self.last_update[kind] += 1
         return self.last_update
+
+    def _track(self, entry, owner=None):
+        """Registers (kind, callable(time)) for what varies in time, owned by `owner` (default: the prim being
+        added): re-populating the owner drops it."""
+        self._updaters.append((owner or self._owner,) + tuple(entry))
+
+    def _own(self, prim_id):
+        self._owned.setdefault(self._owner, []).append(prim_id)
 
     # -- dispatch ----------------------------------------------------------------------------------------------
 
     def _add_prim(self, prim):
         """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
+        self._owner = prim.GetPath()
         if prim.IsA(UsdGeom.PointInstancer):
             self._add_point_instancer(prim)
             return True
@@ -148,7 +146,7 @@ class UsdSceneDelegate:
         if self._transform_varies(prim):
             prim_id = prim.GetPath().pathString
             kind = "transform" if self._skinning.rigid_anchor(prim) is None else "skinned transform"
-            self._updaters.append((kind, lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
+            self._track((kind, lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
 
     def _track_visibility(self, prim, prim_id):
         imageable = UsdGeom.Imageable(prim)
@@ -159,7 +157,7 @@ class UsdSceneDelegate:
         while p and not p.IsPseudoRoot():
             vis = UsdGeom.Imageable(p).GetVisibilityAttr() if UsdGeom.Imageable(p) else None
             if _varies([vis]):
-                self._updaters.append(("visibility", lambda t: self.store.set_visible(
+                self._track(("visibility", lambda t: self.store.set_visible(
                     prim_id, imageable.ComputeVisibility(t) != UsdGeom.Tokens.invisible)))
                 break
             p = p.GetParent()
@@ -204,9 +202,11 @@ class UsdSceneDelegate:
             eye = self._eye_mesh_params(prim, self.time)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
+            self._own_top_level(prim, prim_id)
             self._track_eye(prim, prim_id, mesh=True)
         else:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+            self._own_top_level(prim, prim_id)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
         if skinned is not None and names["normals"] and self._primvar_attrs(prim, "normals") and \
@@ -224,17 +224,17 @@ class UsdSceneDelegate:
             def update_topology(t):
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
-            self._updaters.append(("topology", update_topology))
+            self._track(("topology", update_topology))
         elif skinned is not None:
             if skinned.might_vary(self._xforms_vary):
-                self._updaters.append(("skinned points", lambda t: self.store.set_points(
+                self._track(("skinned points", lambda t: self.store.set_points(
                     prim_id, self._skinned_points(skinned, t, None))))
         elif _varies([points_attr]):
-            self._updaters.append(("points", lambda t: self.store.set_points(
+            self._track(("points", lambda t: self.store.set_points(
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
         for name, source in names.items():
             if source is not None and _varies(self._primvar_attrs(prim, source)):
-                self._updaters.append(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+                self._track(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
 
     def _primvar_attrs(self, prim, name):
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
@@ -253,6 +253,11 @@ class UsdSceneDelegate:
             if primvar and primvar.HasValue():
                 return name
         return None
+
+    def _own_top_level(self, prim, prim_id):
+        """Owns a mesh added for itself (not as a PointInstancer's copy, which its instancer owns)."""
+        if prim_id == prim.GetPath().pathString:
+            self._own(prim_id)
 
     def _skinned_points_of(self, prim, prim_id):
         """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
@@ -359,6 +364,7 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         material_id, _ = self._bind_material(prim)
         self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
+        self._own(prim_id)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
@@ -369,6 +375,7 @@ class UsdSceneDelegate:
         """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
         instancer = UsdGeom.PointInstancer(prim)
         ids = self._add_instances(prim, instancer, self.time)
+        self._owned[prim.GetPath()] = ids  # the same list: updates replace its contents
         attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
                  instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
         if _varies(attrs) or self._transform_varies(prim):
@@ -376,7 +383,7 @@ class UsdSceneDelegate:
                 for prim_id in ids:
                     self.store.remove_prim(prim_id)
                 ids[:] = self._add_instances(prim, instancer, t)
-            self._updaters.append(("instancer", update))
+            self._track(("instancer", update))
 
     def _add_instances(self, prim, instancer, time):
         prototypes = instancer.GetPrototypesRel().GetTargets()
@@ -406,18 +413,20 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
         self.cameras.append(prim_id)
+        self._own(prim_id)
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
+            self._track(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
         self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
                              _matrix(self._world_of(prim)))
+        self._own(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("light", lambda t: self.store.set_light_params(
+            self._track(("light", lambda t: self.store.set_light_params(
                 prim_id, lights.read_light(prim, self._world_of(prim), t))))
 
     def _bind_material(self, prim):
@@ -432,8 +441,8 @@ class UsdSceneDelegate:
             self.warnings.extend(ignored)
             self._materials[path] = st_name
             if any(_varies(p.GetAttributes()) for p in Usd.PrimRange(material.GetPrim())):
-                self._updaters.append(("material", lambda t: self.store.set_material_params(
-                    path, materials.read_material(material, t)[0])))
+                self._track(("material", lambda t: self.store.set_material_params(
+                    path, materials.read_material(material, t)[0])), owner=material.GetPath())
         return path, self._materials[path]
 
     def _add_analytic_eye(self, prim):
@@ -441,18 +450,19 @@ class UsdSceneDelegate:
         self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
                                     _matrix(self._world_of(prim)))
         self.eyes.append(prim_id)
+        self._own(prim_id)
         self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
     def _track_eye(self, prim, prim_id, mesh=False):
         if not mesh:
             if eyes.eye_attributes_vary(prim):
-                self._updaters.append(("eye", lambda t: self.store.set_eye_params(
+                self._track(("eye", lambda t: self.store.set_eye_params(
                     prim_id, eyes.read_eye_params(prim, t, self.cornea_model))))
             return
         # Eye meshes also carry the iris projection: it varies when its target's or the eye's transform does.
         target = self._iris_projection_target(prim)
         if eyes.eye_attributes_vary(prim) or (target is not None and (self._transform_varies(target) or
                                                                       self._transform_varies(prim))):
-            self._updaters.append(("eye", lambda t: self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, t))))
+            self._track(("eye", lambda t: self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, t))))
 
