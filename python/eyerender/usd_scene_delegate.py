@@ -5,13 +5,17 @@ Every supported prim becomes one delegate prim with the same path (instance prox
 get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
-matching dirty bits. What each `set_time` pushed is counted in `last_update`.
+matching dirty bits. What each `set_time` pushed is counted in `last_update`. Edits made to the stage after
+`populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by `apply_stage_changes`
+(stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py. docs/usd_support.md tables
+what is read and how.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
 displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated), Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye), purposes, visibility, instanceable
-references and PointInstancers. Anything else is skipped and listed once in `warnings`.
+references and PointInstancers, UsdSkel (skinned points, blend shapes, rigid bindings). Anything else is skipped
+and listed once in `warnings`.
 """
 import collections
 
