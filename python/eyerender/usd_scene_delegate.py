@@ -213,9 +213,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._own_top_level(prim, prim_id)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
-        if skinned is not None and names["normals"] and self._primvar_attrs(prim, "normals") and \
-                any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals")):
-            names["normals"] = None  # smooth normals of the skinned points instead of stale bind-pose ones
+        # Authored normals shade polygon meshes only (refined ones use limit normals): a skinned polygon mesh gets
+        # smooth normals of its skinned points instead of stale bind-pose ones.
+        if skinned is not None and level == 0 and any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals")):
+            names["normals"] = None
             self.warnings.append(f"{path}: authored normals are not skinned (rendered with smooth normals)")
         for name, source in names.items():
             self._push_primvar(prim, prim_id, name, source, self.time)

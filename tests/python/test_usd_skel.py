@@ -333,3 +333,15 @@ def test_non_finite_animation_at_a_later_frame_warns_and_falls_back_to_the_bind_
     assert np.array_equal(store.points["/World/Rig/Strip"], points_at(stage, "/World/Rig/Strip", 3))
     scene.set_time(2)  # dropped for good: no second warning, still unskinned
     assert len(scene.warnings) == 1
+
+
+@pytest.mark.parametrize("scheme,warned", [("none", True), ("catmullClark", False)])
+def test_authored_normals_of_a_skinned_polygon_mesh_give_way_to_smooth_normals_with_one_warning(scheme, warned):
+    stage = ss.two_joint_strip()
+    mesh = UsdGeom.Mesh(stage.GetPrimAtPath("/World/Rig/Strip"))
+    mesh.CreateSubdivisionSchemeAttr(scheme)
+    mesh.CreateNormalsAttr([(0, 0, 1)] * len(mesh.GetPointsAttr().Get()))
+    scene, store = delegate(stage, time=3)
+    expected = ["/World/Rig/Strip: authored normals are not skinned (rendered with smooth normals)"] if warned else []
+    assert scene.warnings == expected
+    assert (("/World/Rig/Strip", "normals") in store.primvars) == (not warned)
