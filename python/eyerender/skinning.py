@@ -52,6 +52,19 @@ def transform_points(points, matrix):
     return np.ascontiguousarray(h[:, :3] * inverse)
 
 
+def transform_normals(normals, matrix):
+    """float32 (n, 3) normals times a Gf.Matrix3d (row vectors), as GfVec3f * GfMatrix3d computes: double sums,
+    float result."""
+    m = np.asarray(matrix, dtype=np.float64).reshape(3, 3)
+    v = np.asarray(normals, dtype=np.float32).astype(np.float64).reshape(-1, 3)
+    return np.ascontiguousarray((v[:, 0:1] * m[0] + v[:, 1:2] * m[1] + v[:, 2:3] * m[2]).astype(np.float32))
+
+
+def _inverse_transpose(matrix):
+    """The matrix normals take under a transform (BakeSkinning's: of its 3x3 rotation-and-scale part)."""
+    return matrix.ExtractRotationMatrix().GetInverse().GetTranspose()
+
+
 def _finite_matrices(matrices):
     return all(math.isfinite(v) for m in matrices for row in m for v in row)
 
@@ -182,13 +195,40 @@ class SkinnedPrim:
 
     def points(self, time, xform_cache):
         """The deformed points at `time`, float32 (n, 3), in the space `world` maps from."""
+        return self.deform(time, xform_cache, with_normals=False)[0]
+
+    def _normals_input(self, time):
+        """(normals, interpolation) the prim renders with: primvars:normals (flattened) over the normals
+        attribute; (None, None) without either."""
+        primvar = UsdGeom.PrimvarsAPI(self.prim).GetPrimvar("normals")
+        if primvar and primvar.HasValue():
+            return primvar.ComputeFlattened(time), primvar.GetInterpolation()
+        mesh = UsdGeom.PointBased(self.prim)
+        if mesh.GetNormalsAttr().HasAuthoredValue():
+            return mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation()
+        return None, None
+
+    def skinnable_normals(self):
+        """Whether the prim's normals can be skinned with its points: per point (vertex, varying: what UsdSkel and
+        BakeSkinning skin, from the normals attribute) or per face corner (faceVarying, meshes: each corner takes
+        its point's joint influences). Constant and uniform normals cannot follow per-vertex skinning."""
+        _, interpolation = self._normals_input(Usd.TimeCode.Default())
+        per_corner = interpolation == UsdGeom.Tokens.faceVarying and self.prim.IsA(UsdGeom.Mesh)
+        return self.skins_points and (interpolation in (UsdGeom.Tokens.vertex, UsdGeom.Tokens.varying) or per_corner)
+
+    def normals_interpolation(self):
+        return self._normals_input(Usd.TimeCode.Default())[1]
+
+    def deform(self, time, xform_cache, with_normals):
+        """(points, normals) at `time`, float32 (n, 3) each, in the space `world` maps from; normals None unless
+        with_normals and skinnable_normals(). Blend shapes move points only (their normal offsets are not applied)."""
         points = UsdGeom.PointBased(self.prim).GetPointsAttr().Get(time)
         if points is None or len(points) == 0:
             raise SkinningError(f"{self.prim.GetPath()}: skinned prim has no points")
         if self.blend_shapes is not None:
             self._apply_blend_shapes(points, time)
         if not self.skins_points:
-            return np.asarray(points, dtype=np.float32).reshape(-1, 3)
+            return np.asarray(points, dtype=np.float32).reshape(-1, 3), None
         xforms = self._skinning_transforms(time)
         _call("skinning points", self.prim, self.query.ComputeSkinnedPoints, xforms, points, time)
         if self.frame_joint is not None:
@@ -199,6 +239,36 @@ class SkinnedPrim:
         result = transform_points(points, skel_to_local)
         if not np.isfinite(result).all():
             raise SkinningError(f"{self.prim.GetPath()}: skinned points are not finite")
+        normals = None
+        if with_normals and self.skinnable_normals():
+            normals = self._skinned_normals(time, xforms, skel_to_local)
+        return result, normals
+
+    def _skinned_normals(self, time, xforms, skel_to_local):
+        """The `normals` attribute skinned like the points (UsdSkel.SkinNormals with the joints' inverse-transpose
+        transforms, as BakeSkinning does), in the points' space."""
+        normals, interpolation = self._normals_input(time)
+        indices, weights = _call("reading joint influences", self.prim, self.query.ComputeJointInfluences, time)
+        if interpolation == UsdGeom.Tokens.faceVarying:  # each face corner follows its point's joints
+            per = self.query.GetNumInfluencesPerComponent()
+            corners = np.asarray(UsdGeom.Mesh(self.prim).GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int64)
+            indices = Vt.IntArray.FromNumpy(np.ascontiguousarray(np.asarray(indices).reshape(-1, per)[corners].ravel()))
+            weights = Vt.FloatArray.FromNumpy(np.ascontiguousarray(
+                np.asarray(weights, dtype=np.float32).reshape(-1, per)[corners].ravel()))
+            count = len(corners)
+        else:
+            count = len(UsdGeom.PointBased(self.prim).GetPointsAttr().Get(time) or [])
+        if normals is None or len(normals) != count:
+            raise SkinningError(f"{self.prim.GetPath()}: {0 if normals is None else len(normals)} {interpolation} "
+                                f"normals for {count} {'face corners' if interpolation == 'faceVarying' else 'points'}")
+        normals = Vt.Vec3fArray(normals)
+        joint_normals = Vt.Matrix3dArray([_inverse_transpose(m) for m in self._prim_order(xforms)])
+        _call("skinning normals", self.prim, UsdSkel.SkinNormals, self.query.GetSkinningMethod(),
+              _inverse_transpose(self._geom_bind(time)), joint_normals, indices, weights,
+              self.query.GetNumInfluencesPerComponent(), normals)
+        result = transform_normals(normals, _inverse_transpose(skel_to_local))
+        if not np.isfinite(result).all():
+            raise SkinningError(f"{self.prim.GetPath()}: skinned normals are not finite")
         return result
 
     def world(self, time, xform_cache):

@@ -213,13 +213,20 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._own_top_level(prim, prim_id)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
-        # Authored normals shade polygon meshes only (refined ones use limit normals): a skinned polygon mesh gets
-        # smooth normals of its skinned points instead of stale bind-pose ones.
+        # Authored normals shade polygon meshes only (refined ones use limit normals). A skinned polygon mesh's
+        # normals are skinned with its points; ones that cannot be would be stale: smooth normals instead.
+        skin_normals = None
         if skinned is not None and level == 0 and any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals")):
             names["normals"] = None
-            self.warnings.append(f"{path}: authored normals are not skinned (rendered with smooth normals)")
+            if skinned.skinnable_normals():
+                skin_normals = prim_id
+            else:
+                self.warnings.append(f"{path}: {skinned.normals_interpolation()} normals cannot follow per-vertex "
+                                     f"skinning (rendered with smooth normals)")
         for name, source in names.items():
             self._push_primvar(prim, prim_id, name, source, self.time)
+        if skin_normals:
+            self._skinned_points(skinned, self.time, points, normals_id=skin_normals)
         if names["rest"] is None:
             self._push_rest_time_points(prim, prim_id, mesh, len(points), skinned)
         self._track_visibility(prim, prim_id)
@@ -233,7 +240,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         elif skinned is not None:
             if skinned.might_vary(self._xforms_vary):
                 self._track(("skinned points", lambda t: self.store.set_points(
-                    prim_id, self._skinned_points(skinned, t, None))))
+                    prim_id, self._skinned_points(skinned, t, None, normals_id=skin_normals))))
         elif _varies([points_attr]):
             self._track(("points", lambda t: self.store.set_points(
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
@@ -270,11 +277,16 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return skinned if skinned is not None and skinned.deforms_points and prim_id == prim.GetPath().pathString \
             else None
 
-    def _skinned_points(self, skinned, time, fallback):
-        """A skinned mesh's points at `time`; after bad skel data (one warning) its authored points, unskinned."""
+    def _skinned_points(self, skinned, time, fallback, normals_id=None):
+        """A skinned mesh's points at `time` (and, with normals_id, its skinned normals sent to that prim); after
+        bad skel data (one warning) its authored points, unskinned."""
         if self._skinning.get(skinned.prim) is skinned:
             try:
-                return skinned.points(time, self._xforms if time == self.time else UsdGeom.XformCache(time))
+                cache = self._xforms if time == self.time else UsdGeom.XformCache(time)
+                points, normals = skinned.deform(time, cache, with_normals=normals_id is not None)
+                if normals is not None:
+                    self.store.set_primvar(normals_id, "normals", str(skinned.normals_interpolation()), normals)
+                return points
             except SkinningError as e:
                 self._skinning.drop(skinned, e)
         return fallback if fallback is not None else _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
