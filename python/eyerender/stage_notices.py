@@ -1,9 +1,9 @@
 """Following a stage's edits (UsdImagingDelegate's notice handling): a Usd.Notice.ObjectsChanged listener queues
 what changed, and the scene delegate applies the queue before the next frame.
 
-Resynced paths (prims added, removed, re-typed, re-referenced, activated) re-populate that subtree. Property
-changes that only change values (ChangedInfoOnly) are classified by `property_kind` into the dirty bits they
-set; a property the delegate cannot update in place re-populates its prim (correct, only slower).
+Resynced prim paths (prims added, removed, re-typed, re-referenced, activated) re-populate that subtree. Changed
+properties (values changed, or properties created or removed) are classified by `property_kind` into the dirty
+bits they set; a property the delegate cannot update in place re-populates its prim (correct, only slower).
 """
 import collections
 
@@ -45,9 +45,10 @@ class StageChangeQueue:
         self._listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._on_objects_changed, stage)
 
     def _on_objects_changed(self, notice, sender):
+        # As UsdImaging does: prims resync, properties update (a property created or removed is read again like a
+        # changed value; the kind of update it needs decides whether its prim re-populates).
         for path in notice.GetResyncedPaths():
-            # A resynced property (created, removed, or its type changed) resyncs its prim.
-            self._resynced.add(path.GetPrimPath() if path.IsPropertyPath() else path)
+            (self._changed if path.IsPropertyPath() else self._resynced).add(path)
         for path in notice.GetChangedInfoOnlyPaths():
             if path.IsPropertyPath():
                 self._changed.add(path)
@@ -74,7 +75,7 @@ class StageChangeQueue:
 class StageFollowing:
     """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
-    `_add_subtree`, `_world_of` and the eye and material readers."""
+    `_point_counts` (mesh id -> points sent), `_add_subtree`, `_world_of` and the eye and material readers."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -154,59 +155,63 @@ class StageFollowing:
         if not prim:
             return
         material = next((m for m in self._materials if path.HasPrefix(Sdf.Path(m))), None)
-        kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera),
-                                           material is not None)
+        kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
             return
-        prim_path = prim.GetPath()
-        owners = [o for o in self._owned if o.HasPrefix(prim_path)]
-        if kind == PARAMS and material is not None:
+        if material is not None:
             self.store.set_material_params(material, materials.read_material(
                 UsdShade.Material(self.stage.GetPrimAtPath(material)), self.time)[0])
-        elif kind in (TRANSFORM, VISIBILITY):
-            for owner in owners:
+        elif kind in (TRANSFORM, VISIBILITY):  # inherited: every prim below follows
+            for owner in [o for o in self._owned if o.HasPrefix(prim.GetPath())]:
                 self._refresh(self.stage.GetPrimAtPath(owner), kind)
-            if kind == TRANSFORM:  # iris projections are relative to the eye: refresh eyes
-                for owner in owners:
-                    self._refresh(self.stage.GetPrimAtPath(owner), EYE)
-        elif prim_path in self._owned:
+            if kind == TRANSFORM:
+                self._refresh_iris_projections()
+        elif prim.GetPath() in self._owned:
             self._refresh(prim, kind)
         else:
-            return
+            return  # a prim that renders nothing (an Xform's own attribute, an unused material)
         self.last_changes[kind] += 1
 
     def _refresh(self, prim, kind):
-        """Re-reads one aspect (a stage_notices kind) of an owner prim into the store; a kind it cannot update in
-        place re-populates the prim."""
-        ids = self._owned.get(prim.GetPath(), [])
+        """Re-reads one aspect (a kind above) of an owner prim into the store; what cannot be updated in place (a
+        PointInstancer's copies, topology, primvar layout, a skinned mesh's inputs) re-populates the prim."""
         prim_id = prim.GetPath().pathString
-        is_light, is_camera, is_eye = bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), eyes.is_eye(prim)
-        if prim.IsA(UsdGeom.PointInstancer) or prim_id not in ids and kind != VISIBILITY or \
-                kind == RESYNC or (kind == POINTS and self._skinning.get(prim)):
-            self._resync(prim.GetPath())
-        elif kind == TRANSFORM:
-            self.store.set_transform(prim_id, to_matrix(self._world_of(prim)))
-            if is_light:
-                self._refresh(prim, PARAMS)
-        elif kind == VISIBILITY:
-            visible = UsdGeom.Imageable(prim).ComputeVisibility(self.time) != UsdGeom.Tokens.invisible
-            for i in ids:
-                self.store.set_visible(i, visible)
-        elif kind == PARAMS and is_light:
-            self.store.set_light_params(prim_id, lights.read_light(prim, self._world_of(prim), self.time))
-        elif kind == PARAMS and is_camera:
-            self.store.set_camera_params(prim_id, cameras.read_camera(UsdGeom.Camera(prim), self.time))
-        elif kind == EYE and is_eye:
-            self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, self.time) if prim.IsA(UsdGeom.Mesh)
-                                      else eyes.read_eye_params(prim, self.time, self.cornea_model))
-        elif kind == POINTS and prim.IsA(UsdGeom.Mesh):
-            self.store.set_points(prim_id, to_float_array(UsdGeom.Mesh(prim).GetPointsAttr().Get(self.time), 3,
-                                                  f"{prim.GetPath()}: points"))
-        elif kind == PRIMVAR and prim.IsA(UsdGeom.Mesh):
-            self._resync(prim.GetPath())  # primvar names and interpolations are chosen at add time
-        elif kind not in (EYE,):
+        in_place = prim_id in self._owned.get(prim.GetPath(), []) and not prim.IsA(UsdGeom.PointInstancer)
+        if not (in_place and self._refresh_in_place(prim, prim_id, kind)):
             self._resync(prim.GetPath())
 
+    def _refresh_in_place(self, prim, prim_id, kind):
+        """Sends the Set* call for `kind`; False when this prim cannot take it in place."""
+        is_light = bool(lights.light_type(prim))
+        if kind == TRANSFORM:
+            self.store.set_transform(prim_id, to_matrix(self._world_of(prim)))
+            if is_light:  # a light's parameters are read in world space
+                self.store.set_light_params(prim_id, lights.read_light(prim, self._world_of(prim), self.time))
+        elif kind == VISIBILITY:
+            self.store.set_visible(prim_id, UsdGeom.Imageable(prim).ComputeVisibility(self.time) !=
+                                   UsdGeom.Tokens.invisible)
+        elif kind == PARAMS and is_light:
+            self.store.set_light_params(prim_id, lights.read_light(prim, self._world_of(prim), self.time))
+        elif kind == PARAMS and prim.IsA(UsdGeom.Camera):
+            self.store.set_camera_params(prim_id, cameras.read_camera(UsdGeom.Camera(prim), self.time))
+        elif kind == EYE and eyes.is_eye(prim):
+            self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, self.time) if prim.IsA(UsdGeom.Mesh)
+                                      else eyes.read_eye_params(prim, self.time, self.cornea_model))
+        elif kind == POINTS and prim.IsA(UsdGeom.Mesh) and not self._skinning.get(prim):
+            points = UsdGeom.Mesh(prim).GetPointsAttr().Get(self.time)
+            if points is None or len(points) != self._point_counts.get(prim_id):
+                return False  # a new point count needs new topology
+            self.store.set_points(prim_id, to_float_array(points, 3, f"{prim.GetPath()}: points"))
+        else:
+            return False
+        return True
+
+    def _refresh_iris_projections(self):
+        """Eye meshes' iris projections are transforms relative to the eye: any moved prim may be a target."""
+        for eye_id in self.eyes:
+            prim = self.stage.GetPrimAtPath(eye_id)
+            if prim and prim.IsA(UsdGeom.Mesh) and self._iris_projection_target(prim) is not None:
+                self.store.set_eye_params(eye_id, self._eye_mesh_params(prim, self.time))
 
 
 __all__ = ["StageChangeQueue", "StageFollowing", "property_kind"]

@@ -53,6 +53,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
         self._owned = {}         # owner prim path -> delegate prim ids it added
         self._owner = None       # the prim _add_prim is adding
+        self._point_counts = {}  # mesh id -> number of points its topology was built for
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
@@ -200,6 +201,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if scheme in ("loop", "bilinear"):
             self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
         level = self.refine_level if scheme == "catmullClark" else 0
+        self._point_counts[prim_id] = len(points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
         if eyes.is_eye(prim):
@@ -236,6 +238,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             def update_topology(t):
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
+                self._point_counts[prim_id] = len(p)
             self._track(("topology", update_topology))
         elif skinned is not None:
             if skinned.might_vary(self._xforms_vary):

@@ -92,12 +92,11 @@ def test_changed_eye_attribute_resyncs_the_eye():
     eye = ss.eye_sphere_mesh(stage, "/World/eye", radius=0.8)
     s = session(stage)
     frame(s)
-    # A new attribute is a property resync: the eye is re-populated.
+    # A new attribute (a property resync) and a new value of an existing one both update the eye's parameters.
     eye.GetPrim().CreateAttribute("eye:pupilDiameter", Sdf.ValueTypeNames.Float).Set(7.0)
-    assert dict(s.scene.apply_stage_changes()) == {"removed prims": 1, "added prims": 1}
+    assert dict(s.scene.apply_stage_changes()) == {"eye": 1}
     assert s.scene.eyes == ["/World/eye"]
     assert_same_as_fresh(s, stage)
-    # A new value of an existing attribute updates the eye's parameters in place.
     eye.GetPrim().GetAttribute("eye:pupilDiameter").Set(2.0)
     assert dict(s.scene.apply_stage_changes()) == {"eye": 1}
     assert s.index.dirty_bits("/World/eye") == DIRTY_PARAMS
@@ -144,3 +143,51 @@ def test_proxy_only_asset_renders_by_default_from_python_as_from_eyerecord():
     card(stage, "/World/renderCard", x=2.0, purpose=UsdGeom.Tokens.render)
     s = session(stage)
     assert s.index.rprim_ids() == ["/World/proxyCard"]
+
+
+def test_new_point_count_repopulates_the_mesh_instead_of_a_points_sync():
+    stage = ss.base_stage()
+    mesh = card(stage, "/World/card")
+    s = session(stage)
+    frame(s)
+    mesh.GetPointsAttr().Set(list(mesh.GetPointsAttr().Get()) + [Gf.Vec3f(9, 9, 9)])  # one unused point more
+    assert dict(s.scene.apply_stage_changes()) == {"points": 1, "removed prims": 1, "added prims": 1}
+    assert_same_as_fresh(s, stage)
+
+
+def test_parent_visibility_hides_children_and_material_edits_update_params():
+    from pxr import UsdShade
+    stage = ss.base_stage()
+    UsdGeom.Xform.Define(stage, "/World/group")  # imageable: its visibility is inherited
+    card(stage, "/World/group/card")
+    material = UsdShade.Material.Define(stage, "/World/Looks/red")
+    shader = UsdShade.Shader.Define(stage, "/World/Looks/red/surface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    color = shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f)
+    color.Set(Gf.Vec3f(0.8, 0.1, 0.1))
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(stage.GetPrimAtPath("/World/group/card")).Bind(material)
+    s = session(stage)
+    frame(s)
+    color.Set(Gf.Vec3f(0.1, 0.8, 0.1))
+    assert dict(s.scene.apply_stage_changes()) == {"params": 1}
+    shown = assert_same_as_fresh(s, stage)
+    UsdGeom.Imageable(stage.GetPrimAtPath("/World/group")).MakeInvisible()
+    assert dict(s.scene.apply_stage_changes()) == {"visibility": 1}
+    hidden = assert_same_as_fresh(s, stage)
+    assert hidden[..., 3].sum() < shown[..., 3].sum() - 50, (hidden[..., 3].sum(), shown[..., 3].sum())
+
+
+def test_rebinding_a_material_repopulates_the_prim():
+    from pxr import UsdShade
+    stage = ss.base_stage()
+    card(stage, "/World/card")
+    s = session(stage)
+    frame(s)
+    material = UsdShade.Material.Define(stage, "/World/Looks/blue")
+    shader = UsdShade.Shader.Define(stage, "/World/Looks/blue/surface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(Gf.Vec3f(0.1, 0.1, 0.9))
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(stage.GetPrimAtPath("/World/card")).Bind(material)
+    assert_same_as_fresh(s, stage)
