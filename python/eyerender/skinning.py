@@ -388,35 +388,45 @@ class SkinnedPrim:
 
 
 class StageSkinning:
-    """Every skinned prim of a stage, found through UsdSkel.Cache from each SkelRoot; unskinnable bindings are
-    reported in `warnings` (one line each, naming the prim) and left out."""
+    """The skinned prims of a stage, SkelRoot by SkelRoot (`add_root`, called as the scene delegate meets each
+    SkelRoot, before its children), through one UsdSkel.Cache per SkelRoot so that re-populating one rebuilds only
+    its own; unskinnable bindings are reported in `warnings` (one line each, naming the prim) and left out.
+    Bindings outside a SkelRoot are not skinned (UsdSkel's rule; BakeSkinning's output relies on it)."""
 
-    def __init__(self, stage, warnings):
+    def __init__(self, warnings):
         self.warnings = warnings
         self.targets = {}   # prim path -> SkinnedPrim
-        self._anchors = {}  # prim path -> path of the nearest rigidly skinned ancestor-or-self (or None)
-        self._cache = UsdSkel.Cache()
-        it = iter(Usd.PrimRange(stage.GetPseudoRoot(), PREDICATE))
-        for prim in it:
-            # Bindings outside a SkelRoot are not skinned (UsdSkel's rule; BakeSkinning's output relies on it).
-            if prim.IsA(UsdSkel.Root):
-                self._add_root(prim)
-                it.PruneChildren()
+        self._anchors = {}  # prim path -> the nearest rigidly skinned ancestor-or-self (a SkinnedPrim) or None
+        self._caches = {}   # SkelRoot path -> its UsdSkel.Cache
+
+    def add_root(self, root_prim):
+        """Finds the skinned prims under a SkelRoot (replacing what an earlier add_root of it found)."""
+        self.remove_under(root_prim.GetPath())
+        self._caches[root_prim.GetPath()] = UsdSkel.Cache()
+        self._add_root(root_prim)
+
+    def remove_under(self, path):
+        """Forgets the SkelRoots and skinned prims at or under `path` (before they are re-populated)."""
+        for root in [r for r in self._caches if r.HasPrefix(path)]:
+            del self._caches[root]
+        for target in [t for t in self.targets if t.HasPrefix(path)]:
+            del self.targets[target]
+        self._anchors.clear()
 
     @staticmethod
     def _has_joint_influences(prim):
         return prim.HasAPI(UsdSkel.BindingAPI) and UsdSkel.BindingAPI(prim).GetJointIndicesPrimvar().HasAuthoredValue()
 
     def _add_root(self, root_prim):
-        root = UsdSkel.Root(root_prim)
+        root, cache = UsdSkel.Root(root_prim), self._caches[root_prim.GetPath()]
         try:
-            self._cache.Populate(root, PREDICATE)
-            bindings = self._cache.ComputeSkelBindings(root, PREDICATE)
+            cache.Populate(root, PREDICATE)
+            bindings = cache.ComputeSkelBindings(root, PREDICATE)
         except Tf.ErrorException:
             self.warnings.append(f"{root_prim.GetPath()}: UsdSkel could not read this SkelRoot (rendered unskinned)")
             return
         for binding in bindings:
-            skel_query = self._cache.GetSkelQuery(binding.GetSkeleton())
+            skel_query = cache.GetSkelQuery(binding.GetSkeleton())
             skeleton = binding.GetSkeleton().GetPrim()
             self._check_animation_source(skeleton, skel_query)
             for query in binding.GetSkinningTargets():
@@ -437,16 +447,16 @@ class StageSkinning:
         for prim in Usd.PrimRange(root_prim, PREDICATE):
             if prim.GetPath() in self.targets or not self._has_joint_influences(prim):
                 continue
-            if prim.IsA(UsdGeom.Xformable) and not prim.IsA(UsdGeom.Boundable) and self._add_xform(prim):
+            if prim.IsA(UsdGeom.Xformable) and not prim.IsA(UsdGeom.Boundable) and self._add_xform(prim, cache):
                 continue
             if not any(w.startswith(f"{prim.GetPath()}:") for w in self.warnings):
                 self.warnings.append(f"{prim.GetPath()}: has joint influences but no Skeleton bound (skel:skeleton) "
                                      f"(rendered unskinned)")
 
-    def _add_xform(self, prim):
+    def _add_xform(self, prim, cache):
         """Adds an Xform rigidly bound to a joint (XformSkinningQuery); False when it has no skeleton."""
         skeleton = UsdSkel.BindingAPI(prim).GetInheritedSkeleton()
-        skel_query = self._cache.GetSkelQuery(skeleton) if skeleton else None
+        skel_query = cache.GetSkelQuery(skeleton) if skeleton else None
         if not skel_query:
             return False
         try:

@@ -10,7 +10,7 @@ import collections
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
 
 from . import cameras, eyes, lights, materials
-from .skinning import StageSkinning, skel_root_of
+from .skinning import skel_root_of
 from .usd_values import to_float_array, to_matrix
 
 # What a changed property updates; anything not listed re-populates its prim.
@@ -86,15 +86,12 @@ class StageFollowing:
             return self.last_changes
         resynced, changed = self._changes.take()
         self._xforms = UsdGeom.XformCache(self.time)
-        # Skinning reads a whole SkelRoot: an edit inside one re-populates it, with UsdSkel's caches rebuilt.
-        for path in changed:
-            root = skel_root_of(self.stage.GetPrimAtPath(path.GetPrimPath()))
+        # Skinning reads a whole SkelRoot: an edit inside one re-populates it, with its UsdSkel cache rebuilt.
+        for path in resynced + changed:
+            root = skel_root_of(self._nearest_prim(path))
             if root:
                 resynced.append(root.GetPath())
-        if resynced:
-            fresh = []
-            self._skinning = StageSkinning(self.stage, fresh)
-            self.warnings.extend(w for w in fresh if w not in self.warnings)
+        changed = [p for p in changed if not skel_root_of(self._nearest_prim(p))]
         done = []
         for path in sorted(set(resynced)):
             path = self._resync_root(path)
@@ -105,6 +102,13 @@ class StageFollowing:
             if not any(path.HasPrefix(d) for d in done):
                 self._apply_property_change(path)
         return self.last_changes
+
+    def _nearest_prim(self, path):
+        """The prim at path's prim path, or its nearest existing ancestor (for paths just removed)."""
+        path = path.GetPrimPath()
+        while not self.stage.GetPrimAtPath(path) and path != Sdf.Path.absoluteRootPath:
+            path = path.GetParentPath()
+        return self.stage.GetPrimAtPath(path)
 
     def _resync_root(self, path):
         """The path to re-populate for a resync of `path`: its nearest PointInstancer ancestor (which owns its
@@ -128,6 +132,7 @@ class StageFollowing:
                     if prim_id in ids:
                         ids.remove(prim_id)
         self._updaters = [u for u in self._updaters if not u[0].HasPrefix(path)]
+        self._skinning.remove_under(path)
         before = sum(len(ids) for ids in self._owned.values())
         prim = self.stage.GetPrimAtPath(path)
         if prim and prim.IsActive() and not self._pruned_above(prim):

@@ -20,7 +20,7 @@ and listed once in `warnings`.
 import collections
 
 import numpy as np
-from pxr import Usd, UsdGeom, UsdShade
+from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 
 from . import cameras, eyes, lights, materials, stage_notices
 from .errors import EyeRenderError
@@ -57,7 +57,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
-        self._skinning = None    # StageSkinning, from populate
+        self._skinning = StageSkinning(self.warnings)  # filled as populate meets SkelRoots
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -66,7 +66,6 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if self._populated:
             raise RuntimeError("populate() was already called")
         self._populated = True
-        self._skinning = StageSkinning(self.stage, self.warnings)
         self._add_subtree(self.stage.GetPseudoRoot())
         self._changes.take()  # edits before now are in what was just read
 
@@ -105,6 +104,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _add_prim(self, prim):
         """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
         self._owner = prim.GetPath()
+        if prim.IsA(UsdSkel.Root):  # its skinned prims, before they are added
+            self._skinning.add_root(prim)
         if prim.IsA(UsdGeom.PointInstancer):
             self._add_point_instancer(prim)
             return True
@@ -133,7 +134,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _transform_varies(self, prim):
         """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
         ancestor is rigidly bound to."""
-        anchor = self._skinning.rigid_anchor(prim) if self._skinning else None
+        anchor = self._skinning.rigid_anchor(prim)
         return (anchor is not None and anchor.might_vary(self._xforms_vary)) or self._xforms_vary(prim)
 
     @staticmethod

@@ -191,3 +191,16 @@ def test_rebinding_a_material_repopulates_the_prim():
     material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
     UsdShade.MaterialBindingAPI.Apply(stage.GetPrimAtPath("/World/card")).Bind(material)
     assert_same_as_fresh(s, stage)
+
+
+def test_mesh_removed_from_a_skel_root_disappears_and_the_rest_stays_skinned():
+    stage = ss.eye_on_head(rigid=True)
+    strip = ss.strip_mesh(stage, "/World/Rig/Strip", segments=2)
+    count = len(strip.GetPointsAttr().Get())
+    ss.bind(strip.GetPrim(), UsdSkel.Skeleton(stage.GetPrimAtPath("/World/Rig/Skel")), [1] * count, [1.0] * count, 1)
+    s = session(stage, time=3)
+    frame(s)
+    stage.RemovePrim("/World/Rig/Eye")
+    assert_same_as_fresh(s, stage, time=3)
+    assert "/World/Rig/Eye" not in s.index.rprim_ids() and s.scene.eyes == []
+    assert dict(s.scene.set_time(2)) == {"skinned points": 1}
