@@ -11,7 +11,7 @@ Measured (median of --repeats, seconds; each sync is `set_time` + the render ind
 and, for the skinning frame, the re-synced prims by kind (the scene delegate's `last_update`) and what the sheet's
 sync did (point uploads, topology builds).
 
-Usage: python3 bench/bench_skinning.py [--grid 160] [--joints 8] [--static 50] [--repeats 5]
+Usage: python3 bench/bench_skinning.py [--grid 160] [--joints 8] [--static 50] [--repeats 9]
 """
 import argparse
 import math
@@ -100,7 +100,7 @@ def main():
     parser.add_argument("--grid", type=int, default=160, help="sheet resolution in quads per side")
     parser.add_argument("--joints", type=int, default=8)
     parser.add_argument("--static", type=int, default=50, help="unskinned cards beside the rig")
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=9)
     args = parser.parse_args()
     stage = build_stage(args.grid, args.joints, args.static)
 
