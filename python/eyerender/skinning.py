@@ -8,7 +8,8 @@ UsdSkel.BakeSkinning does, so a skinned stage renders as its baked copy.
   baked points are, with GfMatrix4d::Transform's arithmetic (double sums, float result).
 - Rigid bindings (constant jointIndices / jointWeights, SkinningQuery.IsRigidlyDeformed): the prim's points stay,
   its transform is SkinningQuery.ComputeSkinnedTransform x skeleton-to-world. This covers Xforms bound to a joint
-  (an analytic eye on a head joint), and every prim under such an Xform follows it.
+  (an analytic eye on a head joint); prims below a rigid binding that UsdSkel does not skin itself (cameras,
+  Xforms) follow it.
 - Eye meshes skinned per vertex can ask for a moving frame (`follow_dominant_joint`): the transform follows the
   joint that carries most weight (geomBindTransform x that joint's skinning transform x skeleton-to-world) and the
   points are the skinned points in that frame, so the eye's analytic cornea moves with the head and, at the bind
@@ -109,6 +110,9 @@ class XformSkinningQuery:
     def GetJointOrder(self):
         return self._api.GetJointsAttr().Get()
 
+    def GetSkinningMethodAttr(self):
+        return self._api.GetSkinningMethodAttr()
+
     def GetInterpolation(self):
         return self.GetJointIndicesPrimvar().GetInterpolation()
 
@@ -146,10 +150,10 @@ class SkinnedPrim:
         self.skeleton = skel_query.GetSkeleton().GetPrim()
         self.point_based = self.prim.IsA(UsdGeom.PointBased)
         self.rigid = skinning_query.HasJointInfluences() and skinning_query.IsRigidlyDeformed()
-        self.blend_shapes = self._blend_shape_inputs()
         self.skins_points = self.point_based and skinning_query.HasJointInfluences() and not self.rigid
         self.frame_joint = None  # prim-order joint index whose motion the transform follows (eye meshes)
         self._check()
+        self.blend_shapes = self._blend_shape_inputs()
 
     # -- what it deforms ---------------------------------------------------------------------------------------
 
@@ -173,7 +177,9 @@ class SkinnedPrim:
         attrs = [self.query.GetJointIndicesPrimvar().GetAttr(), self.query.GetJointWeightsPrimvar().GetAttr(),
                  self.query.GetGeomBindTransformAttr()]
         if self.point_based:
-            attrs.append(UsdGeom.PointBased(self.prim).GetPointsAttr())
+            mesh = UsdGeom.PointBased(self.prim)
+            normals = UsdGeom.PrimvarsAPI(self.prim).GetPrimvar("normals")
+            attrs += [mesh.GetPointsAttr(), mesh.GetNormalsAttr(), normals.GetAttr() if normals else None]
         if any(a and a.ValueMightBeTimeVarying() for a in attrs):
             return True
         return transform_varies(self.skeleton) or transform_varies(self.prim)
@@ -331,10 +337,17 @@ class SkinnedPrim:
 
     def _apply_blend_shapes(self, points, time):
         query, point_indices, offsets = self.blend_shapes
-        weights = self.skel_query.GetAnimQuery().ComputeBlendShapeWeights(time)
+        anim = self.skel_query.GetAnimQuery()
+        weights = _call("reading blend shape weights", self.prim, anim.ComputeBlendShapeWeights, time)
+        if len(weights) != len(anim.GetBlendShapeOrder()):
+            raise SkinningError(f"{self.prim.GetPath()}: animation {anim.GetPrim().GetPath()} has {len(weights)} "
+                                f"blendShapeWeights for {len(anim.GetBlendShapeOrder())} blendShapes at time {time}")
         mapper = self.query.GetBlendShapeMapper()
         if mapper and not mapper.IsIdentity():
             weights = _call("remapping blend shape weights", self.prim, mapper.Remap, weights)
+        if len(weights) != query.GetNumBlendShapes():
+            raise SkinningError(f"{self.prim.GetPath()}: {len(weights)} blend shape weights at time {time} for "
+                                f"{query.GetNumBlendShapes()} blend shapes")
         if not all(math.isfinite(w) for w in weights):
             raise SkinningError(f"{self.prim.GetPath()}: blend shape weights are not finite at time {time}")
         sub_weights, shape_indices, sub_indices = _call("resolving blend shape weights", self.prim,
@@ -367,7 +380,55 @@ class SkinnedPrim:
             raise SkinningError(f"{path}: skel:geomBindTransform is singular or not finite")
         if self.query.HasJointInfluences():
             self._check_influences(path)
+        method = self.query.GetSkinningMethodAttr().Get() if self.query.GetSkinningMethodAttr() else None
+        if method is not None and method not in (UsdSkel.Tokens.classicLinear, UsdSkel.Tokens.dualQuaternion):
+            raise SkinningError(f"{path}: skel:skinningMethod '{method}' is not classicLinear or dualQuaternion")
+        self._check_animation()
+        if self.point_based and self.query.HasBlendShapes():
+            self._check_blend_shapes(path)
         self._skinning_transforms(Usd.TimeCode.Default())
+
+    def _check_animation(self):
+        """The SkelAnimation's translations, rotations and scales hold one value per animated joint at every time
+        sample (UsdSkel would warn and fall back to the rest pose)."""
+        anim = self.skel_query.GetAnimQuery()
+        if not anim:
+            return
+        animation = UsdSkel.Animation(anim.GetPrim())
+        if not animation:
+            return
+        joints = len(animation.GetJointsAttr().Get() or [])
+        for attr in (animation.GetTranslationsAttr(), animation.GetRotationsAttr(), animation.GetScalesAttr()):
+            if not attr.HasAuthoredValue():
+                continue
+            for time in attr.GetTimeSamples() or [Usd.TimeCode.Default()]:
+                value = attr.Get(time)
+                if value is not None and len(value) != joints:
+                    raise SkinningError(f"{self.prim.GetPath()}: animation {animation.GetPath()} has {len(value)} "
+                                        f"{attr.GetName()} for {joints} joints")
+
+    def _check_blend_shapes(self, path):
+        """Every skel:blendShapeTargets target is a BlendShape whose offsets match its point indices (or the points)
+        and whose point indices are in range, and skel:blendShapes names one target each."""
+        api = UsdSkel.BindingAPI(self.prim)
+        targets = api.GetBlendShapeTargetsRel().GetForwardedTargets() if api.GetBlendShapeTargetsRel() else []
+        names = api.GetBlendShapesAttr().Get() or []
+        if len(names) != len(targets):
+            raise SkinningError(f"{path}: skel:blendShapes has {len(names)} names for {len(targets)} "
+                                f"skel:blendShapeTargets")
+        count = len(self.rest_points(Usd.TimeCode.Default()))
+        for target in targets:
+            shape = UsdSkel.BlendShape(self.prim.GetStage().GetPrimAtPath(target))
+            if not shape:
+                raise SkinningError(f"{path}: skel:blendShapeTargets {target} is not a BlendShape")
+            indices = shape.GetPointIndicesAttr().Get()
+            for offsets in [shape.GetOffsetsAttr().Get()] + [i.GetOffsets() for i in shape.GetInbetweens()]:
+                expected = count if indices is None else len(indices)
+                if offsets is not None and len(offsets) != expected:
+                    raise SkinningError(f"{path}: blend shape {target} has {len(offsets)} offsets for {expected} "
+                                        f"{'points' if indices is None else 'point indices'}")
+            if indices is not None and len(indices) and (min(indices) < 0 or max(indices) >= count):
+                raise SkinningError(f"{path}: blend shape {target} has point indices outside [0, {count})")
 
     def _check_influences(self, path):
         indices, weights = self._influences(Usd.TimeCode.Default())
@@ -440,6 +501,9 @@ class StageSkinning:
                 except SkinningError as e:
                     self.warnings.append(f"{e} (rendered unskinned)")
                     continue
+                except Tf.ErrorException:
+                    self.warnings.append(f"{prim.GetPath()}: UsdSkel could not read its binding (rendered unskinned)")
+                    continue
                 if skinned.deforms_points or skinned.rigid:
                     if is_eye(prim):
                         skinned.follow_dominant_joint()
@@ -450,8 +514,7 @@ class StageSkinning:
             if prim.IsA(UsdGeom.Xformable) and not prim.IsA(UsdGeom.Boundable) and self._add_xform(prim, cache):
                 continue
             if not any(w.startswith(f"{prim.GetPath()}:") for w in self.warnings):
-                self.warnings.append(f"{prim.GetPath()}: has joint influences but no Skeleton bound (skel:skeleton) "
-                                     f"(rendered unskinned)")
+                self.warnings.append(f"{prim.GetPath()}: {self._why_not_bound(prim)} (rendered unskinned)")
 
     def _add_xform(self, prim, cache):
         """Adds an Xform rigidly bound to a joint (XformSkinningQuery); False when it has no skeleton."""
@@ -467,6 +530,19 @@ class StageSkinning:
         except SkinningError as e:
             self.warnings.append(f"{e} (rendered unskinned)")
         return True
+
+    @staticmethod
+    def _why_not_bound(prim):
+        """Why UsdSkel made no skinning target of a prim with joint influences under a SkelRoot."""
+        api = UsdSkel.BindingAPI(prim)
+        skeleton = api.GetSkeletonRel().GetForwardedTargets() if api.GetSkeletonRel() else []
+        if not api.GetInheritedSkeleton():
+            return f"has joint influences but skel:skeleton {skeleton[0]} is not a Skeleton" if skeleton else \
+                "has joint influences but no skel:skeleton"
+        indices, weights = api.GetJointIndicesPrimvar(), api.GetJointWeightsPrimvar()
+        return (f"jointIndices / jointWeights are not usable by UsdSkel (elementSize {indices.GetElementSize()} / "
+                f"{weights.GetElementSize()}, interpolation {indices.GetInterpolation()} / "
+                f"{weights.GetInterpolation()}; they must match, vertex or constant)")
 
     def _check_animation_source(self, skeleton, skel_query):
         rel = UsdSkel.BindingAPI(skeleton).GetAnimationSourceRel()

@@ -289,7 +289,27 @@ def _unknown_joint_name(stage):
     UsdSkel.BindingAPI(stage.GetPrimAtPath("/World/Rig/Strip")).CreateJointsAttr(["root", "root/nose"])
 
 
+def _few_translations(stage):
+    UsdSkel.Animation(stage.GetPrimAtPath("/World/Rig/Skel/Anim")).GetTranslationsAttr().Set([Gf.Vec3f(0)])
+
+
+def _element_sizes_differ(stage):
+    UsdSkel.BindingAPI(stage.GetPrimAtPath("/World/Rig/Strip")).GetJointIndicesPrimvar().SetElementSize(3)
+
+
+def _unknown_method(stage):
+    UsdSkel.BindingAPI(stage.GetPrimAtPath("/World/Rig/Strip")).GetSkinningMethodAttr().Set("bogus")
+
+
+def _skeleton_is_a_mesh(stage):
+    UsdSkel.BindingAPI(stage.GetPrimAtPath("/World/Rig/Strip")).GetSkeletonRel().SetTargets(["/World/Rig/Strip"])
+
+
 @pytest.mark.parametrize("corrupt,message", [
+    (_few_translations, "animation /World/Rig/Skel/Anim has 1 translations for 2 joints"),
+    (_element_sizes_differ, "jointIndices / jointWeights are not usable by UsdSkel (elementSize 3 / 2"),
+    (_unknown_method, "skel:skinningMethod 'bogus' is not classicLinear or dualQuaternion"),
+    (_skeleton_is_a_mesh, "has joint influences but skel:skeleton /World/Rig/Strip is not a Skeleton"),
     (_break_joint_counts, "1 bindTransforms for 2 joints"),
     (_nan_weights, "jointWeights hold NaN"),
     (_singular_geom_bind, "geomBindTransform is singular"),
@@ -309,6 +329,29 @@ def test_bad_skel_data_warns_once_and_renders_unskinned(corrupt, message):
     scene, store = delegate(stage, time=3)
     assert np.array_equal(store.points["/World/Rig/Strip"], points_at(stage, "/World/Rig/Strip", 3))
     assert dict(scene.set_time(2)) == {}
+
+
+def _shape(stage):
+    return UsdSkel.BlendShape(stage.GetPrimAtPath("/World/Rig/Strip/lift"))
+
+
+@pytest.mark.parametrize("corrupt,message", [
+    (lambda st: _shape(st).GetPointIndicesAttr().Set([0, 999]), "has point indices outside [0, 18)"),
+    (lambda st: _shape(st).GetOffsetsAttr().Set([(0, 0, 1)]), "has 1 offsets for 2 point indices"),
+    (lambda st: UsdSkel.BindingAPI(st.GetPrimAtPath("/World/Rig/Strip")).GetBlendShapeTargetsRel().SetTargets(
+        ["/World/Nothing"]), "skel:blendShapeTargets /World/Nothing is not a BlendShape"),
+    (lambda st: UsdSkel.Animation(st.GetPrimAtPath("/World/Rig/Skel/Anim")).GetBlendShapeWeightsAttr().Set(
+        [1.0, 2.0], 2), "has 2 blendShapeWeights for 1 blendShapes at time 2"),
+], ids=["indices", "offsets", "target", "weights"])
+def test_bad_blend_shapes_warn_once_and_render_unskinned(corrupt, message):
+    stage = ss.blend_shape_strip()
+    corrupt(stage)
+    scene, store = delegate(stage, time=1)
+    for t in (2, 3):
+        scene.set_time(t)
+    assert len(scene.warnings) == 1 and scene.warnings[0].startswith("/World/Rig/Strip: ") and \
+        message in scene.warnings[0], scene.warnings
+    assert np.array_equal(store.points["/World/Rig/Strip"], points_at(stage, "/World/Rig/Strip", 3))
 
 
 def test_missing_animation_source_leaves_the_skeleton_in_rest_pose_with_one_warning():
