@@ -115,7 +115,9 @@ def test_two_joint_strip_renders_pixel_identical_to_its_baked_copy():
 
 def test_dual_quaternion_skinning_blends_rotations_not_positions():
     lbs_scene, lbs = delegate(ss.two_joint_strip("classicLinear"), time=3)
-    dq_scene, dq = delegate(ss.two_joint_strip("dualQuaternion"), time=3)
+    dq_stage = ss.two_joint_strip("dualQuaternion")
+    dq_scene, dq = delegate(dq_stage, time=3)
+    assert np.array_equal(dq.points["/World/Rig/Strip"], points_at(ss.baked_copy(dq_stage), "/World/Rig/Strip", 3))
     # The top point over the tip joint (x = 1, y = 0.4) carries weights 0.5 / 0.5: dual quaternions turn it by
     # half the 60 degree bend about the joint; linear blending averages the two rigid positions (it shrinks).
     top = 9
