@@ -163,6 +163,12 @@ class StageFollowing:
         kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
             return
+        attr = prim.GetAttribute(path.name)
+        if attr and attr.ValueMightBeTimeVarying() and material is None:
+            # Now animated: what set_time re-reads was decided at populate, so the prim (and what inherits from
+            # it) is populated again, with its updaters.
+            self._resync(self._resync_root(prim.GetPath()))
+            return
         if material is not None:
             self.store.set_material_params(material, materials.read_material(
                 UsdShade.Material(self.stage.GetPrimAtPath(material)), self.time)[0])

@@ -204,3 +204,18 @@ def test_mesh_removed_from_a_skel_root_disappears_and_the_rest_stays_skinned():
     assert_same_as_fresh(s, stage, time=3)
     assert "/World/Rig/Eye" not in s.index.rprim_ids() and s.scene.eyes == []
     assert dict(s.scene.set_time(2)) == {"skinned points": 1}
+
+
+def test_light_animated_after_the_session_was_built_moves_with_time():
+    stage = ss.base_stage()
+    card(stage, "/World/card")
+    s = session(stage)
+    frame(s)
+    op = UsdGeom.Xformable(stage.GetPrimAtPath("/World/key")).GetOrderedXformOps()[0]
+    op.Set(Gf.Vec3d(2, 3, 4), 1)
+    op.Set(Gf.Vec3d(-3, -1, 2), 3)
+    assert_same_as_fresh(s, stage, time=1)
+    assert s.stats["stage_changes"] == {"removed prims": 1, "added prims": 1}, s.stats["stage_changes"]
+    later = frame(s, time=3)
+    assert s.stats["updated"] == {"transform": 1, "light": 1}, s.stats["updated"]
+    assert np.array_equal(later, frame(session(stage, time=3)))
