@@ -370,7 +370,8 @@ class SkinnedPrim:
             raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has {len(rests)} restTransforms for "
                                 f"{len(joints)} joints")
         if not _finite_matrices(binds) or any(abs(b.GetDeterminant3()) < 1e-300 for b in binds):
-            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has a singular or non-finite bind transform")
+            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has a singular or non-finite bind "
+                                f"transform")
         order = self.query.GetJointOrder()
         missing = [name for name in (order or []) if name not in set(self.skel_query.GetJointOrder())]
         if missing:

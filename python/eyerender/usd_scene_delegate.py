@@ -219,7 +219,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         # Authored normals shade polygon meshes only (refined ones use limit normals). A skinned polygon mesh's
         # normals are skinned with its points; ones that cannot be would be stale: smooth normals instead.
         skin_normals = None
-        if skinned is not None and level == 0 and any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals")):
+        authored_normals = any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals"))
+        if skinned is not None and level == 0 and authored_normals:
             names["normals"] = None
             if skinned.skinnable_normals():
                 skin_normals = prim_id
@@ -293,7 +294,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 return points
             except SkinningError as e:
                 self._skinning.drop(skinned, e)
-        return fallback if fallback is not None else _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
+        if fallback is not None:
+            return fallback
+        return _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
 
     def _push_rest_time_points(self, prim, prim_id, mesh, count, skinned=None):
         """An eye mesh with eye:restTime and no rest/Pref primvar: its points (skinned, for a skinned mesh) at that
