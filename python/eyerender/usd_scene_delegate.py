@@ -279,8 +279,14 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _skinned_points_of(self, prim, prim_id):
         """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
         skinned = self._skinning.get(prim)
-        return skinned if skinned is not None and skinned.deforms_points and prim_id == prim.GetPath().pathString \
-            else None
+        if skinned is None or not skinned.deforms_points:
+            return None
+        if prim_id != prim.GetPath().pathString:
+            warning = f"{prim.GetPath()}: point-instanced copies of a skinned mesh render unskinned"
+            if warning not in self.warnings:
+                self.warnings.append(warning)
+            return None
+        return skinned
 
     def _skinned_points(self, skinned, time, fallback, normals_id=None):
         """A skinned mesh's points at `time` (and, with normals_id, its skinned normals sent to that prim); after

@@ -431,3 +431,16 @@ def test_uniform_normals_of_a_skinned_polygon_mesh_give_way_to_smooth_normals_wi
     assert scene.warnings == expected
     # Stale normals never reach a polygon mesh; a refined mesh gets them as before (the delegate ignores them).
     assert (("/World/Rig/Strip", "normals") in store.primvars) == (scheme != "none")
+
+
+def test_point_instanced_copies_of_a_skinned_mesh_render_unskinned_with_one_warning():
+    stage = ss.two_joint_strip()
+    instancer = UsdGeom.PointInstancer.Define(stage, "/World/Crowd")
+    instancer.CreatePrototypesRel().SetTargets(["/World/Rig"])
+    instancer.CreatePositionsAttr([(0, 0, 0), (0, 1, 0)])
+    instancer.CreateProtoIndicesAttr([0, 0])
+    scene, store = delegate(stage, time=3)
+    assert scene.warnings == ["/World/Rig/Strip: point-instanced copies of a skinned mesh render unskinned"]
+    copy = "/World/Crowd/instance_1/Rig/Strip"
+    assert np.array_equal(store.points[copy], points_at(stage, "/World/Rig/Strip", 3))
+    assert not np.array_equal(store.points["/World/Rig/Strip"], store.points[copy])
