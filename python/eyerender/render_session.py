@@ -29,11 +29,12 @@ DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
 class RenderSession:
     """Renders one stage, frame after frame, into in-memory AOV buffers."""
 
-    def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("default",),
+    def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
-        stage; aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
+        stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
+        aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
         sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given)."""
@@ -98,6 +99,7 @@ class RenderSession:
         """Renders samples [first_sample, first_sample + spp) of a frame (buffers are cleared first), one sample
         per pass; stops early once `time_limit` seconds (0: none) are spent, after at least one sample.
         progress(samples_done, spp, seconds) is called after each pass. Returns a summary dict."""
+        self.scene.apply_stage_changes()  # edits made to the stage since the last frame (Usd.Notice.ObjectsChanged)
         if time is not None:
             self.scene.set_time(time)
         for aov in self.aovs:
@@ -126,7 +128,8 @@ class RenderSession:
         seconds = clock.perf_counter() - start
         self.stats = {"samples_per_pixel": done, "seconds": seconds, "rays": rays,
                       "rays_per_second": rays / seconds if seconds > 0 else 0.0, "non_finite_samples": non_finite,
-                      "first_sample": first_sample, "updated": dict(self.scene.last_update)}
+                      "first_sample": first_sample, "updated": dict(self.scene.last_update),
+                      "stage_changes": dict(self.scene.last_changes)}
         return self.stats
 
     def image(self, aov):
@@ -143,6 +146,7 @@ class RenderSession:
         from .plan import PlanOverrides
 
         overrides = overrides or self.plan_overrides or PlanOverrides()
+        self.scene.apply_stage_changes()
         try:
             return self.render_pass.plan(self.camera_id, self.width, self.height, overrides)
         except RuntimeError as e:

@@ -5,52 +5,40 @@ Every supported prim becomes one delegate prim with the same path (instance prox
 get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
-matching dirty bits. What each `set_time` pushed is counted in `last_update`.
+matching dirty bits. What each `set_time` pushed is counted in `last_update`. Edits made to the stage after
+`populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by `apply_stage_changes`
+(stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py. docs/usd_support.md tables
+what is read and how.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
 displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye), purposes, visibility, instanceable
-references and PointInstancers. Anything else is skipped and listed once in `warnings`.
+references and PointInstancers, UsdSkel (skinned points, blend shapes, rigid bindings). Anything else is skipped
+and listed once in `warnings`.
 """
 import collections
 
 import numpy as np
-from pxr import Usd, UsdGeom, UsdShade
+from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 
-from . import cameras, eyes, lights, materials
+from . import cameras, eyes, lights, materials, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .skinning import SkinningError, StageSkinning
+from .usd_values import to_float_array as _array
+from .usd_values import to_matrix as _matrix
+from .usd_values import varies as _varies
 
 SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
 
 
-def _matrix(m):
-    """A Gf.Matrix4d as the 4x4 float64 array the delegate takes (same layout: no transpose)."""
-    return np.array(m, dtype=np.float64).reshape(4, 4)
-
-
-def _array(values, components, what):
-    """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
-    a = np.asarray(values, dtype=np.float32)
-    if a.size % components:
-        raise EyeRenderError(f"{what} does not hold {components}-component values")
-    a = a.reshape(-1, components)
-    if not np.isfinite(a).all():
-        raise EyeRenderError(f"{what} holds NaN or infinite values")
-    return np.ascontiguousarray(a)
-
-
-def _varies(attrs):
-    return any(a and a.ValueMightBeTimeVarying() for a in attrs)
-
-
-class UsdSceneDelegate:
+class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
-    def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("default",), refine_level=2,
+    def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
                  cornea_model=None):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
@@ -65,8 +53,14 @@ class UsdSceneDelegate:
         self.warnings = []       # one line each: what was skipped or ignored
         self.last_update = collections.Counter()
         self._xforms = UsdGeom.XformCache(self.time)
-        self._updaters = []      # (kind, callable(time)) for what varies in time
+        self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
+        self._owned = {}         # owner prim path -> delegate prim ids it added
+        self._owner = None       # the prim _add_prim is adding
+        self._point_counts = {}  # mesh id -> number of points its topology was built for
+        self._changes = stage_notices.StageChangeQueue(stage)
+        self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
+        self._skinning = StageSkinning(self.warnings)  # filled as populate meets SkelRoots
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -75,7 +69,11 @@ class UsdSceneDelegate:
         if self._populated:
             raise RuntimeError("populate() was already called")
         self._populated = True
-        it = iter(Usd.PrimRange(self.stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        self._add_subtree(self.stage.GetPseudoRoot())
+        self._changes.take()  # edits before now are in what was just read
+
+    def _add_subtree(self, root):
+        it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
         for prim in it:
             if prim.IsPseudoRoot():
                 continue
@@ -91,15 +89,26 @@ class UsdSceneDelegate:
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
-        for kind, update in self._updaters:
+        for _, kind, update in self._updaters:
             update(self.time)
             self.last_update[kind] += 1
         return self.last_update
+
+    def _track(self, entry, owner=None):
+        """Registers (kind, callable(time)) for what varies in time, owned by `owner` (default: the prim being
+        added): re-populating the owner drops it."""
+        self._updaters.append((owner or self._owner,) + tuple(entry))
+
+    def _own(self, prim_id):
+        self._owned.setdefault(self._owner, []).append(prim_id)
 
     # -- dispatch ----------------------------------------------------------------------------------------------
 
     def _add_prim(self, prim):
         """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
+        self._owner = prim.GetPath()
+        if prim.IsA(UsdSkel.Root):  # its skinned prims, before they are added
+            self._skinning.add_root(prim)
         if prim.IsA(UsdGeom.PointInstancer):
             self._add_point_instancer(prim)
             return True
@@ -118,11 +127,22 @@ class UsdSceneDelegate:
         return False
 
     def _world_of(self, prim):
-        return self._xforms.GetLocalToWorldTransform(prim)
+        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint."""
+        try:
+            return self._skinning.world(prim, self._xforms, self.time)
+        except SkinningError as e:
+            self._skinning.drop(self._skinning.rigid_anchor(prim), e)
+            return self._xforms.GetLocalToWorldTransform(prim)
+
+    def _transform_varies(self, prim):
+        """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
+        ancestor is rigidly bound to."""
+        anchor = self._skinning.rigid_anchor(prim)
+        return (anchor is not None and anchor.might_vary(self._xforms_vary)) or self._xforms_vary(prim)
 
     @staticmethod
-    def _transform_varies(prim):
-        """Whether prim's local-to-world transform may change: its own or an ancestor's xform ops are animated."""
+    def _xforms_vary(prim):
+        """Whether prim's own or an ancestor's xform ops are animated."""
         p = prim
         while p and not p.IsPseudoRoot():
             xformable = UsdGeom.Xformable(p)
@@ -134,8 +154,8 @@ class UsdSceneDelegate:
     def _track_transform(self, prim):
         if self._transform_varies(prim):
             prim_id = prim.GetPath().pathString
-            self._updaters.append(
-                ("transform", lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
+            kind = "transform" if self._skinning.rigid_anchor(prim) is None else "skinned transform"
+            self._track((kind, lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
 
     def _track_visibility(self, prim, prim_id):
         imageable = UsdGeom.Imageable(prim)
@@ -146,7 +166,7 @@ class UsdSceneDelegate:
         while p and not p.IsPseudoRoot():
             vis = UsdGeom.Imageable(p).GetVisibilityAttr() if UsdGeom.Imageable(p) else None
             if _varies([vis]):
-                self._updaters.append(("visibility", lambda t: self.store.set_visible(
+                self._track(("visibility", lambda t: self.store.set_visible(
                     prim_id, imageable.ComputeVisibility(t) != UsdGeom.Tokens.invisible)))
                 break
             p = p.GetParent()
@@ -174,27 +194,48 @@ class UsdSceneDelegate:
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
+        skinned = self._skinned_points_of(prim, prim_id)
+        if skinned is not None:
+            points = self._skinned_points(skinned, self.time, points)
+            if self._skinning.get(prim) is None and skinned.moves_frame:  # dropped: its bind frame, unskinned
+                world = self._xforms.GetLocalToWorldTransform(prim)
         scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
         if scheme not in SUBDIVISION_SCHEMES:
             raise EyeRenderError(f"{path}: subdivisionScheme '{scheme}' is not one of {', '.join(SUBDIVISION_SCHEMES)}")
         if scheme in ("loop", "bilinear"):
             self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
         level = self.refine_level if scheme == "catmullClark" else 0
+        self._point_counts[prim_id] = len(points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
         if eyes.is_eye(prim):
             eye = self._eye_mesh_params(prim, self.time)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
+            self._own_top_level(prim, prim_id)
             self._track_eye(prim, prim_id, mesh=True)
         else:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+            self._own_top_level(prim, prim_id)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
+        # Authored normals shade polygon meshes only (refined ones use limit normals). A skinned polygon mesh's
+        # normals are skinned with its points; ones that cannot be would be stale: smooth normals instead.
+        skin_normals = None
+        authored_normals = any(a.HasAuthoredValue() for a in self._primvar_attrs(prim, "normals"))
+        if skinned is not None and level == 0 and authored_normals:
+            names["normals"] = None
+            if skinned.skinnable_normals():
+                skin_normals = prim_id
+            else:
+                self.warnings.append(f"{path}: {skinned.normals_interpolation()} normals cannot follow per-vertex "
+                                     f"skinning (rendered with smooth normals)")
         for name, source in names.items():
             self._push_primvar(prim, prim_id, name, source, self.time)
+        if skin_normals:
+            self._skinned_points(skinned, self.time, points, normals_id=skin_normals)
         if names["rest"] is None:
-            self._push_rest_time_points(prim, prim_id, mesh, len(points))
+            self._push_rest_time_points(prim, prim_id, mesh, len(points), skinned)
         self._track_visibility(prim, prim_id)
 
         points_attr = mesh.GetPointsAttr()
@@ -202,14 +243,18 @@ class UsdSceneDelegate:
             def update_topology(t):
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
-            self._updaters.append(("topology", update_topology))
+                self._point_counts[prim_id] = len(p)
+            self._track(("topology", update_topology))
+        elif skinned is not None:
+            if skinned.might_vary(self._xforms_vary):
+                self._track(("skinned points", lambda t: self.store.set_points(
+                    prim_id, self._skinned_points(skinned, t, None, normals_id=skin_normals))))
         elif _varies([points_attr]):
-            self._updaters.append(("points", lambda t: self.store.set_points(
+            self._track(("points", lambda t: self.store.set_points(
                 prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
         for name, source in names.items():
             if source is not None and _varies(self._primvar_attrs(prim, source)):
-                self._updaters.append(
-                    ("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+                self._track(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
 
     def _primvar_attrs(self, prim, name):
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
@@ -229,18 +274,58 @@ class UsdSceneDelegate:
                 return name
         return None
 
-    def _push_rest_time_points(self, prim, prim_id, mesh, count):
-        """An eye mesh with eye:restTime and no rest/Pref primvar: its points at that time code are its rest pose
-        (sent as the vertex primvar "rest"). Nothing for other meshes, or without eye:restTime."""
+    def _own_top_level(self, prim, prim_id):
+        """Owns a mesh added for itself (not as a PointInstancer's copy, which its instancer owns)."""
+        if prim_id == prim.GetPath().pathString:
+            self._own(prim_id)
+
+    def _skinned_points_of(self, prim, prim_id):
+        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
+        skinned = self._skinning.get(prim)
+        if skinned is None or not skinned.deforms_points:
+            return None
+        if prim_id != prim.GetPath().pathString:
+            warning = f"{prim.GetPath()}: point-instanced copies of a skinned mesh render unskinned"
+            if warning not in self.warnings:
+                self.warnings.append(warning)
+            return None
+        return skinned
+
+    def _skinned_points(self, skinned, time, fallback, normals_id=None):
+        """A skinned mesh's points at `time` (and, with normals_id, its skinned normals sent to that prim); after
+        bad skel data (one warning) its authored points, unskinned."""
+        if self._skinning.get(skinned.prim) is skinned:
+            try:
+                cache = self._xforms if time == self.time else UsdGeom.XformCache(time)
+                points, normals = skinned.deform(time, cache, with_normals=normals_id is not None)
+                if normals is not None:
+                    self.store.set_primvar(normals_id, "normals", str(skinned.normals_interpolation()), normals)
+                return points
+            except SkinningError as e:
+                self._skinning.drop(skinned, e)
+        if fallback is not None:
+            return fallback
+        return _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
+
+    def _push_rest_time_points(self, prim, prim_id, mesh, count, skinned=None):
+        """An eye mesh with eye:restTime and no rest/Pref primvar: its points (skinned, for a skinned mesh) at that
+        time code are its rest pose (sent as the vertex primvar "rest"). A skinned eye mesh without eye:restTime
+        rests in its bind pose (its authored points). Nothing for other meshes."""
         if not eyes.is_eye(prim):
             return
         attr = prim.GetAttribute("eye:restTime")
         rest_time = attr.Get() if attr and attr.HasAuthoredValue() else None
         if rest_time is None:
+            if skinned is not None:
+                bind = skinned.rest_points(self.time)
+                self.store.set_primvar(prim_id, "rest", "vertex", _array(bind, 3, f"{prim.GetPath()}: bind points"))
             return
         if not np.isfinite(rest_time):
             raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is not finite")
-        rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
+        if skinned is not None:
+            rest = self._skinned_points(skinned, Usd.TimeCode(rest_time), None)
+        else:
+            rest = mesh.GetPointsAttr().Get(Usd.TimeCode(rest_time))
         if rest is None or len(rest) != count:
             raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time:g} has "
                                  f"{0 if rest is None else len(rest)} points, the mesh has {count}")
@@ -312,6 +397,7 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         material_id, _ = self._bind_material(prim)
         self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
+        self._own(prim_id)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
@@ -322,6 +408,7 @@ class UsdSceneDelegate:
         """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
         instancer = UsdGeom.PointInstancer(prim)
         ids = self._add_instances(prim, instancer, self.time)
+        self._owned[prim.GetPath()] = ids  # the same list: updates replace its contents
         attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
                  instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
         if _varies(attrs) or self._transform_varies(prim):
@@ -329,7 +416,7 @@ class UsdSceneDelegate:
                 for prim_id in ids:
                     self.store.remove_prim(prim_id)
                 ids[:] = self._add_instances(prim, instancer, t)
-            self._updaters.append(("instancer", update))
+            self._track(("instancer", update))
 
     def _add_instances(self, prim, instancer, time):
         prototypes = instancer.GetPrototypesRel().GetTargets()
@@ -359,19 +446,20 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
         self.cameras.append(prim_id)
+        self._own(prim_id)
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(
-                ("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
+            self._track(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
         self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
                              _matrix(self._world_of(prim)))
+        self._own(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("light", lambda t: self.store.set_light_params(
+            self._track(("light", lambda t: self.store.set_light_params(
                 prim_id, lights.read_light(prim, self._world_of(prim), t))))
 
     def _bind_material(self, prim):
@@ -386,8 +474,8 @@ class UsdSceneDelegate:
             self.warnings.extend(ignored)
             self._materials[path] = st_name
             if any(_varies(p.GetAttributes()) for p in Usd.PrimRange(material.GetPrim())):
-                self._updaters.append(("material", lambda t: self.store.set_material_params(
-                    path, materials.read_material(material, t)[0])))
+                self._track(("material", lambda t: self.store.set_material_params(
+                    path, materials.read_material(material, t)[0])), owner=material.GetPath())
         return path, self._materials[path]
 
     def _add_analytic_eye(self, prim):
@@ -395,18 +483,19 @@ class UsdSceneDelegate:
         self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
                                     _matrix(self._world_of(prim)))
         self.eyes.append(prim_id)
+        self._own(prim_id)
         self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
     def _track_eye(self, prim, prim_id, mesh=False):
         if not mesh:
             if eyes.eye_attributes_vary(prim):
-                self._updaters.append(("eye", lambda t: self.store.set_eye_params(
+                self._track(("eye", lambda t: self.store.set_eye_params(
                     prim_id, eyes.read_eye_params(prim, t, self.cornea_model))))
             return
         # Eye meshes also carry the iris projection: it varies when its target's or the eye's transform does.
         target = self._iris_projection_target(prim)
         if eyes.eye_attributes_vary(prim) or (target is not None and (self._transform_varies(target) or
                                                                       self._transform_varies(prim))):
-            self._updaters.append(("eye", lambda t: self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, t))))
+            self._track(("eye", lambda t: self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, t))))
 

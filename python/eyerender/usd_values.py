@@ -1,0 +1,26 @@
+"""USD values as the delegate takes them: Gf matrices as 4x4 float64 arrays, Vt arrays as checked float32 (n, k)
+arrays, and whether attributes vary in time."""
+import numpy as np
+
+from .errors import EyeRenderError
+
+
+def to_matrix(m):
+    """A Gf.Matrix4d as the 4x4 float64 array the delegate takes (same layout: no transpose)."""
+    return np.array(m, dtype=np.float64).reshape(4, 4)
+
+
+def to_float_array(values, components, what):
+    """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
+    a = np.asarray(values, dtype=np.float32)
+    if a.size % components:
+        raise EyeRenderError(f"{what} does not hold {components}-component values")
+    a = a.reshape(-1, components)
+    if not np.isfinite(a).all():
+        raise EyeRenderError(f"{what} holds NaN or infinite values")
+    return np.ascontiguousarray(a)
+
+
+def varies(attrs):
+    """Whether any of attrs (None entries allowed) may change with time."""
+    return any(a and a.ValueMightBeTimeVarying() for a in attrs)
