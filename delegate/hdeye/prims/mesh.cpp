@@ -1,7 +1,9 @@
 #include "hdeye/prims/mesh.h"
 
+#include "hdeye/prims/meshBoundary.h"
 #include "hdeye/prims/renderParam.h"
 #include "hdeye/prims/subdivRefiner.h"
+#include "hdeye/render/thinWalls.h"
 
 #include <algorithm>
 #include <cmath>
@@ -73,7 +75,7 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
   if (topologyDirty || (bits & dirty::DirtyPoints)) {
     // Fetched once: the topology is checked against their count, then they are evaluated.
     const std::vector<Vec3f> control = sceneDelegate->GetPoints(Id());
-    if (topologyDirty) SyncTopology(sceneDelegate, renderParam, int(control.size()));
+    if (topologyDirty) SyncTopology(sceneDelegate, renderParam, control);
     SyncPoints(control);
     renderParam->AcquireSceneForEdit();
     UploadPoints();
@@ -99,7 +101,8 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
   *dirtyBits = dirty::Clean;
 }
 
-void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount) {
+void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::vector<Vec3f>& control) {
+  const int controlPointCount = int(control.size());
   const int previousLevel = sceneRefineLevel_ < 0 ? -1 : topology_.refineLevel;
   topology_ = sceneDelegate->GetMeshTopology(Id());
   sceneRefineLevel_ = topology_.refineLevel;
@@ -133,6 +136,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
     layout_ = TriangulateFaces(topology_.faceVertexCounts, topology_.faceVertexIndices, {});
   }
   triangles_ = layout_.vertices;
+  context_.thinWalled = HasBoundaryEdges(topology_.faceVertexCounts, topology_.faceVertexIndices, control);
 
   // New connectivity: a new Embree geometry (its buffers have new sizes), a new prototype scene.
   ReleaseGeometry(renderParam);
@@ -141,6 +145,11 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   triangleGeometry_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Points move every frame while the connectivity stays: refit the BVH instead of rebuilding it.
   rtcSetGeometryBuildQuality(triangleGeometry_, RTC_BUILD_QUALITY_REFIT);
+  // Open meshes may be thin walls that shadow rays cross (thinWalls.h); EyeMesh replaces this filter with its own.
+  if (context_.thinWalled) {
+    rtcSetGeometryUserData(triangleGeometry_, &context_);
+    rtcSetGeometryOccludedFilterFunction(triangleGeometry_, PassThinWallsFilter);
+  }
   ConfigureTriangles(triangleGeometry_);
   rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
                           std::size_t(pointCount));

@@ -85,7 +85,7 @@ class Mesh : public Rprim {
   virtual void ConfigureTriangles(RTCGeometry /*triangles*/) {}
 
  private:
-  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, int controlPointCount);
+  void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::vector<Vec3f>& control);
   void SyncPoints(const std::vector<Vec3f>& control);
   void SyncPrimvars(SceneDelegate* sceneDelegate);
   void UploadPoints();

@@ -77,8 +77,9 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
-    if (lighting.occluded(Offset(eye, p, n), toLight, tFar)) continue;
-    E += ls.radiance * (s.transfer * cosEmit * weight);
+    const double transmittance = lighting.transmittance(Offset(eye, p, n), toLight, tFar);
+    if (!(transmittance > 0)) continue;
+    E += ls.radiance * (s.transfer * cosEmit * weight * transmittance);
   }
   return E * double(counted);
 }

@@ -19,10 +19,12 @@
 
 namespace hdeye {
 
-/// What the eye needs from the renderer: its lights, a world-space occlusion test, random numbers.
+/// What the eye needs from the renderer: its lights, a world-space shadow test, random numbers.
 struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
-  std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> occluded;
+  /// The fraction of light reaching `origin` from along unit `dir` within tFar (world units): 0 blocked, 1 clear,
+  /// between for thin walls (an occlusion shell) on the way.
+  std::function<double(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> transmittance;
   bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
   /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
   /// path tracing, for A/B comparisons); MNEE is not run.

@@ -114,6 +114,11 @@ constexpr double kMinCos = 1e-9;
 
 }  // namespace
 
+double ThinSheetReflectance(double cosTheta, double ior) {
+  const double r = eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior);
+  return r < 1 ? 2 * r / (1 + r) : 1.0;
+}
+
 glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
   const Frame frame(n);
   const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
@@ -146,8 +151,17 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
   const LobeProbabilities p = SelectLobes(s, lo.z);
 
   if (u0 >= p.diffuse + p.specular) {
-    // Glass: reflect with the Fresnel probability, else refract.
+    // Glass: reflect with the Fresnel probability, else refract (a thin sheet: pass straight through).
     if (!(p.glass > 0)) return false;
+    if (s.thinWalled) {
+      const bool reflect = u1 < ThinSheetReflectance(lo.z, s.ior);
+      out->wi = reflect ? eyelib::Reflect(wo, n) : -wo;
+      out->weight = glm::dvec3((1 - s.opacity) / p.glass);
+      out->transmitted = !reflect;
+      out->pdf = p.glass;
+      out->delta = true;
+      return Finite(out->weight);
+    }
     const double eta = inside ? 1 / s.ior : s.ior;  // index of the far side over wo's side
     const double fresnel = eyelib::FresnelDielectric(lo.z, eta);
     glm::dvec3 wt(0);

@@ -14,6 +14,8 @@
 //   glass part (weight 1 - opacity): a smooth dielectric of index `ior`, reflecting with the Fresnel
 //     probability, else refracting (radiance scaled by 1/eta^2, pbrt's non-symmetric BTDF, as the
 //     cornea does). Rough transmission is not modelled: roughness does not blur the glass.
+//     thinWalled (open surfaces, thinWalls.h): a thin sheet instead, reflecting with the two-interface
+//     reflectance R_sheet = 2 Fd / (1 + Fd), else transmitting straight through (wi = -wo, unscaled).
 // Fd is the exact unpolarised Fresnel reflectance of a dielectric of index `ior` (eyelib's). With
 // ior = 1, Fd = 0: no coat, and the opaque part is exactly Lambert.
 //
@@ -29,10 +31,15 @@ struct PreviewSurface {
   double metallic = 0;      ///< [0, 1]
   double opacity = 1;       ///< [0, 1]; below 1 part of the surface is glass
   double ior = 1.5;         ///< >= 1
+  bool thinWalled = false;  ///< the glass part is a thin sheet (no refraction, no inside)
 
   /// A pure Lambertian reflector (the sclera, and anything that must stay Lambert).
   static PreviewSurface Lambert(const glm::dvec3& albedo) { return {albedo, 1, 0, 1, 1}; }
 };
+
+/// Reflectance of a thin dielectric sheet of index `ior` at cosine `cosTheta` (both interfaces and the light
+/// bouncing between them: R + T^2 R / (1 - R^2) = 2R / (1 + R), with R the single-interface Fresnel).
+double ThinSheetReflectance(double cosTheta, double ior);
 
 /// Roughness below which the specular lobe is a perfect mirror (alpha < 4e-4: a GGX lobe that
 /// narrow is a mirror to within the float precision of hit points, and its pdf would overflow MIS).

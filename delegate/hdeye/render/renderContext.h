@@ -44,6 +44,9 @@ struct GeometryContext {
   /// Eyes (analytic and mesh): the render plan's per-eye switches, written by ApplyRenderPlan. Kept here,
   /// in the rprim's context, because the context outlives sync while EyeGeometry is rebuilt by it.
   EyeRenderOptions eyeOptions;
+  /// The mesh is an open surface (it has boundary edges): its glass part, if its material has opacity < 1, is a
+  /// thin sheet that transmits straight through and lets shadow rays pass (thinWalls.h).
+  bool thinWalled = false;
 };
 
 }  // namespace hdeye

@@ -6,6 +6,7 @@
 #include "hdeye/render/scleraScattering.h"
 #include "hdeye/render/surfacePoint.h"
 #include "hdeye/render/texture.h"
+#include "hdeye/render/thinWalls.h"
 
 #include <eyelib/optics.h>
 #include <eyelib/random.h>
@@ -56,6 +57,7 @@ PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& al
   s.metallic = m.metallic;
   s.opacity = m.opacity;
   s.ior = m.ior;
+  s.thinWalled = context.thinWalled;
   return s;
 }
 
@@ -167,7 +169,7 @@ class Tracer {
     const std::function<double()> random = [&rng] { return rng.Next(); };
     PathState path(ray);
     path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                                     return Occluded(po, pd, t);
+                                     return Transmittance(po, pd, t);
                                    }, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
@@ -260,7 +262,10 @@ class Tracer {
     hit->primIndex = ctx.primIndex;
   }
 
-  bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+  /// The fraction of light that passes from o along unit d to tFar: 0 behind an opaque surface, else the product
+  /// of the thin walls crossed (thinWalls.h). One any-hit query that skips thin walls; only if it met one, the
+  /// walls are crossed in order by closest-hit queries (at most kMaxThinWalls; more count as opaque).
+  double Transmittance(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -269,17 +274,35 @@ class Tracer {
     ray.tnear = 0;
     ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
     ray.mask = ~0u, ray.flags = 0, ray.time = 0;
+    ThinWallsMet::Reset();
     rtcOccluded1(scene_, &context, &ray);
     ++counts_.rays;
-    return ray.tfar < 0;
+    if (ray.tfar < 0) return 0;
+    if (!ThinWallsMet::Any()) return 1;
+    constexpr int kMaxThinWalls = 16;
+    double transmittance = 1, left = tFar;
+    glm::dvec3 origin = o;
+    for (int crossed = 0; crossed < kMaxThinWalls; ++crossed) {
+      SurfaceHit hit;
+      if (!Intersect(origin, d, 0, left, &hit)) return transmittance;
+      if (!IsThinWall(*hit.context)) return 0;  // an eye or a surface the any-hit query let pass in the last bit
+      transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
+      if (!(transmittance > 0)) return 0;
+      const glm::dvec3 next = SpawnOrigin(hit.p, -hit.ng);  // ng faces the ray: -ng is the far side
+      left -= glm::length(next - origin);
+      if (!(left > 0)) return transmittance;
+      origin = next;
+    }
+    return 0;
   }
 
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
   /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
-  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
-                const EyeLighting* skipMneeOf = nullptr) const {
+  /// minDistance: lights nearer than this were met before (a ray continued past a thin wall starts there).
+  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
+                double* pdf, const EyeLighting* skipMneeOf = nullptr) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
@@ -287,7 +310,8 @@ class Tracer {
       const RenderLight& l = lights_[k];
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
-      if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
+      if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && dist >= minDistance &&
+          (!found || dist < best)) {
         best = dist, *radiance = le, *pdf = lpdf, found = true;
       }
     }
@@ -299,7 +323,8 @@ class Tracer {
   glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
     glm::dvec3 le(0);
     double lpdf = 0;
-    if (path.skipLights || !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr))
+    if (path.skipLights || !HitLight(path.o, path.d, path.tNear, maxDistance, &le, &lpdf,
+                                     path.skipMnee ? &path.skipMneeOf : nullptr))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
@@ -470,10 +495,12 @@ class Tracer {
     const double cosS = glm::dot(ls.dir, hit.n);
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
-    if (!(f.x > 0 || f.y > 0 || f.z > 0) || Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) return glm::dvec3(0);
+    if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
+    const double transmittance = Transmittance(origin, ls.dir, ls.distance * (1 - 1e-6));
+    if (!(transmittance > 0)) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
     const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
-    return beta * f * ls.radiance * (cosS * w / pl);
+    return beta * f * ls.radiance * (cosS * w * transmittance / pl);
   }
 
   /// The path's next ray, sampled from the BSDF (its weight f |cos| / pdf), then Russian roulette after three
@@ -483,16 +510,28 @@ class Tracer {
     const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
     BsdfSample bs;
     if (!SamplePreviewSurface(bsdf, hit.n, -path->d, path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
+    if (bs.transmitted && bsdf.thinWalled) {
+      // Straight through a thin wall: the same ray, continued past the wall. Origin and weighting state stay
+      // the previous vertex's, so a light met beyond is weighted (and its pdf taken) as from there, as next
+      // event estimation saw it through the wall's transmittance.
+      path->beta *= bs.weight;
+      path->tNear = hit.t + SpawnOffset(hit.p);
+      return RussianRoulette(depth, rng, path);
+    }
     if (bs.transmitted) path->insideGlass = !path->insideGlass;
     path->bsdfPdf = bs.pdf;
     path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
     path->beta *= bs.weight;
     path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n), bs.wi);
-    if (depth >= 3) {
-      const double q = std::min(0.95, std::max({path->beta.x, path->beta.y, path->beta.z}));
-      if (rng.Next() >= q) return false;
-      path->beta /= q;
-    }
+    return RussianRoulette(depth, rng, path);
+  }
+
+  /// Russian roulette after three bounces: false ends the path, else the survivor's weight grows to match.
+  static bool RussianRoulette(int depth, SampleStream& rng, PathState* path) {
+    if (depth < 3) return true;
+    const double q = std::min(0.95, std::max({path->beta.x, path->beta.y, path->beta.z}));
+    if (rng.Next() >= q) return false;
+    path->beta /= q;
     return true;
   }
 
