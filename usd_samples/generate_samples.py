@@ -830,9 +830,94 @@ def write_glass_sphere_table(out):
     stage.GetRootLayer().Save()
 
 
+def sphere_patch(stage, path, radius_cm, polar_deg, azimuth_deg, divisions, material):
+    """An open polygonal patch of the sphere of radius_cm about the local origin (the eyeball centre, gaze +z):
+    polar angle from the gaze in polar_deg, azimuth (from +x towards +y) in azimuth_deg, `divisions` = (polar,
+    azimuth) quads; faces counter-clockwise seen from outside."""
+    n_polar, n_az = divisions
+    theta = np.radians(np.linspace(polar_deg[0], polar_deg[1], n_polar + 1))
+    phi = np.radians(np.linspace(azimuth_deg[0], azimuth_deg[1], n_az + 1))
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    points = radius_cm * np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
+    faces = [[i * (n_az + 1) + j, (i + 1) * (n_az + 1) + j, (i + 1) * (n_az + 1) + j + 1, i * (n_az + 1) + j + 1]
+             for i in range(n_polar) for j in range(n_az)]
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    pts = rounded_vec3f_array(points, POINT_DECIMALS)
+    mesh.CreatePointsAttr(pts)
+    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(faces)))
+    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(v) for f in faces for v in f]))
+    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    mesh.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
+    bind(mesh.GetPrim(), material)
+    return mesh
+
+
+# The studio rig's extra meshes, mm from the eyeball centre (the sclera is a 12 mm sphere; the limbus is ~32.5
+# degrees from the gaze seen from the centre).
+CORNEA_SHELL_OFFSET_MM = 0.15
+TEAR_LINE = {"radius_mm": 12.2, "polar_deg": (36.0, 41.0), "azimuth_deg": (200.0, 340.0), "opacity": 0.3}
+OCCLUSION = {"radius_mm": 12.4, "polar_deg": (34.0, 65.0), "half_width_deg": 25.0, "opacity": 0.6}
+
+
+def write_studio_eye_rig(out, cage):
+    """An eye rig as studios build it, under a head Xform: the eyeball mesh (EyeAPI), a closed transparent cornea
+    shell it targets with eye:corneaShell (not rendered: the analytic cornea replaces it), a wet tear-line strip
+    along the lower lid margin and a dark, partly opaque occlusion shell over the two corners (both open meshes:
+    thin walls that render as authored)."""
+    stage = new_stage(out / "studio_eye_rig.usda", "World",
+                      "A studio-style eye rig under /World/Head: Eye_L/Eyeball (the asset's eyeball, EyeAPI) with "
+                      "eye:corneaShell targeting Eye_L/Cornea (a closed clear shell 0.15 mm outside the eyeball, "
+                      "opacity 0, ior 1.376), Eye_L/TearLine (an open wet strip along the lower lid margin, opacity "
+                      "0.3) and Eye_L/Occlusion (open dark patches over the eye corners, opacity 0.6, ior 1). "
+                      "Centimetres, Y up.")
+    head = UsdGeom.Xform.Define(stage, "/World/Head")
+    head_at = Gf.Vec3d(0.0, 160.0, 0.0)
+    head.AddTranslateOp().Set(head_at)
+    eye_at = Gf.Vec3d(3.2, 4.0, 8.0)                               # the left eye in the head's frame
+    eye = reference_eye(stage, "/World/Head/Eye_L")
+    eye.AddTranslateOp().Set(eye_at)
+    looks = "/World/Looks"
+
+    shell = UsdGeom.Mesh.Define(stage, "/World/Head/Eye_L/Cornea")
+    pts = rounded_vec3f_array(cage.points_cm() * (1 + CORNEA_SHELL_OFFSET_MM / SCLERA_RADIUS), POINT_DECIMALS)
+    shell.CreatePointsAttr(pts)
+    shell.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(cage.faces)))
+    shell.CreateFaceVertexIndicesAttr(Vt.IntArray.FromNumpy(cage.faces.reshape(-1).astype(np.int32)))
+    shell.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.catmullClark)
+    shell.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
+    bind(shell.GetPrim(), preview_material(stage, looks + "/CorneaShell", diffuse=(1.0, 1.0, 1.0), roughness=0.0,
+                                           opacity=0.0, ior=CORNEA_IOR))
+    eyeball = stage.GetPrimAtPath("/World/Head/Eye_L/Eyeball")
+    eyeball.CreateRelationship("eye:corneaShell", custom=False).SetTargets([shell.GetPath()])
+
+    tear = preview_material(stage, looks + "/TearLine", diffuse=(0.85, 0.55, 0.5), roughness=0.1,
+                            opacity=TEAR_LINE["opacity"], ior=1.33)
+    sphere_patch(stage, "/World/Head/Eye_L/TearLine", TEAR_LINE["radius_mm"] * MM_TO_CM, TEAR_LINE["polar_deg"],
+                 TEAR_LINE["azimuth_deg"], (2, 28), tear)
+    occlusion = preview_material(stage, looks + "/Occlusion", diffuse=(0.0, 0.0, 0.0), roughness=1.0,
+                                 opacity=OCCLUSION["opacity"], ior=1.0)
+    occlusion_root = UsdGeom.Xform.Define(stage, "/World/Head/Eye_L/Occlusion")
+    w = OCCLUSION["half_width_deg"]
+    for name, centre in (("Outer", 0.0), ("Inner", 180.0)):
+        sphere_patch(stage, str(occlusion_root.GetPath()) + "/" + name, OCCLUSION["radius_mm"] * MM_TO_CM,
+                     OCCLUSION["polar_deg"], (centre - w, centre + w), (6, 8), occlusion)
+
+    world_eye = head_at + eye_at
+    add_camera(stage, "/World/Camera", tuple(world_eye + Gf.Vec3d(2.5, 1.0, 15.0)),
+               tuple(world_eye + Gf.Vec3d(0.0, 0.0, 0.9)), focal_length=100.0)
+    key_dir = np.array([-0.35, 0.45, 0.82])
+    key_dir /= np.linalg.norm(key_dir)
+    add_sphere_light(stage, "/World/Lights/Key", tuple(np.round(np.array(world_eye) + 15.0 * key_dir, 6)), 0.4,
+                     900.0, (1.0, 0.97, 0.92))
+    add_dome_light(stage, "/World/Lights/Fill", 0.05, (0.75, 0.85, 1.0))
+    add_backdrop(stage, "/World/Backdrop", tuple(world_eye + Gf.Vec3d(0.0, 0.0, -3.0)), (0.0, 0.0, 1.0), 15.0,
+                 shade=0.25)
+    stage.GetRootLayer().Save()
+
+
 GENERATED_FILES = ["assets/eye.usda", "assets/iris.png", "assets/sclera.png", "assets/checker.png", "closeup.usda",
                    "two_eyes.usda", "squash_stretch.usda", "side_lit.usda", "analytic_anterior.usda",
-                   "glass_sphere_table.usda"]
+                   "glass_sphere_table.usda", "studio_eye_rig.usda"]
 
 
 def generate(out):
@@ -853,6 +938,7 @@ def generate(out):
     write_side_lit(out)
     write_analytic_anterior(out)
     write_glass_sphere_table(out)
+    write_studio_eye_rig(out, cage)
     return cage
 
 

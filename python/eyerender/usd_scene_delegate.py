@@ -14,7 +14,7 @@ Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orienta
 displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
-target resolved relative to the eye), purposes, visibility, instanceable
+target resolved relative to the eye; eye:corneaShell's meshes left out, eye_rigs.py), purposes, visibility, instanceable
 references and PointInstancers, UsdSkel (skinned points, blend shapes, rigid bindings). Anything else is skipped
 and listed once in `warnings`.
 """
@@ -23,7 +23,7 @@ import collections
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 
-from . import cameras, eyes, lights, materials, stage_notices
+from . import cameras, eye_rigs, eyes, lights, materials, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 from .skinning import SkinningError, StageSkinning
@@ -61,6 +61,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
         self._skinning = StageSkinning(self.warnings)  # filled as populate meets SkelRoots
+        self._rigs = None        # eye_rigs.EyeRigs: the cornea shells left out, found by populate
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -69,8 +70,15 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if self._populated:
             raise RuntimeError("populate() was already called")
         self._populated = True
+        self._rigs = eye_rigs.EyeRigs(self.stage, self.warnings, self.time)
         self._add_subtree(self.stage.GetPseudoRoot())
+        self._rigs.warn_look_alikes(list(self._point_counts))
         self._changes.take()  # edits before now are in what was just read
+
+    @property
+    def cornea_shells(self):
+        """{shell mesh path: eye prim path} of the cornea shells left out (eye:corneaShell; eye_rigs.py)."""
+        return dict(self._rigs.shell_of) if self._rigs else {}
 
     def _add_subtree(self, root):
         it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
@@ -107,6 +115,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _add_prim(self, prim):
         """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
         self._owner = prim.GetPath()
+        if self._rigs is not None and self._rigs.is_shell(prim):  # the analytic cornea replaces it
+            return True
         if prim.IsA(UsdSkel.Root):  # its skinned prims, before they are added
             self._skinning.add_root(prim)
         if prim.IsA(UsdGeom.PointInstancer):
@@ -430,7 +440,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 continue
             root = self.stage.GetPrimAtPath(prototypes[proto])
             for mesh_prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
-                if not mesh_prim.IsA(UsdGeom.Mesh):
+                if not mesh_prim.IsA(UsdGeom.Mesh) or (self._rigs and self._rigs.is_shell(mesh_prim)):
                     continue
                 relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
                 relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())

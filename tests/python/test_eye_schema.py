@@ -30,7 +30,7 @@ CONTRACT_ATTRIBUTES = {
     "eye:modelTransform": (Sdf.ValueTypeNames.Matrix4d, Gf.Matrix4d(1.0)),
     "eye:limbalArc": (Sdf.ValueTypeNames.Bool, True),
 }
-CONTRACT_RELATIONSHIPS = ["eye:irisProjection"]
+CONTRACT_RELATIONSHIPS = ["eye:irisProjection", "eye:corneaShell"]
 CORNEA_MODELS = ["ellipsoidCone", "paraboloid"]
 
 # Attributes with a physical dimension must say their unit in the doc the registry carries (userDocBrief).
