@@ -130,3 +130,47 @@ TEST_CASE("a mesh is a thin wall while it is open; closing it makes it glass aga
   s.MeanRed();
   CHECK_FALSE(sheet->Context()->thinWalled);
 }
+
+TEST_CASE("MNEE's shadow rays cross a thin wall over the cornea: the iris light falls to (1 - a)^2, not to black",
+          "[thin][render]") {
+  // An analytic eye (mm, apex at the origin, gazing at the camera) under a sheet of opacity 0.5 2 mm in front of
+  // it: the camera's view crosses the sheet once (1 - a) and MNEE's light crosses it once more (1 - a).
+  double irisLight[2];
+  for (int withSheet = 0; withSheet < 2; ++withSheet) {
+    test::RenderStack s;
+    s.scene.AddAnalyticEye("/eye", EyeParams{});
+    if (withSheet) {
+      MeshTopology quad;
+      std::vector<Vec3f> points;
+      test::Quad(15, &quad, &points);
+      MaterialParams sheet;
+      sheet.diffuseColor = glm::vec3(0);
+      sheet.opacity = 0.5f;
+      sheet.ior = 1;
+      s.scene.AddMaterial("/sheetMat", sheet);
+      s.scene.AddMesh("/sheet", quad, points, test::LookDownZ(2), "/sheetMat");
+    }
+    LightParams key;
+    key.type = LightType::Sphere;
+    key.radius = 3;
+    key.intensity = 100;
+    Matrix4d at(1.0);
+    at[3] = glm::dvec4(0, 30, 80, 1);
+    s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
+    CameraParams lens;
+    lens.focalLength = 100;
+    s.scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    s.scene.AddRenderBuffer("/color", 24, 24, 4);
+    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
+    s.delegate.Settings().samplesPerPixel = 64;
+    s.pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}});
+    double sum = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
+    irisLight[withSheet] = sum;
+  }
+  const double ratio = irisLight[1] / irisLight[0];
+  std::printf("iris MNEE light under a 0.5 sheet: %.4f of the bare eye's (closed form 0.25)\n", ratio);
+  REQUIRE(irisLight[0] > 0);
+  CHECK(ratio == Approx(0.25).margin(0.03));
+}

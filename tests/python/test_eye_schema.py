@@ -168,7 +168,7 @@ def test_limbus_fallbacks_match_the_paper_diameters_in_mm(eye_prim):
 
 
 @pytest.mark.parametrize("name", CONTRACT_RELATIONSHIPS)
-def test_iris_projection_is_a_relationship_with_no_default_targets(eye_prim, name):
+def test_relationship_has_no_default_targets(eye_prim, name):
     rel = eye_prim.GetRelationship(name)
     assert rel.IsValid(), f"{name} missing"
     assert not eye_prim.GetAttribute(name).IsValid()

@@ -166,7 +166,7 @@ def test_the_eye_stages_contain_the_expected_eyes():
     counts = {name: len(eye_prims(open_stage(name))) for name in STAGES}
     assert counts == {"analytic_anterior.usda": 1, "assets/eye.usda": 1, "closeup.usda": 1,
                       "glass_sphere_table.usda": 0, "side_lit.usda": 1, "squash_stretch.usda": 1,
-                      "two_eyes.usda": 2}
+                      "two_eyes.usda": 2, "studio_eye_rig.usda": 1}
 
 
 def _check_eye(prim):
