@@ -105,7 +105,6 @@ class EyeRigs:
                 continue
             for eye_path, apex in apexes:
                 if box.Contains(apex):
-                    self.warnings.append(
-                        f"{path}: looks like the cornea shell of {eye_path} (clear, over its cornea) but "
-                        f"eye:corneaShell does not target it: it refracts a second time and shadows the iris")
+                    self.warnings.append(f"{path}: looks like a cornea shell of {eye_path}, not in its "
+                                         f"eye:corneaShell: refracts twice, shadows the iris")
                     break

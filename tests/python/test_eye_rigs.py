@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
-from pxr import Sdf, Usd, UsdShade  # noqa: E402
+from pxr import Sdf, Usd, UsdGeom, UsdShade  # noqa: E402
 
 RIG = pathlib.Path(__file__).resolve().parents[2] / "usd_samples" / "studio_eye_rig.usda"
 EYE = "/World/Head/Eye_L"
@@ -77,7 +77,7 @@ def test_an_untargeted_shell_refracts_a_second_time_shadows_the_iris_and_is_warn
           f"(change {change:.3f}, seed noise {noise:.4f}); colour mean {color.mean():.5f} -> {naive_color.mean():.5f}")
     assert change > 10 * noise
     assert naive_iris.mean() < 0.1 * iris.mean()  # a closed glass shell blocks MNEE's shadow rays: its own shadow
-    assert any(w.startswith(EYE + "/Cornea: looks like the cornea shell of " + EYE + "/Eyeball")
+    assert any(w.startswith(EYE + "/Cornea: looks like a cornea shell of " + EYE + "/Eyeball")
                for w in session.scene.warnings), session.scene.warnings
 
 
@@ -118,3 +118,33 @@ def test_the_tear_line_renders_below_the_iris(rig):
     assert changed.sum() > 20
     assert np.median(np.nonzero(changed)[0]) > WIDTH / 2
     assert lower > 3 * upper
+
+
+def _eye_with_shells(targets):
+    """An in-memory stage: an eye mesh (a triangle is enough to populate) whose eye:corneaShell has `targets`, and
+    /World/Rig/Shells holding two meshes."""
+    stage = Usd.Stage.CreateInMemory()
+    for path in ("/World/Eye", "/World/Rig/Shells/A", "/World/Rig/Shells/B"):
+        mesh = UsdGeom.Mesh.Define(stage, path)
+        mesh.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+        mesh.CreateFaceVertexCountsAttr([3])
+        mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    eye = stage.GetPrimAtPath("/World/Eye")
+    eye.ApplyAPI("EyeAPI")
+    eye.GetRelationship("eye:corneaShell").SetTargets([Sdf.Path(t) for t in targets])
+    return eyerender.RenderSession(stage, width=8)
+
+
+def test_an_xform_target_leaves_out_every_mesh_under_it():
+    session = _eye_with_shells(["/World/Rig/Shells"])
+    assert set(session.scene.cornea_shells) == {Sdf.Path("/World/Rig/Shells/A"), Sdf.Path("/World/Rig/Shells/B")}
+    assert "/World/Eye" in session.index.rprim_ids()
+    assert not any(p.startswith("/World/Rig") for p in session.index.rprim_ids())
+
+
+def test_a_missing_or_meshless_shell_target_is_one_warning_and_ignored():
+    session = _eye_with_shells(["/World/Nowhere", "/World/Eye"])
+    assert session.scene.cornea_shells == {}
+    assert "/World/Eye" in session.index.rprim_ids()
+    assert "/World/Eye: eye:corneaShell target /World/Nowhere does not exist (ignored)" in session.scene.warnings
+    assert any("target /World/Eye holds no mesh other than the eye" in w for w in session.scene.warnings)
