@@ -13,6 +13,12 @@ namespace hdeye {
 struct EyeGeometry;
 class Texture;
 
+/// A material as the renderer shades it: its parameters and its diffuse texture (owned by the Material sprim).
+struct SurfaceMaterial {
+  MaterialParams params;
+  const Texture* diffuseTexture = nullptr;
+};
+
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
   glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
@@ -38,6 +44,10 @@ struct GeometryContext {
   const EyeGeometry* meshEye = nullptr;
   /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
   const Texture* diffuseTexture = nullptr;
+  /// Per-face materials (geomSubsets): per rendered triangle, an index into subsetMaterials, or -1 for the
+  /// prim's own material above; null when the prim has no subsets.
+  const std::vector<int>* triangleSubsets = nullptr;
+  std::vector<SurfaceMaterial> subsetMaterials;
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
   /// finds the eyeball's boundary in it, never in the rest of the scene.
   RTCScene prototypeScene = nullptr;

@@ -62,6 +62,20 @@ void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& to
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
 }
 
+void InMemorySceneDelegate::SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags,
+                                           const std::vector<int>& holeIndices) {
+  MeshTopology& topology = meshes_.at(id).topology;
+  topology.scheme = scheme;
+  topology.subdivTags = tags;
+  topology.holeIndices = holeIndices;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
+}
+
+void InMemorySceneDelegate::SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets) {
+  meshes_.at(id).topology.geomSubsets = subsets;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
+}
+
 void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
   transforms_.at(id) = transform;
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);

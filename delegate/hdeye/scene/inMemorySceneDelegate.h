@@ -34,6 +34,10 @@ class InMemorySceneDelegate final : public SceneDelegate {
 
   void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
   void SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points);
+  /// A mesh's subdivision scheme and tags and its holes (the rest of its topology kept). Marks DirtyTopology.
+  void SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags, const std::vector<int>& holeIndices);
+  /// A mesh's per-face materials (the rest of its topology kept). Marks DirtyTopology.
+  void SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets);
   void SetTransform(const PrimId& id, const Matrix4d& transform);
   void SetVisible(const PrimId& id, bool visible);
   /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); an empty one removes it.
