@@ -7,7 +7,8 @@ stage once at the current time; `set_time` re-reads only what may vary in time (
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
 matching dirty bits. What each `set_time` pushed is counted in `last_update`.
 
-Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
+Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme and tags and holes (mesh_topology.py),
+materialBind GeomSubsets, orientation, normals, primvars st /
 displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
@@ -19,11 +20,10 @@ import collections
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade
 
-from . import cameras, eyes, lights, materials
+from . import cameras, eyes, lights, materials, mesh_topology
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 
-SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
 
 
@@ -67,6 +67,7 @@ class UsdSceneDelegate:
         self._xforms = UsdGeom.XformCache(self.time)
         self._updaters = []      # (kind, callable(time)) for what varies in time
         self._materials = {}     # material path -> st primvar name
+        self._warned = set()     # warnings given once per stage (mesh_topology's)
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -174,12 +175,9 @@ class UsdSceneDelegate:
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
-        scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
-        if scheme not in SUBDIVISION_SCHEMES:
-            raise EyeRenderError(f"{path}: subdivisionScheme '{scheme}' is not one of {', '.join(SUBDIVISION_SCHEMES)}")
-        if scheme in ("loop", "bilinear"):
-            self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
-        level = self.refine_level if scheme == "catmullClark" else 0
+        subdivision = mesh_topology.Subdivision(mesh, counts, indices, len(points), self.time)
+        self._warn_once(subdivision.warnings)
+        level = self.refine_level if subdivision.refines else 0
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
         if eyes.is_eye(prim):
@@ -189,6 +187,7 @@ class UsdSceneDelegate:
             self._track_eye(prim, prim_id, mesh=True)
         else:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+        self._push_mesh_tags(prim, prim_id, subdivision, len(counts))
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
         for name, source in names.items():
@@ -202,6 +201,7 @@ class UsdSceneDelegate:
             def update_topology(t):
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
+                self._push_mesh_tags(prim, prim_id, mesh_topology.Subdivision(mesh, c, i, len(p), t), len(c))
             self._updaters.append(("topology", update_topology))
         elif _varies([points_attr]):
             self._updaters.append(("points", lambda t: self.store.set_points(
@@ -210,6 +210,20 @@ class UsdSceneDelegate:
             if source is not None and _varies(self._primvar_attrs(prim, source)):
                 self._updaters.append(
                     ("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+
+    def _push_mesh_tags(self, prim, prim_id, subdivision, face_count):
+        """A mesh's subdivision tags and holes, and its materialBind GeomSubsets (per-face materials)."""
+        if subdivision.authored():
+            subdivision.push(self.store, prim_id)
+        subsets, warnings = mesh_topology.material_subsets(prim, face_count, self.time,
+                                                           lambda subset: self._bind_material(subset)[0])
+        self._warn_once(warnings)
+        if subsets:
+            self.store.set_geom_subsets(prim_id, subsets)
+
+    def _warn_once(self, warnings):
+        """Adds warnings not given yet (a prototype's mesh is added once per point-instanced copy)."""
+        self.warnings.extend(w for w in warnings if w not in self._warned and not self._warned.add(w))
 
     def _primvar_attrs(self, prim, name):
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
