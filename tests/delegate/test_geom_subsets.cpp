@@ -97,3 +97,12 @@ TEST_CASE("a geomSubset or hole naming a face the mesh does not have is an error
              Catch::Contains("mesh /mesh: geomSubset /red names face 3"));
   CHECK_THAT(test::ErrorOf([] { Scene(2, {}, {-1}).Render(); }), Catch::Contains("holeIndices names face -1"));
 }
+
+TEST_CASE("displayColor shows on faces with no bound material only (Hydra's fallback surface)") {
+  Scene s(2, {{"/red", {0}}});
+  s.scene.SetMaterialId("/mesh", "");
+  s.scene.SetPrimvar("/mesh", "displayColor", Primvar{Interpolation::Constant, 3, {0.25f, 0.5f, 0.75f}});
+  s.Render();
+  CHECK(s.Albedo(kFaceColumns[0]) == glm::dvec3(glm::vec3(0.9f, 0.1f, 0.1f)));
+  CHECK(s.Albedo(kFaceColumns[1]) == glm::dvec3(glm::vec3(0.25f, 0.5f, 0.75f)));
+}

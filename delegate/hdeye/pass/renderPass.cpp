@@ -37,7 +37,7 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
 /// The material sprim `id` as the renderer shades it; the fallback material when there is none.
 SurfaceMaterial Resolve(RenderIndex& index, const PrimId& id) {
   const auto* material = dynamic_cast<const Material*>(index.GetSprim(id));
-  return material ? SurfaceMaterial{material->Params(), material->DiffuseTexture()} : SurfaceMaterial{};
+  return material ? SurfaceMaterial{material->Params(), material->DiffuseTexture(), true} : SurfaceMaterial{};
 }
 
 }  // namespace
@@ -67,6 +67,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     context->primIndex = primIndex++;
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
     context->material = bound.params;
+    context->materialBound = bound.bound;
     context->diffuseTexture = bound.diffuseTexture;
     context->subsetMaterials.clear();
     if (const auto* mesh = dynamic_cast<const Mesh*>(entry.prim.get()))

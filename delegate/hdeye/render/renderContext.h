@@ -17,12 +17,16 @@ class Texture;
 struct SurfaceMaterial {
   MaterialParams params;
   const Texture* diffuseTexture = nullptr;
+  /// False for the fallback material (no material sprim bound), which shows the displayColor primvar as Hydra's
+  /// fallback surface does; a bound UsdPreviewSurface shows its own diffuseColor.
+  bool bound = false;
 };
 
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
   glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
   MaterialParams material;            ///< resolved from the bound material (or the fallback)
+  bool materialBound = false;         ///< a material sprim is bound (else `material` is the fallback)
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
   const std::vector<Vec3f>* displayColor = nullptr;
   const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle: indices into points, normals, rest

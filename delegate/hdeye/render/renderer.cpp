@@ -52,7 +52,7 @@ SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
     const int subset = (*context.triangleSubsets)[part];
     if (subset >= 0 && std::size_t(subset) < context.subsetMaterials.size()) return context.subsetMaterials[subset];
   }
-  return SurfaceMaterial{context.material, context.diffuseTexture};
+  return SurfaceMaterial{context.material, context.diffuseTexture, context.materialBound};
 }
 
 /// The UsdPreviewSurface BSDF of a non-eye hit: the hit's material's parameters, with its diffuse
@@ -266,7 +266,9 @@ class Tracer {
                                                  : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     hit->material = MaterialAt(ctx, hit->part);
-    hit->albedo = ctx.displayColor ? glm::dvec3(atCorners(*ctx.displayColor)) : glm::dvec3(hit->material.params.diffuseColor);
+    // displayColor is the fallback surface's colour (Hydra's): a face with a bound material shows the material's.
+    hit->albedo = ctx.displayColor && !hit->material.bound ? glm::dvec3(atCorners(*ctx.displayColor))
+                                                            : glm::dvec3(hit->material.params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
