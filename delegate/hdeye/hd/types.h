@@ -60,4 +60,14 @@ struct MeshTopology {
   bool leftHanded = false;
 };
 
+/// BasisCurves connectivity and evaluation (HdBasisCurvesTopology's role), with UsdGeomBasisCurves' tokens.
+struct BasisCurvesTopology {
+  enum class Type { Linear, Cubic } type = Type::Cubic;
+  enum class Basis { Bezier, Bspline, CatmullRom } basis = Basis::Bezier;  ///< cubic only
+  /// nonperiodic: open; periodic: closed (the last vertices join the first); pinned: open, passing through its
+  /// end points (bspline and catmullRom; the same as nonperiodic for bezier and linear).
+  enum class Wrap { Nonperiodic, Periodic, Pinned } wrap = Wrap::Nonperiodic;
+  std::vector<int> curveVertexCounts;  ///< vertices per curve; they add up to the point count
+};
+
 }  // namespace hdeye

@@ -22,6 +22,22 @@ void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& top
   index_->InsertRprim(primTypes::kEyeMesh, this, id);
 }
 
+void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology,
+                                           const std::vector<Vec3f>& points, const Matrix4d& transform,
+                                           const PrimId& materialId) {
+  meshes_[id] = MeshData{{}, points, {}, materialId};
+  curves_[id] = topology;
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kBasisCurves, this, id);
+}
+
+void InMemorySceneDelegate::AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform,
+                                      const PrimId& materialId) {
+  meshes_[id] = MeshData{{}, points, {}, materialId};
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kPoints, this, id);
+}
+
 void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
   cameras_[id] = params;
   transforms_[id] = transform;
@@ -134,7 +150,7 @@ void InMemorySceneDelegate::SetMaterialId(const PrimId& id, const PrimId& materi
 
 void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
   index_->RemovePrim(id);
-  meshes_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
+  meshes_.erase(id), curves_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
   materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
 }
 
