@@ -9,7 +9,8 @@ matching dirty bits. What each `set_time` pushed is counted in `last_update`.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme and tags and holes (mesh_topology.py),
 materialBind GeomSubsets, orientation, normals, primvars st /
-displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
+displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), BasisCurves and Points (curves.py),
+Sphere and Cube gprims (tessellated),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye), purposes, visibility, instanceable
@@ -20,7 +21,7 @@ import collections
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade
 
-from . import cameras, eyes, lights, materials, mesh_topology
+from . import cameras, curves, eyes, lights, materials, mesh_topology
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 
@@ -107,6 +108,9 @@ class UsdSceneDelegate:
         if prim.IsA(UsdGeom.Mesh):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
             self._track_transform(prim)
+            return False
+        if prim.IsA(UsdGeom.BasisCurves) or prim.IsA(UsdGeom.Points):
+            self._add_curves_or_points(prim)
             return False
         if prim.IsA(UsdGeom.Camera):
             self._add_camera(prim)
@@ -329,6 +333,21 @@ class UsdSceneDelegate:
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
+
+    def _add_curves_or_points(self, prim):
+        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data skips the prim with a warning."""
+        prim_id = prim.GetPath().pathString
+        material_id, _ = self._bind_material(prim)
+        add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
+        try:
+            animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
+        except EyeRenderError as e:
+            self.warnings.append(f"{e}; not rendered")
+            return
+        self._track_transform(prim)
+        self._track_visibility(prim, prim_id)
+        if _varies(animated):
+            self._updaters.append(("points", lambda t: curves.update(self.store, prim, prim_id, t)))
 
     # -- point instancers --------------------------------------------------------------------------------------
 

@@ -176,6 +176,30 @@ void BindScene(nb::module_& m) {
           nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
           nb::arg("eye"), nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
           nb::arg("left_handed") = false)
+      .def(
+          "add_basis_curves",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Points& points,
+             const std::string& type, const std::string& basis, const std::string& wrap, const Matrix& transform,
+             const PrimId& material) {
+            static const char* const types[] = {"linear", "cubic"};
+            static const char* const bases[] = {"bezier", "bspline", "catmullRom"};
+            static const char* const wraps[] = {"nonperiodic", "periodic", "pinned"};
+            BasisCurvesTopology t;
+            t.type = FromToken<BasisCurvesTopology::Type>("type", type, types);
+            t.basis = FromToken<BasisCurvesTopology::Basis>("basis", basis, bases);
+            t.wrap = FromToken<BasisCurvesTopology::Wrap>("wrap", wrap, wraps);
+            t.curveVertexCounts = ToInts(counts);
+            s.AddBasisCurves(id, t, ToPoints(points), ToMatrix(transform), material);
+          },
+          nb::arg("id"), nb::arg("curve_vertex_counts"), nb::arg("points"), nb::arg("type"), nb::arg("basis"),
+          nb::arg("wrap"), nb::arg("transform"), nb::arg("material_id") = "",
+          "BasisCurves with UsdGeom's type, basis and wrap tokens; widths and normals through set_primvar.")
+      .def(
+          "add_points",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Points& points, const Matrix& transform,
+             const PrimId& material) { s.AddPoints(id, ToPoints(points), ToMatrix(transform), material); },
+          nb::arg("id"), nb::arg("points"), nb::arg("transform"), nb::arg("material_id") = "",
+          "Points rendered as spheres; widths (diameters) through set_primvar.")
       .def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
                                   const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
       .def("add_camera", [](InMemorySceneDelegate& s, const PrimId& id, const CameraParams& p,
