@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
+from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
 
 from eyerender import RenderSession  # noqa: E402
+from shading_stages import preview_material  # noqa: E402
 
 
 def eye_stage():
@@ -59,15 +60,6 @@ def test_a_curve_between_the_light_and_the_eye_darkens_the_iris_mnee_light():
     assert not s.scene.warnings
 
 
-def material(stage, path, color):
-    mat = UsdShade.Material.Define(stage, path)
-    shader = UsdShade.Shader.Define(stage, path + "/surface")
-    shader.CreateIdAttr("UsdPreviewSurface")
-    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(Gf.Vec3f(*color))
-    mat.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
-    return mat
-
-
 def flat_stage():
     stage = Usd.Stage.CreateInMemory()
     cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
@@ -86,11 +78,11 @@ def test_curves_and_points_render_with_their_material():
     curve.CreatePointsAttr([(-3, 0, 0), (3, 0, 0)])
     curve.CreateWidthsAttr([0.5, 0.5])
     curve.SetWidthsInterpolation(UsdGeom.Tokens.vertex)
-    UsdShade.MaterialBindingAPI.Apply(curve.GetPrim()).Bind(material(stage, "/World/red", (0.8, 0.1, 0.1)))
+    UsdShade.MaterialBindingAPI.Apply(curve.GetPrim()).Bind(preview_material(stage, "/World/red", (0.8, 0.1, 0.1)))
     dots = UsdGeom.Points.Define(stage, "/World/dots")
     dots.CreatePointsAttr([(0, 2, 0)])
     dots.CreateWidthsAttr([1.0])
-    UsdShade.MaterialBindingAPI.Apply(dots.GetPrim()).Bind(material(stage, "/World/green", (0.1, 0.7, 0.2)))
+    UsdShade.MaterialBindingAPI.Apply(dots.GetPrim()).Bind(preview_material(stage, "/World/green", (0.1, 0.7, 0.2)))
     s = RenderSession(stage, width=41, height=41, aovs=["albedo", "depth"])
     s.render(spp=1)
     albedo, depth = s.image("albedo"), s.image("depth")

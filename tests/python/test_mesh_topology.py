@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
+from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
 
 from eyerender import RenderSession  # noqa: E402
+from shading_stages import preview_material  # noqa: E402
 
 CUBE_POINTS = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1), (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
 # Faces counter-clockwise seen from outside: -z, +z, -y, +y, -x, +x.
@@ -187,15 +188,6 @@ def cube_stage():
     return stage
 
 
-def material(stage, path, color):
-    mat = UsdShade.Material.Define(stage, path)
-    shader = UsdShade.Shader.Define(stage, path + "/surface")
-    shader.CreateIdAttr("UsdPreviewSurface")
-    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(Gf.Vec3f(*color))
-    mat.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
-    return mat
-
-
 def face_pixels(stage, session, faces):
     """The albedo-AOV pixel (x, y) at the middle of each cube face as rendered (the rendered point furthest along the
     face's normal, or the mean of those tied: the limit surface of a subdivided cube lies inside the cage) seen by
@@ -216,8 +208,9 @@ def face_pixels(stage, session, faces):
 def test_geom_subset_cube_renders_each_face_in_its_material(scheme):
     stage = new_stage()
     mesh = cube(stage, scheme=scheme)
-    red, green = material(stage, "/World/red", (0.8, 0.1, 0.1)), material(stage, "/World/green", (0.1, 0.7, 0.2))
-    blue = material(stage, "/World/blue", (0.1, 0.2, 0.9))
+    red = preview_material(stage, "/World/red", (0.8, 0.1, 0.1))
+    green = preview_material(stage, "/World/green", (0.1, 0.7, 0.2))
+    blue = preview_material(stage, "/World/blue", (0.1, 0.2, 0.9))
     UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(blue)
     binding = UsdShade.MaterialBindingAPI(mesh.GetPrim())
     for name, faces, mat in (("top", [3], red), ("right", [5], green)):  # +y red, +x green, +z the mesh's blue

@@ -40,22 +40,6 @@ void LinearToBezier(CurveSegments* s) {
 
 }  // namespace
 
-DirtyBits BasisCurves::GetInitialDirtyBitsMask() const {
-  return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTopology | dirty::DirtyTransform | dirty::DirtyPrimvar |
-         dirty::DirtyVisibility | dirty::DirtyMaterialId;
-}
-
-void BasisCurves::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
-  const DirtyBits bits = *dirtyBits;
-  if (bits & (dirty::InitRepr | dirty::DirtyTopology | dirty::DirtyPoints | dirty::DirtyPrimvar))
-    SyncGeometry(sceneDelegate, renderParam);
-  if (bits & (dirty::InitRepr | dirty::DirtyTransform))
-    geometry_.SetTransform(renderParam, sceneDelegate->GetTransform(Id()), &context_);
-  if (bits & (dirty::InitRepr | dirty::DirtyVisibility)) geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
-  if (bits & (dirty::InitRepr | dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
-  *dirtyBits = dirty::Clean;
-}
-
 void BasisCurves::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam) {
   const BasisCurvesTopology topology = sceneDelegate->GetBasisCurvesTopology(Id());
   CurveSegments s;
@@ -80,7 +64,7 @@ void BasisCurves::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* render
     std::copy(s.normals.begin(), s.normals.end(), normals);
   }
   segmentCount_ = int(s.segments.size());
-  geometry_.Reset(renderParam, g, &context_);
+  Geometry().Reset(renderParam, g, &ContextData());
 }
 
 }  // namespace hdeye

@@ -1,5 +1,7 @@
 #include "hdeye/prims/instancedGeometry.h"
 
+#include "hdeye/hd/sceneDelegate.h"
+
 namespace hdeye {
 
 void InstancedGeometry::Reset(RenderParam* renderParam, RTCGeometry geometry, GeometryContext* context) {
@@ -48,6 +50,20 @@ void InstancedGeometry::Release(RenderParam* renderParam) {
   instance_ = geometry_ = nullptr;
   prototype_ = nullptr;
   instanceId_ = RTC_INVALID_GEOMETRY_ID;
+}
+
+DirtyBits InstancedRprim::GetInitialDirtyBitsMask() const {
+  return dirty::InitRepr | GeometryBits() | dirty::DirtyTransform | dirty::DirtyVisibility | dirty::DirtyMaterialId;
+}
+
+void InstancedRprim::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
+  const DirtyBits bits = *dirtyBits;
+  if (bits & (dirty::InitRepr | GeometryBits())) SyncGeometry(sceneDelegate, renderParam);
+  if (bits & (dirty::InitRepr | dirty::DirtyTransform))
+    geometry_.SetTransform(renderParam, sceneDelegate->GetTransform(Id()), &context_);
+  if (bits & (dirty::InitRepr | dirty::DirtyVisibility)) geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
+  if (bits & (dirty::InitRepr | dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
+  *dirtyBits = dirty::Clean;
 }
 
 }  // namespace hdeye

@@ -6,21 +6,6 @@
 
 namespace hdeye {
 
-DirtyBits Points::GetInitialDirtyBitsMask() const {
-  return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTransform | dirty::DirtyPrimvar | dirty::DirtyVisibility |
-         dirty::DirtyMaterialId;
-}
-
-void Points::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
-  const DirtyBits bits = *dirtyBits;
-  if (bits & (dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyPrimvar)) SyncGeometry(sceneDelegate, renderParam);
-  if (bits & (dirty::InitRepr | dirty::DirtyTransform))
-    geometry_.SetTransform(renderParam, sceneDelegate->GetTransform(Id()), &context_);
-  if (bits & (dirty::InitRepr | dirty::DirtyVisibility)) geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
-  if (bits & (dirty::InitRepr | dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
-  *dirtyBits = dirty::Clean;
-}
-
 void Points::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam) {
   auto fail = [&](const std::string& what) { throw std::runtime_error("points " + Id() + ": " + what); };
   const std::vector<Vec3f> points = sceneDelegate->GetPoints(Id());
@@ -42,7 +27,7 @@ void Points::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam
     }
     vertices[i] = glm::vec4(points[i], 0.5f * width);
   }
-  geometry_.Reset(renderParam, g, &context_);
+  Geometry().Reset(renderParam, g, &ContextData());
 }
 
 }  // namespace hdeye
