@@ -44,14 +44,54 @@ def _primvar(prim, name, attr, interpolation, components, time):
     return str(interpolation), np.ascontiguousarray(a)
 
 
-def _push_primvars(store, prim_id, prim, schema, time, normals):
+def _varying_count(n, curve_type, basis, wrap):
+    """Varying values of a curve of n vertices (UsdGeomBasisCurves: its segments, plus one unless periodic)."""
+    if curve_type == "linear":
+        return n
+    periodic = wrap == "periodic"
+    if basis == "bezier":
+        segments = n // 3 if periodic else (n - 1) // 3
+    else:
+        segments = n if periodic else n - 1 if wrap == "pinned" else n - 3
+    return segments + (0 if periodic else 1)
+
+
+def _check_size(prim, name, primvar, expected):
+    interpolation, values = primvar
+    if interpolation in expected and len(values) != expected[interpolation]:
+        raise EyeRenderError(f"{prim.GetPath()}: {name} has {len(values)} values, {interpolation} needs "
+                             f"{expected[interpolation]}")
+
+
+def _read_primvars(prim, schema, time, normals):
+    """[(name, (interpolation, values))] of widths (and normals for curves), checked against the prim's counts."""
+    expected = _expected_sizes(prim, time)
     widths = _primvar(prim, "widths", schema.GetWidthsAttr(), schema.GetWidthsInterpolation(), 1, time)
-    if widths:
-        store.set_primvar(prim_id, "widths", *widths)
-    if normals:
-        n = _primvar(prim, "normals", schema.GetNormalsAttr(), schema.GetNormalsInterpolation(), 3, time)
-        if n:
-            store.set_primvar(prim_id, "normals", *n)
+    n = _primvar(prim, "normals", schema.GetNormalsAttr(), schema.GetNormalsInterpolation(), 3, time) \
+        if normals else None
+    read = [(name, primvar) for name, primvar in (("widths", widths), ("normals", n)) if primvar]
+    for name, primvar in read:
+        _check_size(prim, name, primvar, expected)
+    if widths and (widths[1] < 0).any():
+        raise EyeRenderError(f"{prim.GetPath()}: widths holds a negative width")
+    return read
+
+
+def _push(store, prim_id, primvars):
+    for name, (interpolation, values) in primvars:
+        store.set_primvar(prim_id, name, interpolation, values)
+
+
+def _expected_sizes(prim, time):
+    """Element counts by interpolation for the primvars of a BasisCurves or Points prim."""
+    point_count = len(UsdGeom.PointBased(prim).GetPointsAttr().Get(time) or [])
+    if not prim.IsA(UsdGeom.BasisCurves):
+        return {"constant": 1, "vertex": point_count, "varying": point_count}
+    curves = UsdGeom.BasisCurves(prim)
+    counts = curves.GetCurveVertexCountsAttr().Get(time) or []
+    tokens = [str(a.Get(time)) for a in (curves.GetTypeAttr(), curves.GetBasisAttr(), curves.GetWrapAttr())]
+    return {"constant": 1, "uniform": len(counts), "vertex": point_count,
+            "varying": sum(_varying_count(int(c), *tokens) for c in counts)}
 
 
 def _check_counts(prim, counts, point_count, curve_type, basis, wrap):
@@ -81,16 +121,18 @@ def add_basis_curves(store, prim, prim_id, world, material_id, time):
             raise EyeRenderError(f"{prim.GetPath()}: {name} '{token}' is not one of {', '.join(allowed)}")
     points = _points(prim, time)
     _check_counts(prim, counts, len(points), *tokens)
+    primvars = _read_primvars(prim, curves, time, normals=True)
     store.add_basis_curves(prim_id, counts, points, *tokens, world, material_id)
-    _push_primvars(store, prim_id, prim, curves, time, normals=True)
+    _push(store, prim_id, primvars)
     return [curves.GetPointsAttr(), curves.GetWidthsAttr(), curves.GetNormalsAttr()]
 
 
 def add_points(store, prim, prim_id, world, material_id, time):
     """Adds a Points prim as spheres; returns the attributes whose animation needs a re-push (set_time)."""
     points = UsdGeom.Points(prim)
+    primvars = _read_primvars(prim, points, time, normals=False)
     store.add_points(prim_id, _points(prim, time), world, material_id)
-    _push_primvars(store, prim_id, prim, points, time, normals=False)
+    _push(store, prim_id, primvars)
     return [points.GetPointsAttr(), points.GetWidthsAttr()]
 
 
@@ -98,4 +140,4 @@ def update(store, prim, prim_id, time):
     """Re-pushes animated points and widths (and curve normals): the prim's geometry is re-built at next sync."""
     store.set_points(prim_id, _points(prim, time))
     schema = UsdGeom.BasisCurves(prim) if prim.IsA(UsdGeom.BasisCurves) else UsdGeom.Points(prim)
-    _push_primvars(store, prim_id, prim, schema, time, normals=prim.IsA(UsdGeom.BasisCurves))
+    _push(store, prim_id, _read_primvars(prim, schema, time, normals=prim.IsA(UsdGeom.BasisCurves)))
