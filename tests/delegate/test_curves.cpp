@@ -66,14 +66,16 @@ TEST_CASE("curve segments: counts and first vertices for every basis and wrap") 
 
 TEST_CASE("a pinned bspline curve passes through its end points; a periodic one closes") {
   const std::vector<Vec3f> points = Line(5);
-  const CurveSegments pinned = BuildCurveSegments(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Pinned, {5}), points, {}, {});
+  const CurveSegments pinned =
+      BuildCurveSegments(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Pinned, {5}), points, {}, {});
   const glm::vec3 start = Bspline(&pinned.vertices[pinned.segments.front()], 0.0f);
   const glm::vec3 end = Bspline(&pinned.vertices[pinned.segments.back()], 1.0f);
   INFO("start " << start.x << " " << start.y << ", end " << end.x << " " << end.y);
   CHECK(glm::length(start - points.front()) < 1e-6f);
   CHECK(glm::length(end - points.back()) < 1e-5f);
 
-  const CurveSegments periodic = BuildCurveSegments(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Periodic, {5}), points, {}, {});
+  const CurveSegments periodic =
+      BuildCurveSegments(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Periodic, {5}), points, {}, {});
   const glm::vec3 last = Bspline(&periodic.vertices[periodic.segments.back()], 1.0f);
   const glm::vec3 first = Bspline(&periodic.vertices[periodic.segments.front()], 0.0f);
   CHECK(glm::length(last - first) < 1e-5f);
@@ -88,7 +90,8 @@ TEST_CASE("curve widths: constant, per curve, per vertex and varying (spread alo
     return r;
   };
   CHECK(radii(Interpolation::Constant, {0.2f}) == std::vector<float>(10, 0.1f));
-  CHECK(radii(Interpolation::Uniform, {0.2f, 0.4f}) == std::vector<float>{0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.2f, 0.2f, 0.2f, 0.2f});
+  CHECK(radii(Interpolation::Uniform, {0.2f, 0.4f}) ==
+        std::vector<float>{0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.2f, 0.2f, 0.2f, 0.2f});
   // Varying: segments + 1 values per curve (4 and 2), spread evenly over its vertices.
   const std::vector<float> varying = radii(Interpolation::Varying, {0, 0.3f, 0.6f, 0.9f, 1, 2});
   CHECK(varying[0] == Approx(0));
@@ -98,7 +101,8 @@ TEST_CASE("curve widths: constant, per curve, per vertex and varying (spread alo
   CHECK(varying[9] == Approx(1));
 }
 
-TEST_CASE("bad curves are one-line errors: counts, too few vertices, bezier counts, widths sizes, NaN, negative widths") {
+TEST_CASE(
+    "bad curves are one-line errors: counts, too few vertices, bezier counts, widths sizes, NaN, negative widths") {
   auto error = [](T t, int n, Primvar widths = {}) {
     try {
       BuildCurveSegments(t, Line(n), widths, {});
@@ -111,7 +115,8 @@ TEST_CASE("bad curves are one-line errors: counts, too few vertices, bezier coun
   CHECK_THAT(error(cubic, 6), Catch::Contains("add up to 5 but there are 6 points"));
   CHECK_THAT(error(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Nonperiodic, {3}), 3),
              Catch::Contains("curve 0 has 3 vertices, need at least 4"));
-  CHECK_THAT(error(Topology(T::Type::Cubic, T::Basis::Bezier, T::Wrap::Nonperiodic, {5}), 5), Catch::Contains("3 k + 1"));
+  CHECK_THAT(error(Topology(T::Type::Cubic, T::Basis::Bezier, T::Wrap::Nonperiodic, {5}), 5),
+             Catch::Contains("3 k + 1"));
   CHECK_THAT(error(cubic, 5, Primvar{Interpolation::Vertex, 1, {1, 1}}), Catch::Contains("widths needs 5 values"));
   CHECK_THAT(error(cubic, 5, Primvar{Interpolation::Constant, 1, {std::nanf("")}}), Catch::Contains("not finite"));
   CHECK_THAT(error(cubic, 5, Primvar{Interpolation::Constant, 1, {-1}}), Catch::Contains("negative"));
@@ -149,7 +154,8 @@ struct Scene : test::RenderStack {
   }
   glm::dvec3 Pixel(const PrimId& b, int x, int y) {
     const RenderBuffer& r = Buffer(b);
-    return {r.Resolved(x, y, 0), r.Components() > 1 ? r.Resolved(x, y, 1) : 0, r.Components() > 2 ? r.Resolved(x, y, 2) : 0};
+    return {r.Resolved(x, y, 0), r.Components() > 1 ? r.Resolved(x, y, 1) : 0,
+            r.Components() > 2 ? r.Resolved(x, y, 2) : 0};
   }
 };
 
@@ -157,26 +163,37 @@ struct Scene : test::RenderStack {
 
 TEST_CASE("a round bspline tube renders at its radius with its material, and shadows the plane under the dome") {
   Scene s;
-  // A straight tube along x at height 1, width 0.4, pinned so it spans its end points.
+  // A straight tube along x at height 0.4, width 0.6, pinned so it spans its end points.
   s.scene.AddBasisCurves("/hair", Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Pinned, {5}),
-                         {{-3, 0, 1}, {-1.5f, 0, 1}, {0, 0, 1}, {1.5f, 0, 1}, {3, 0, 1}}, Matrix4d(1.0), "/red");
-  s.scene.SetPrimvar("/hair", "widths", Primvar{Interpolation::Constant, 1, {0.4f}});
-  s.Render(64);
+                         {{-3, 0, 0.4f}, {-1.5f, 0, 0.4f}, {0, 0, 0.4f}, {1.5f, 0, 0.4f}, {3, 0, 0.4f}}, Matrix4d(1.0),
+                         "/red");
+  s.scene.SetPrimvar("/hair", "widths", Primvar{Interpolation::Constant, 1, {0.6f}});
+  s.Render(256);
   const int c = Scene::kSize / 2;
   const glm::dvec3 albedo = s.Pixel("/albedo", c, c), normal = s.Pixel("/normal", c, c);
   const double depth = s.Pixel("/depth", c, c).x;
-  // The plane next to the tube's foot (0.4 units off its axis, under its shadow) against the plane far away.
-  const double nearTube = s.Pixel("/color", c, c + 2).x, farAway = s.Pixel("/color", c, 1).x;
+  // The plane 0.57 units beside the tube's foot, where the tube hides a quarter of the dome's cosine-weighted
+  // light (the 2-D view factor of its cross-section, 0.5 (sin 80.5 deg - sin 29.5 deg) = 0.25), against the plane
+  // 1.9 units away (0.03 hidden); each the mean of 7 pixels along the tube, in blue (the tube's albedo 0.1 there, so
+  // little of the hidden light comes back off the tube).
+  auto rowMean = [&](int y) {
+    double sum = 0;
+    for (int x = c - 3; x <= c + 3; ++x) sum += s.Pixel("/color", x, y).z;  // blue: the red tube reflects little
+    return sum / 7;
+  };
+  const double nearTube = rowMean(c + 3), farAway = rowMean(0);
   INFO("tube: albedo " << albedo.x << " " << albedo.y << " " << albedo.z << ", normal " << normal.z << ", depth "
                        << depth << "; plane beside it " << nearTube << ", far away " << farAway);
   CHECK(albedo == glm::dvec3(glm::vec3(0.8f, 0.1f, 0.1f)));
-  CHECK(depth == Approx(5 - 1 - 0.2).margin(1e-3));
+  CHECK(depth == Approx(5 - 0.4 - 0.3).margin(1e-3));
   CHECK(normal.z > 0.999);
-  CHECK(nearTube < 0.85 * farAway);
+  // Closed form (1 - 0.247) / (1 - 0.028) = 0.775, less what the tube reflects back; measured 0.782.
+  CHECK(nearTube / farAway == Approx(0.775).margin(0.03));
+  CHECK(farAway > 0.45);
   CHECK(static_cast<const BasisCurves*>(s.index.GetRprim("/hair"))->SegmentCount() == 4);
 }
 
-TEST_CASE("a ribbon faces its normals; a sphere point renders at its width") {
+TEST_CASE("a ribbon faces its normals and a sphere point renders at its width") {
   Scene s;
   // A flat linear ribbon along x at height 1, width 0.8, facing +z; a sphere of diameter 0.6 at (0, 1, 1).
   BasisCurvesTopology linear = Topology(T::Type::Linear, T::Basis::Bezier, T::Wrap::Nonperiodic, {2});

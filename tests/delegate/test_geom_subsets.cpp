@@ -93,7 +93,9 @@ TEST_CASE("hole faces are not rendered, on polygon and subdivided meshes") {
 }
 
 TEST_CASE("a geomSubset or hole naming a face the mesh does not have is an error naming the mesh") {
-  CHECK_THAT(test::ErrorOf([] { Scene(0, {{"/red", {3}}}).Render(); }),
+  CHECK_THAT(test::ErrorOf([] {
+               Scene(0, {{"/red", {3}}}).Render();
+             }),
              Catch::Contains("mesh /mesh: geomSubset /red names face 3"));
   CHECK_THAT(test::ErrorOf([] { Scene(2, {}, {-1}).Render(); }), Catch::Contains("holeIndices names face -1"));
 }

@@ -43,7 +43,8 @@ TestMesh Cube() {
 
 /// Every edge of the cube as its own crease (two vertices each) of one sharpness.
 void CreaseAllEdges(TestMesh* m, float sharpness) {
-  const int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  const int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                            {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   SubdivTags& tags = m->topology.subdivTags;
   for (const auto& e : edges) {
     tags.creaseIndices.insert(tags.creaseIndices.end(), {e[0], e[1]});
@@ -224,9 +225,8 @@ TEST_CASE("interpolateBoundary: edgeAndCorner pins grid corners, edgeOnly rounds
 
   m.topology.subdivTags.interpolateBoundary = SubdivTags::Boundary::None;
   const SubdivRefiner none(m.topology, int(m.points.size()), 2);
-  INFO("nearest limit point to the grid corner: edgeAndCorner " << gapCorner << ", edgeOnly " << gapEdge
-                                                                << "; faces rendered with none "
-                                                                << none.RefinedFaceParents().size());
+  INFO("nearest limit point to the grid corner: edgeAndCorner "
+       << gapCorner << ", edgeOnly " << gapEdge << "; faces rendered with none " << none.RefinedFaceParents().size());
   CHECK(gapCorner < 1e-6);
   CHECK(gapEdge > 0.1);
   CHECK(none.RefinedFaceParents().size() == 16u);  // only the centre face has no boundary vertex
@@ -288,7 +288,8 @@ TEST_CASE("the loop scheme refines triangles into triangles (4 per level) with o
   std::vector<glm::vec3> pos, nrm;
   r.EvaluateLimit(m.points, &pos, &nrm);
   double worstRadial = 1;
-  for (std::size_t i = 0; i < pos.size(); ++i) worstRadial = std::min(worstRadial, double(glm::dot(nrm[i], glm::normalize(pos[i]))));
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    worstRadial = std::min(worstRadial, double(glm::dot(nrm[i], glm::normalize(pos[i]))));
   INFO("smallest cosine between a limit normal and the radial direction " << worstRadial);
   CHECK(worstRadial > 0.8);
 }
@@ -316,7 +317,7 @@ TEST_CASE("the bilinear scheme keeps a cube's faces flat, with the faces' normal
     ++interior;
   }
   INFO("worst distance off the cube " << worstOff << ", worst normal error inside faces " << worstNormal << " over "
-                                       << interior << " points");
+                                      << interior << " points");
   CHECK(worstOff < 1e-6);
   CHECK(interior == 6 * 9);
   CHECK(worstNormal < 1e-5);
@@ -383,5 +384,6 @@ TEST_CASE("malformed subdivision tags are one-line errors naming the tag") {
              }),
              Catch::Contains("cornerSharpnesses"));
   CHECK_THAT(error([](TestMesh& m) { m.topology.holeIndices = {6}; }), Catch::Contains("holeIndices[0] = 6"));
-  CHECK_THAT(error([](TestMesh& m) { m.topology.scheme = SubdivScheme::Loop; }), Catch::Contains("loop scheme needs triangles"));
+  CHECK_THAT(error([](TestMesh& m) { m.topology.scheme = SubdivScheme::Loop; }),
+             Catch::Contains("loop scheme needs triangles"));
 }

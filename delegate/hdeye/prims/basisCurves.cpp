@@ -10,7 +10,8 @@ namespace {
 
 RTCGeometryType EmbreeType(const BasisCurvesTopology& t, bool ribbon) {
   using T = BasisCurvesTopology;
-  if (t.type == T::Type::Linear) return ribbon ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE : RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE;
+  if (t.type == T::Type::Linear)
+    return ribbon ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE : RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE;
   switch (t.basis) {
     case T::Basis::Bspline:
       return ribbon ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BSPLINE_CURVE : RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE;
@@ -52,8 +53,8 @@ void BasisCurves::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* render
   const bool ribbon = !s.normals.empty();
   if (ribbon && topology.type == BasisCurvesTopology::Type::Linear) LinearToBezier(&s);
   const RTCGeometry g = rtcNewGeometry(renderParam->Device(), EmbreeType(topology, ribbon));
-  auto* vertices = static_cast<glm::vec4*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                                   sizeof(glm::vec4), s.vertices.size()));
+  auto* vertices = static_cast<glm::vec4*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, sizeof(glm::vec4), s.vertices.size()));
   std::copy(s.vertices.begin(), s.vertices.end(), vertices);
   auto* index = static_cast<unsigned*>(
       rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), s.segments.size()));

@@ -54,7 +54,8 @@ std::vector<float> CurvePrimvarAtVertices(const BasisCurvesTopology& t, const Pr
   if (primvar.components != components)
     Fail(std::string(what) + " has " + std::to_string(primvar.components) + " components, need " +
          std::to_string(components));
-  if (primvar.interpolation == Interpolation::FaceVarying) Fail(std::string(what) + ": faceVarying is not a curve interpolation");
+  if (primvar.interpolation == Interpolation::FaceVarying)
+    Fail(std::string(what) + ": faceVarying is not a curve interpolation");
   const std::size_t expected = ElementCount(t, primvar.interpolation);
   if (primvar.values.size() != expected * std::size_t(components))
     Fail(std::string(what) + " needs " + std::to_string(expected) + " values for its interpolation, got " +
@@ -119,7 +120,8 @@ CurveSegments BuildCurveSegments(const BasisCurvesTopology& t, const std::vector
       widths.Empty() ? std::vector<float>(points.size(), 1.0f) : CurvePrimvarAtVertices(t, widths, 1, "widths");
   for (float w : width)
     if (w < 0) Fail("widths holds a negative width");
-  const std::vector<float> normal = normals.Empty() ? std::vector<float>{} : CurvePrimvarAtVertices(t, normals, 3, "normals");
+  const std::vector<float> normal =
+      normals.Empty() ? std::vector<float>{} : CurvePrimvarAtVertices(t, normals, 3, "normals");
 
   CurveSegments out;
   std::size_t base = 0;
@@ -133,7 +135,8 @@ CurveSegments BuildCurveSegments(const BasisCurvesTopology& t, const std::vector
     auto at = [&](int j) { return glm::vec3(points[base + std::size_t(j)]); };
     auto radius = [&](int j) { return 0.5f * width[base + std::size_t(j)]; };
     auto nrm = [&](int j) {
-      return normal.empty() ? Vec3f(0) : Vec3f(normal[3 * (base + j)], normal[3 * (base + j) + 1], normal[3 * (base + j) + 2]);
+      return normal.empty() ? Vec3f(0)
+                            : Vec3f(normal[3 * (base + j)], normal[3 * (base + j) + 1], normal[3 * (base + j) + 2]);
     };
     // Pinned: a phantom point mirrored through each end makes the uniform segment start (and end) there.
     if (Pinned(t)) push(2.0f * at(0) - at(1), radius(0), nrm(0));

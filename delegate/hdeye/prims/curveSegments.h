@@ -36,7 +36,7 @@ CurveSegments BuildCurveSegments(const BasisCurvesTopology& topology, const std:
 
 /// Expands a constant, uniform, vertex or varying primvar of `components` floats to one value per point of the
 /// curves (varying values interpolated linearly along each curve's vertices); `what` names it in errors.
-std::vector<float> CurvePrimvarAtVertices(const BasisCurvesTopology& topology, const Primvar& primvar,
-                                          int components, const char* what);
+std::vector<float> CurvePrimvarAtVertices(const BasisCurvesTopology& topology, const Primvar& primvar, int components,
+                                          const char* what);
 
 }  // namespace hdeye

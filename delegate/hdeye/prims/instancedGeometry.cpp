@@ -35,8 +35,10 @@ void InstancedGeometry::SetVisible(RenderParam* renderParam, bool visible) {
   visible_ = visible;
   if (!instance_) return;
   renderParam->AcquireSceneForEdit();
-  if (visible) rtcEnableGeometry(instance_);
-  else rtcDisableGeometry(instance_);
+  if (visible)
+    rtcEnableGeometry(instance_);
+  else
+    rtcDisableGeometry(instance_);
   rtcCommitGeometry(instance_);
 }
 
@@ -61,7 +63,8 @@ void InstancedRprim::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam
   if (bits & (dirty::InitRepr | GeometryBits())) SyncGeometry(sceneDelegate, renderParam);
   if (bits & (dirty::InitRepr | dirty::DirtyTransform))
     geometry_.SetTransform(renderParam, sceneDelegate->GetTransform(Id()), &context_);
-  if (bits & (dirty::InitRepr | dirty::DirtyVisibility)) geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
+  if (bits & (dirty::InitRepr | dirty::DirtyVisibility))
+    geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
   if (bits & (dirty::InitRepr | dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
   *dirtyBits = dirty::Clean;
 }
