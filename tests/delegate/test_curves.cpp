@@ -64,7 +64,7 @@ TEST_CASE("curve segments: counts and first vertices for every basis and wrap") 
   }
 }
 
-TEST_CASE("a pinned bspline curve passes through its end points; a periodic one closes") {
+TEST_CASE("a pinned bspline curve passes through its end points and a periodic one closes") {
   const std::vector<Vec3f> points = Line(5);
   const CurveSegments pinned =
       BuildCurveSegments(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Pinned, {5}), points, {}, {});

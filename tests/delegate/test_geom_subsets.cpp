@@ -59,7 +59,7 @@ const int kFaceColumns[3] = {2, 7, 12};
 
 }  // namespace
 
-TEST_CASE("geomSubsets give each face its material; faces in no subset keep the mesh's (levels 0 and 2)") {
+TEST_CASE("geomSubsets give each face its material, faces in no subset keep the mesh's (levels 0 and 2)") {
   for (int level : {0, 2}) {
     Scene s(level, {{"/red", {0}}, {"/green", {2}}});
     s.Render();
@@ -73,7 +73,7 @@ TEST_CASE("geomSubsets give each face its material; faces in no subset keep the 
   }
 }
 
-TEST_CASE("a face in two subsets takes the first; a subset with no material takes the mesh's") {
+TEST_CASE("a face in two subsets takes the first, a subset with no material takes the mesh's") {
   Scene s(0, {{"", {0}}, {"/red", {0, 1}}});
   s.Render();
   CHECK(s.Albedo(kFaceColumns[0]) == glm::dvec3(glm::vec3(0.1f, 0.2f, 0.9f)));

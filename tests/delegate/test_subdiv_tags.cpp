@@ -179,7 +179,7 @@ TEST_CASE("crease sharpness orders the edges: uncreased rounder than sharpness 2
   CHECK(g10 < 1e-6);
 }
 
-TEST_CASE("a sharp corner keeps its control point; without the tag the cube's corner is rounded away") {
+TEST_CASE("a sharp corner keeps its control point, and without the tag the cube's corner is rounded away") {
   TestMesh m = Cube();
   auto nearestToCorner = [](const std::vector<glm::vec3>& limit) {
     double best = std::numeric_limits<double>::infinity();
@@ -323,7 +323,7 @@ TEST_CASE("the bilinear scheme keeps a cube's faces flat, with the faces' normal
   CHECK(worstNormal < 1e-5);
 }
 
-TEST_CASE("faceVaryingLinearInterpolation all interpolates face-varying values bilinearly; none smooths them") {
+TEST_CASE("faceVaryingLinearInterpolation all interpolates face-varying values bilinearly, none smooths them") {
   TestMesh m = Grid(2);
   std::vector<float> corners;  // a value per face corner that no subdivision rule reproduces: x^2 + y^3 / 2
   for (int v : m.topology.faceVertexIndices)
