@@ -10,8 +10,10 @@ matching dirty bits. What each `set_time` pushed is counted in `last_update`. Ed
 (stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py. docs/usd_support.md tables
 what is read and how.
 
-Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme, orientation, normals, primvars st /
-displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), Sphere and Cube gprims (tessellated),
+Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme and tags and holes (mesh_topology.py),
+materialBind GeomSubsets, orientation, normals, primvars st /
+displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), BasisCurves and Points (curves.py),
+Sphere and Cube gprims (tessellated),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye; eye:corneaShell's meshes left out, eye_rigs.py), purposes, visibility, instanceable
@@ -23,7 +25,7 @@ import collections
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 
-from . import cameras, eye_rigs, eyes, lights, materials, stage_notices
+from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 from .skinning import SkinningError, StageSkinning
@@ -31,7 +33,6 @@ from .usd_values import to_float_array as _array
 from .usd_values import to_matrix as _matrix
 from .usd_values import varies as _varies
 
-SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
 
 
@@ -62,6 +63,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._materials = {}     # material path -> st primvar name
         self._skinning = StageSkinning(self.warnings)  # filled as populate meets SkelRoots
         self._rigs = None        # eye_rigs.EyeRigs: the cornea shells left out, found by populate
+        self._warned = set()     # warnings given once per stage (mesh_topology's)
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -125,6 +127,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if prim.IsA(UsdGeom.Mesh):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
             self._track_transform(prim)
+            return False
+        if prim.IsA(UsdGeom.BasisCurves) or prim.IsA(UsdGeom.Points):
+            self._add_curves_or_points(prim)
             return False
         if prim.IsA(UsdGeom.Camera):
             self._add_camera(prim)
@@ -209,12 +214,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             points = self._skinned_points(skinned, self.time, points)
             if self._skinning.get(prim) is None and skinned.moves_frame:  # dropped: its bind frame, unskinned
                 world = self._xforms.GetLocalToWorldTransform(prim)
-        scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
-        if scheme not in SUBDIVISION_SCHEMES:
-            raise EyeRenderError(f"{path}: subdivisionScheme '{scheme}' is not one of {', '.join(SUBDIVISION_SCHEMES)}")
-        if scheme in ("loop", "bilinear"):
-            self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
-        level = self.refine_level if scheme == "catmullClark" else 0
+        subdivision = mesh_topology.Subdivision(mesh, counts, indices, len(points), self.time)
+        self._warn_once(subdivision.warnings)
+        level = self.refine_level if subdivision.refines else 0
         self._point_counts[prim_id] = len(points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
@@ -227,6 +229,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         else:
             self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
             self._own_top_level(prim, prim_id)
+        self._push_mesh_tags(prim, prim_id, subdivision, len(counts))
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
         # Authored normals shade polygon meshes only (refined ones use limit normals). A skinned polygon mesh's
@@ -253,6 +256,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             def update_topology(t):
                 c, i, p = self._topology(prim, mesh, t)
                 self.store.set_topology(prim_id, c, i, p, level, left)
+                self._push_mesh_tags(prim, prim_id, mesh_topology.Subdivision(mesh, c, i, len(p), t), len(c))
                 self._point_counts[prim_id] = len(p)
             self._track(("topology", update_topology))
         elif skinned is not None:
@@ -265,6 +269,20 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         for name, source in names.items():
             if source is not None and _varies(self._primvar_attrs(prim, source)):
                 self._track(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
+
+    def _push_mesh_tags(self, prim, prim_id, subdivision, face_count):
+        """A mesh's subdivision tags and holes, and its materialBind GeomSubsets (per-face materials)."""
+        if subdivision.authored():
+            subdivision.push(self.store, prim_id)
+        subsets, warnings = mesh_topology.material_subsets(prim, face_count, self.time,
+                                                           lambda subset: self._bind_material(subset)[0])
+        self._warn_once(warnings)
+        if subsets:
+            self.store.set_geom_subsets(prim_id, subsets)
+
+    def _warn_once(self, warnings):
+        """Adds warnings not given yet (a prototype's mesh is added once per point-instanced copy)."""
+        self.warnings.extend(w for w in warnings if w not in self._warned and not self._warned.add(w))
 
     def _primvar_attrs(self, prim, name):
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
@@ -411,6 +429,22 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
+
+    def _add_curves_or_points(self, prim):
+        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data skips the prim with a warning."""
+        prim_id = prim.GetPath().pathString
+        material_id, _ = self._bind_material(prim)
+        add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
+        try:
+            animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
+        except EyeRenderError as e:
+            self.warnings.append(f"{e}; not rendered")
+            return
+        self._own(prim_id)
+        self._track_transform(prim)
+        self._track_visibility(prim, prim_id)
+        if _varies(animated):
+            self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t)))
 
     # -- point instancers --------------------------------------------------------------------------------------
 

@@ -36,6 +36,19 @@ MeshTopology ToTopology(const Indices& counts, const Indices& indices, int refin
   return t;
 }
 
+std::vector<float> ToFloats(const InArray<float, nb::ndim<1>>& a) { return {a.data(), a.data() + a.shape(0)}; }
+
+/// A UsdGeom token as the enumerator at the same position in `names`; std::invalid_argument names the choices.
+template <class E, std::size_t N>
+E FromToken(const std::string& what, const std::string& token, const char* const (&names)[N]) {
+  std::string choices;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (token == names[i]) return E(i);
+    choices += (i ? ", " : "") + std::string(names[i]);
+  }
+  throw std::invalid_argument(what + " '" + token + "' is not one of " + choices);
+}
+
 Interpolation ToInterpolation(const std::string& name) {
   if (name == "constant") return Interpolation::Constant;
   if (name == "uniform") return Interpolation::Uniform;
@@ -107,6 +120,16 @@ void BindScene(nb::module_& m) {
           },
           "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
       .def(
+          "mesh_points",
+          [](const RenderIndex& index, const PrimId& id) {
+            const auto* mesh = dynamic_cast<const Mesh*>(index.GetRprim(id));
+            if (!mesh) throw std::invalid_argument("no mesh " + id);
+            std::vector<float> flat;
+            for (const Vec3f& p : mesh->Points()) flat.insert(flat.end(), {p.x, p.y, p.z});
+            return CopyToNumpy(flat, {mesh->Points().size(), 3});
+          },
+          "A mesh's rendered points (limit positions if subdivided), object space, float32 (n, 3).")
+      .def(
           "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
           "A render buffer's per-pixel means, float32 (height, width, components).")
       .def("clear_buffer", [](RenderIndex& index, const PrimId& id) { BufferOf(index, id).Clear(); })
@@ -153,6 +176,30 @@ void BindScene(nb::module_& m) {
           nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
           nb::arg("eye"), nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
           nb::arg("left_handed") = false)
+      .def(
+          "add_basis_curves",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Points& points,
+             const std::string& type, const std::string& basis, const std::string& wrap, const Matrix& transform,
+             const PrimId& material) {
+            static const char* const types[] = {"linear", "cubic"};
+            static const char* const bases[] = {"bezier", "bspline", "catmullRom"};
+            static const char* const wraps[] = {"nonperiodic", "periodic", "pinned"};
+            BasisCurvesTopology t;
+            t.type = FromToken<BasisCurvesTopology::Type>("type", type, types);
+            t.basis = FromToken<BasisCurvesTopology::Basis>("basis", basis, bases);
+            t.wrap = FromToken<BasisCurvesTopology::Wrap>("wrap", wrap, wraps);
+            t.curveVertexCounts = ToInts(counts);
+            s.AddBasisCurves(id, t, ToPoints(points), ToMatrix(transform), material);
+          },
+          nb::arg("id"), nb::arg("curve_vertex_counts"), nb::arg("points"), nb::arg("type"), nb::arg("basis"),
+          nb::arg("wrap"), nb::arg("transform"), nb::arg("material_id") = "",
+          "BasisCurves with UsdGeom's type, basis and wrap tokens; widths and normals through set_primvar.")
+      .def(
+          "add_points",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Points& points, const Matrix& transform,
+             const PrimId& material) { s.AddPoints(id, ToPoints(points), ToMatrix(transform), material); },
+          nb::arg("id"), nb::arg("points"), nb::arg("transform"), nb::arg("material_id") = "",
+          "Points rendered as spheres; widths (diameters) through set_primvar.")
       .def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
                                   const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
       .def("add_camera", [](InMemorySceneDelegate& s, const PrimId& id, const CameraParams& p,
@@ -168,6 +215,44 @@ void BindScene(nb::module_& m) {
               const Points& points, int refineLevel, bool leftHanded) {
              s.SetTopology(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points));
            })
+      .def(
+          "set_subdivision",
+          [](InMemorySceneDelegate& s, const PrimId& id, const std::string& scheme, const std::string& boundary,
+             const std::string& faceVarying, const std::string& triangleRule, const Indices& creaseIndices,
+             const Indices& creaseLengths, const InArray<float, nb::ndim<1>>& creaseSharpnesses,
+             const Indices& cornerIndices, const InArray<float, nb::ndim<1>>& cornerSharpnesses,
+             const Indices& holeIndices) {
+            static const char* const schemes[] = {"catmullClark", "loop", "bilinear"};
+            static const char* const boundaries[] = {"none", "edgeOnly", "edgeAndCorner"};
+            static const char* const faceVaryings[] = {"none",         "cornersOnly", "cornersPlus1",
+                                                       "cornersPlus2", "boundaries",  "all"};
+            static const char* const triangleRules[] = {"catmullClark", "smooth"};
+            SubdivTags tags;
+            tags.interpolateBoundary = FromToken<SubdivTags::Boundary>("interpolateBoundary", boundary, boundaries);
+            tags.faceVaryingLinearInterpolation =
+                FromToken<SubdivTags::FaceVaryingLinear>("faceVaryingLinearInterpolation", faceVarying, faceVaryings);
+            tags.triangleSubdivisionRule =
+                FromToken<SubdivTags::TriangleRule>("triangleSubdivisionRule", triangleRule, triangleRules);
+            tags.creaseIndices = ToInts(creaseIndices), tags.creaseLengths = ToInts(creaseLengths);
+            tags.creaseSharpnesses = ToFloats(creaseSharpnesses);
+            tags.cornerIndices = ToInts(cornerIndices), tags.cornerSharpnesses = ToFloats(cornerSharpnesses);
+            s.SetSubdivision(id, FromToken<SubdivScheme>("subdivisionScheme", scheme, schemes), tags,
+                             ToInts(holeIndices));
+          },
+          nb::arg("id"), nb::arg("scheme"), nb::arg("interpolate_boundary"),
+          nb::arg("face_varying_linear_interpolation"), nb::arg("triangle_subdivision_rule"),
+          nb::arg("crease_indices"), nb::arg("crease_lengths"), nb::arg("crease_sharpnesses"),
+          nb::arg("corner_indices"), nb::arg("corner_sharpnesses"), nb::arg("hole_indices"),
+          "A mesh's subdivision scheme, tags (UsdGeom tokens; sharpness 10 is infinitely sharp) and holes.")
+      .def(
+          "set_geom_subsets",
+          [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<std::tuple<PrimId, std::vector<int>>>& subsets) {
+            std::vector<GeomSubset> out;
+            for (const auto& [material, faces] : subsets) out.push_back(GeomSubset{material, faces});
+            s.SetGeomSubsets(id, out);
+          },
+          nb::arg("id"), nb::arg("subsets"),
+          "Per-face materials: (material id, face indices) per subset; the first subset naming a face wins.")
       .def("set_transform",
            [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
       .def("set_visible", &InMemorySceneDelegate::SetVisible)

@@ -32,10 +32,11 @@ TEST_CASE("the delegate creates the prim types it supports and refuses the other
   for (const auto& t : RenderDelegate::SupportedRprimTypes()) CHECK(delegate.CreateRprim(t, "/a"));
   for (const auto& t : RenderDelegate::SupportedSprimTypes()) CHECK(delegate.CreateSprim(t, "/a"));
   for (const auto& t : RenderDelegate::SupportedBprimTypes()) CHECK(delegate.CreateBprim(t, "/a"));
-  CHECK_FALSE(delegate.CreateRprim("basisCurves", "/a"));
+  CHECK_FALSE(delegate.CreateRprim("nurbsCurves", "/a"));
   RenderIndex index(&delegate);
   InMemorySceneDelegate scene(&index);
-  CHECK_THROWS_WITH(index.InsertRprim("points", &scene, "/p"), Catch::Contains("points") && Catch::Contains("not supported"));
+  CHECK_THROWS_WITH(index.InsertRprim("volume", &scene, "/p"),
+                    Catch::Contains("volume") && Catch::Contains("not supported"));
   scene.AddMaterial("/m", {});
   CHECK_THROWS_WITH(scene.AddMaterial("/m", {}), Catch::Contains("/m already exists"));
 }

@@ -101,7 +101,7 @@ TEST_CASE("a level-3 subdivided cube shades with its limit normals, smooth acros
   }
 
   // The facet angle flat shading would show: between the flat normals of edge-adjacent level-3 quads.
-  const std::vector<int>& quads = level3.RefinedQuadIndices();
+  const std::vector<int>& quads = level3.RefinedFaceIndices();
   std::map<std::pair<int, int>, std::vector<glm::dvec3>> edgeFaces;
   for (std::size_t q = 0; q < quads.size(); q += 4) {
     const glm::dvec3 a(limit3[quads[q]]), b(limit3[quads[q + 1]]), c(limit3[quads[q + 2]]), d(limit3[quads[q + 3]]);

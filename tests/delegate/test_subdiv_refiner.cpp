@@ -152,7 +152,7 @@ TEST_CASE("a refined cube has Catmull-Clark's face and point counts at every lev
     const int faces = 6 << (2 * level);  // 6 * 4^L
     INFO("level " << level);
     CHECK(r.Level() == level);
-    CHECK(r.RefinedQuadIndices().size() == 4u * faces);
+    CHECK(r.RefinedFaceIndices().size() == 4u * faces);
     CHECK(r.RefinedFaceParents().size() == size_t(faces));
     CHECK(r.RefinedPointCount() == faces + 2);  // closed quad mesh of genus 0: V = F + 2 (Euler)
   }
@@ -230,7 +230,7 @@ TEST_CASE("triangles, quads and pentagons refine to quads with the right face pa
   for (int level = 1; level <= 3; ++level) {
     const SubdivRefiner r(mesh.topology, 8, level);
     INFO("level " << level);
-    const std::vector<int>& quads = r.RefinedQuadIndices();
+    const std::vector<int>& quads = r.RefinedFaceIndices();
     const std::vector<int>& parents = r.RefinedFaceParents();
     // An n-gon becomes n quads at level 1, each of which becomes 4 per further level.
     const int perLevel = 1 << (2 * (level - 1));
@@ -263,7 +263,7 @@ TEST_CASE("triangles, quads and pentagons refine to quads with the right face pa
     const glm::vec3 centroid = centroids[r.RefinedFaceParents()[q]];
     float nearest = 1e30f;
     for (int k = 0; k < 4; ++k)
-      nearest = std::min(nearest, glm::length(refined[r.RefinedQuadIndices()[4 * q + k]] - centroid));
+      nearest = std::min(nearest, glm::length(refined[r.RefinedFaceIndices()[4 * q + k]] - centroid));
     INFO("refined face " << q << " (parent " << r.RefinedFaceParents()[q] << "): nearest corner is " << nearest
                          << " from the parent's face point");
     CHECK(nearest < 1e-6f);

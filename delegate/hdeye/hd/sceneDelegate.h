@@ -27,10 +27,13 @@ class SceneDelegate {
  public:
   virtual ~SceneDelegate() = default;
   virtual MeshTopology GetMeshTopology(const PrimId& id) = 0;
+  /// BasisCurves prims only; the default suits scene delegates that have none.
+  virtual BasisCurvesTopology GetBasisCurvesTopology(const PrimId& /*id*/) { return {}; }
   virtual std::vector<Vec3f> GetPoints(const PrimId& id) = 0;
   virtual Matrix4d GetTransform(const PrimId& id) = 0;
   virtual bool GetVisible(const PrimId& id) = 0;
-  /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); empty when not authored.
+  /// A primvar by name (meshes: "st", "normals", "displayColor", "rest"; curves: "widths", "normals"; points:
+  /// "widths"); empty when not authored.
   virtual Primvar GetPrimvar(const PrimId& /*id*/, const std::string& /*name*/) { return {}; }
   virtual PrimId GetMaterialId(const PrimId& id) = 0;
   virtual CameraParams GetCameraParams(const PrimId& id) = 0;

@@ -4,6 +4,7 @@
 #include "hdeye/prims/camera.h"
 #include "hdeye/prims/light.h"
 #include "hdeye/prims/material.h"
+#include "hdeye/prims/mesh.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
 #include "hdeye/render/renderContext.h"
@@ -33,6 +34,12 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
   return aovs;
 }
 
+/// The material sprim `id` as the renderer shades it; the fallback material when there is none.
+SurfaceMaterial Resolve(RenderIndex& index, const PrimId& id) {
+  const auto* material = dynamic_cast<const Material*>(index.GetSprim(id));
+  return material ? SurfaceMaterial{material->Params(), material->DiffuseTexture(), true} : SurfaceMaterial{};
+}
+
 }  // namespace
 
 RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
@@ -58,9 +65,14 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
     context->primIndex = primIndex++;
-    const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
-    context->material = material ? material->Params() : MaterialParams{};
-    context->diffuseTexture = material ? material->DiffuseTexture() : nullptr;
+    const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
+    context->material = bound.params;
+    context->materialBound = bound.bound;
+    context->diffuseTexture = bound.diffuseTexture;
+    context->subsetMaterials.clear();
+    if (const auto* mesh = dynamic_cast<const Mesh*>(entry.prim.get()))
+      for (const PrimId& subsetMaterial : mesh->SubsetMaterialIds())
+        context->subsetMaterials.push_back(subsetMaterial.empty() ? bound : Resolve(*index_, subsetMaterial));
   }
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));

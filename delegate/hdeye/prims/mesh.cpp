@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +58,20 @@ std::vector<Vec3f> SmoothNormals(const MeshTopology& topology, const std::vector
     if (length > 0) normals[i] = Vec3f(sum[i] / length);
   }
   return normals;
+}
+
+/// The layout without the triangles of hole faces (polygon meshes; the refiner drops refined holes itself).
+TriangleLayout RemoveHoles(TriangleLayout layout, const std::vector<int>& holes) {
+  if (holes.empty()) return layout;
+  const std::set<int> hole(holes.begin(), holes.end());
+  TriangleLayout kept;
+  for (std::size_t t = 0; t < layout.faces.size(); ++t) {
+    if (hole.count(layout.faces[t])) continue;
+    kept.faces.push_back(layout.faces[t]);
+    kept.vertices.insert(kept.vertices.end(), &layout.vertices[3 * t], &layout.vertices[3 * t] + 3);
+    kept.corners.insert(kept.corners.end(), &layout.corners[3 * t], &layout.corners[3 * t] + 3);
+  }
+  return kept;
 }
 
 }  // namespace
@@ -126,17 +141,34 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
                      std::to_string(controlPointCount_) + " points");
   }
 
+  const int faceCount = int(topology_.faceVertexCounts.size());
+  auto checkFace = [&](const std::string& what, int f) {
+    if (f < 0 || f >= faceCount)
+      Fail(Id(), what + " names face " + std::to_string(f) + ", outside the " + std::to_string(faceCount) + " faces");
+  };
+  for (int h : topology_.holeIndices) checkFace("holeIndices", h);
+  for (const GeomSubset& subset : topology_.geomSubsets)
+    for (int f : subset.faceIndices) checkFace("geomSubset " + subset.materialId, f);
+
   if (topology_.refineLevel > 0) {
-    refiner_ = std::make_unique<SubdivRefiner>(topology_, controlPointCount_, topology_.refineLevel);
+    try {
+      refiner_ = std::make_unique<SubdivRefiner>(topology_, controlPointCount_, topology_.refineLevel);
+    } catch (const std::invalid_argument& e) {
+      Fail(Id(), e.what());
+    }
     ++stats_.refinements;
-    const std::vector<int>& quads = refiner_->RefinedQuadIndices();
-    layout_ = TriangulateFaces(std::vector<int>(quads.size() / 4, 4), quads, refiner_->RefinedFaceParents());
+    const std::vector<int>& faces = refiner_->RefinedFaceIndices();
+    const int size = refiner_->RefinedFaceSize();
+    layout_ = TriangulateFaces(std::vector<int>(faces.size() / std::size_t(size), size), faces,
+                               refiner_->RefinedFaceParents());
   } else {
     refiner_.reset();
-    layout_ = TriangulateFaces(topology_.faceVertexCounts, topology_.faceVertexIndices, {});
+    layout_ = RemoveHoles(TriangulateFaces(topology_.faceVertexCounts, topology_.faceVertexIndices, {}),
+                          topology_.holeIndices);
   }
   triangles_ = layout_.vertices;
   context_.thinWalled = HasBoundaryEdges(topology_.faceVertexCounts, topology_.faceVertexIndices, control);
+  SyncSubsets();
 
   // New connectivity: a new Embree geometry (its buffers have new sizes), a new prototype scene.
   ReleaseGeometry(renderParam);
@@ -168,6 +200,22 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   instanceId_ = rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance_);
   context_.triangleVertices = &triangles_;
   ++stats_.topologyBuilds;
+}
+
+void Mesh::SyncSubsets() {
+  subsetMaterialIds_.clear();
+  triangleSubsets_.clear();
+  if (topology_.geomSubsets.empty()) {
+    context_.triangleSubsets = nullptr;
+    return;
+  }
+  std::vector<int> faceSubset(topology_.faceVertexCounts.size(), -1);
+  for (std::size_t k = topology_.geomSubsets.size(); k-- > 0;)  // reversed: the first subset naming a face wins
+    for (int f : topology_.geomSubsets[k].faceIndices) faceSubset[std::size_t(f)] = int(k);
+  for (const GeomSubset& subset : topology_.geomSubsets) subsetMaterialIds_.push_back(subset.materialId);
+  triangleSubsets_.resize(layout_.faces.size());
+  for (std::size_t t = 0; t < layout_.faces.size(); ++t) triangleSubsets_[t] = faceSubset[std::size_t(layout_.faces[t])];
+  context_.triangleSubsets = &triangleSubsets_;
 }
 
 void Mesh::SyncPoints(const std::vector<Vec3f>& control) {

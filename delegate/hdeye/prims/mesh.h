@@ -1,6 +1,6 @@
 #pragma once
-// A polygon mesh rprim (HdMesh's role): triangles, quads and n-gons, optionally Catmull-Clark refined
-// through OpenSubdiv, held in Embree as a prototype scene under one instance in the root scene.
+// A polygon mesh rprim (HdMesh's role): triangles, quads and n-gons, optionally subdivided (Catmull-Clark,
+// Loop, bilinear, with creases, corners, holes) through OpenSubdiv, per-face materials from geomSubsets, held in Embree as a prototype scene under one instance in the root scene.
 // Topology is refined once; when only points change, the stencils re-evaluate them and the Embree
 // vertex buffer is updated in place; a transform change only touches the instance.
 //
@@ -58,9 +58,12 @@ class Mesh : public Rprim {
   const std::vector<Vec3f>& Points() const { return points_; }
   const std::vector<Vec3f>& Normals() const { return normals_; }
   PrimId MaterialId() const override { return materialId_; }
+  /// The materials of the topology's geomSubsets, in order (an empty id: the mesh's own material); the render
+  /// pass resolves them into Context()->subsetMaterials, which Context()->triangleSubsets indexes.
+  const std::vector<PrimId>& SubsetMaterialIds() const { return subsetMaterialIds_; }
   GeometryContext* Context() override { return &context_; }
   int TriangleCount() const { return int(triangles_.size() / 3); }
-  /// The Catmull-Clark level rendered now (0: the control polygons), and the level the scene delegate's
+  /// The subdivision level rendered now (0: the control polygons), and the level the scene delegate's
   /// topology asked for at the last topology sync; they differ when RefineLevelFor lowers it (eye meshes).
   int RefineLevel() const { return topology_.refineLevel; }
   int SceneRefineLevel() const { return sceneRefineLevel_; }
@@ -86,6 +89,7 @@ class Mesh : public Rprim {
 
  private:
   void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::vector<Vec3f>& control);
+  void SyncSubsets();
   void SyncPoints(const std::vector<Vec3f>& control);
   void SyncPrimvars(SceneDelegate* sceneDelegate);
   void UploadPoints();
@@ -103,6 +107,8 @@ class Mesh : public Rprim {
   std::vector<Vec2f> st_;            ///< per rendered triangle corner, or empty
   std::vector<Vec3f> cornerNormals_; ///< authored normals per rendered triangle corner (polygon meshes), or empty
   std::vector<Vec3f> rest_;          ///< rest positions per rendered point (limit, if refined), or empty
+  std::vector<PrimId> subsetMaterialIds_;
+  std::vector<int> triangleSubsets_;  ///< per rendered triangle: its face's geomSubset, or -1
   Matrix4d transform_{1.0};
   PrimId materialId_;
 

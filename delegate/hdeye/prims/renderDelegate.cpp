@@ -1,11 +1,13 @@
 #include "hdeye/prims/renderDelegate.h"
 
 #include "hdeye/prims/analyticEye.h"
+#include "hdeye/prims/basisCurves.h"
 #include "hdeye/prims/camera.h"
 #include "hdeye/prims/eyeMesh.h"
 #include "hdeye/prims/light.h"
 #include "hdeye/prims/material.h"
 #include "hdeye/prims/mesh.h"
+#include "hdeye/prims/points.h"
 #include "hdeye/prims/renderBuffer.h"
 
 #include <cstdio>
@@ -36,7 +38,8 @@ RenderDelegate::~RenderDelegate() {
 }
 
 const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
-  static const std::vector<std::string> types = {primTypes::kMesh, primTypes::kAnalyticEye, primTypes::kEyeMesh};
+  static const std::vector<std::string> types = {primTypes::kMesh, primTypes::kAnalyticEye, primTypes::kEyeMesh,
+                                                 primTypes::kBasisCurves, primTypes::kPoints};
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
@@ -54,6 +57,8 @@ std::unique_ptr<Rprim> RenderDelegate::CreateRprim(const std::string& type, cons
   if (type == primTypes::kMesh) return std::make_unique<Mesh>(id);
   if (type == primTypes::kAnalyticEye) return std::make_unique<AnalyticEye>(id);
   if (type == primTypes::kEyeMesh) return std::make_unique<EyeMesh>(id);
+  if (type == primTypes::kBasisCurves) return std::make_unique<BasisCurves>(id);
+  if (type == primTypes::kPoints) return std::make_unique<Points>(id);
   return nullptr;
 }
 

@@ -18,6 +18,8 @@ namespace primTypes {
 inline const std::string kMesh = "mesh";
 inline const std::string kAnalyticEye = "analyticEye";  ///< the anterior segment alone, no mesh
 inline const std::string kEyeMesh = "eyeMesh";  ///< a mesh eyeball whose cornea continues against the analytic model
+inline const std::string kBasisCurves = "basisCurves";
+inline const std::string kPoints = "points";
 inline const std::string kCamera = "camera";
 inline const std::string kSphereLight = "sphereLight";
 inline const std::string kDistantLight = "distantLight";

@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
+#include <set>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
@@ -23,6 +26,40 @@ namespace {
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 must be three packed floats");
 
 [[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument("SubdivRefiner: " + what); }
+
+/// Throws, naming the first thing wrong, unless the creases and corners of `tags` are well formed over
+/// `pointCount` points (lengths that add up, indices in range, one finite sharpness per crease, edge or corner).
+void ValidateTags(const SubdivTags& tags, int pointCount) {
+  auto checkIndex = [&](const char* name, size_t i, int v) {
+    if (v < 0 || v >= pointCount)
+      Fail(std::string(name) + "[" + std::to_string(i) + "] = " + std::to_string(v) + " is outside [0, " +
+           std::to_string(pointCount) + ")");
+  };
+  long long vertices = 0, edges = 0;
+  for (size_t c = 0; c < tags.creaseLengths.size(); ++c) {
+    if (tags.creaseLengths[c] < 2)
+      Fail("creaseLengths[" + std::to_string(c) + "] = " + std::to_string(tags.creaseLengths[c]) + ", need at least 2");
+    vertices += tags.creaseLengths[c];
+    edges += tags.creaseLengths[c] - 1;
+  }
+  if (vertices != static_cast<long long>(tags.creaseIndices.size()))
+    Fail("creaseLengths add up to " + std::to_string(vertices) + " but creaseIndices has " +
+         std::to_string(tags.creaseIndices.size()) + " entries");
+  for (size_t i = 0; i < tags.creaseIndices.size(); ++i) checkIndex("creaseIndices", i, tags.creaseIndices[i]);
+  const size_t sharpnesses = tags.creaseSharpnesses.size();
+  if (!tags.creaseLengths.empty() && sharpnesses != tags.creaseLengths.size() &&
+      sharpnesses != static_cast<size_t>(edges))
+    Fail("creaseSharpnesses has " + std::to_string(sharpnesses) + " values, need one per crease (" +
+         std::to_string(tags.creaseLengths.size()) + ") or per crease edge (" + std::to_string(edges) + ")");
+  if (tags.cornerIndices.size() != tags.cornerSharpnesses.size())
+    Fail("cornerIndices has " + std::to_string(tags.cornerIndices.size()) + " entries but cornerSharpnesses " +
+         std::to_string(tags.cornerSharpnesses.size()));
+  for (size_t i = 0; i < tags.cornerIndices.size(); ++i) checkIndex("cornerIndices", i, tags.cornerIndices[i]);
+  for (float w : tags.creaseSharpnesses)
+    if (!std::isfinite(w)) Fail("creaseSharpnesses holds a value that is not finite");
+  for (float w : tags.cornerSharpnesses)
+    if (!std::isfinite(w)) Fail("cornerSharpnesses holds a value that is not finite");
+}
 
 /// Throws, naming the first thing wrong, unless `topology` is a polygon mesh over `pointCount` points.
 void ValidateTopology(const MeshTopology& topology, int pointCount) {
@@ -43,11 +80,82 @@ void ValidateTopology(const MeshTopology& topology, int pointCount) {
       Fail("faceVertexIndices[" + std::to_string(i) + "] = " + std::to_string(v) + " is outside [0, " +
            std::to_string(pointCount) + ")");
   }
+  const int faces = static_cast<int>(topology.faceVertexCounts.size());
+  for (size_t i = 0; i < topology.holeIndices.size(); ++i) {
+    const int h = topology.holeIndices[i];
+    if (h < 0 || h >= faces)
+      Fail("holeIndices[" + std::to_string(i) + "] = " + std::to_string(h) + " is outside the " +
+           std::to_string(faces) + " faces");
+  }
+  if (topology.scheme == SubdivScheme::Loop)
+    for (size_t f = 0; f < topology.faceVertexCounts.size(); ++f)
+      if (topology.faceVertexCounts[f] != 3)
+        Fail("the loop scheme needs triangles, face " + std::to_string(f) + " has " +
+             std::to_string(topology.faceVertexCounts[f]) + " vertices");
+  ValidateTags(topology.subdivTags, pointCount);
 }
 
-/// Catmull-Clark over the validated topology, refined uniformly to `level` with the full topology of
-/// the last level kept (PrimvarRefiner::Limit needs its vertex neighbourhoods).
-/// With `fvar` set, the topology also carries that face-varying channel (channel 0).
+/// The sharp edges of `tags` as vertex pairs with one sharpness each (USD's creases: chains of creaseLengths[i]
+/// vertices, sharpness per crease or per edge), keeping only pairs that are edges of `topology`: USD assets
+/// carry creases over edges a modelling edit removed, and Hydra ignores them too.
+void CreaseEdges(const MeshTopology& topology, std::vector<Far::Index>* pairs, std::vector<float>* weights) {
+  const SubdivTags& tags = topology.subdivTags;
+  std::set<std::pair<int, int>> edges;
+  size_t base = 0;
+  for (int n : topology.faceVertexCounts) {
+    for (int k = 0; k < n; ++k) {
+      const int a = topology.faceVertexIndices[base + k], b = topology.faceVertexIndices[base + (k + 1) % n];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+    base += static_cast<size_t>(n);
+  }
+  const bool perCrease = tags.creaseSharpnesses.size() == tags.creaseLengths.size();
+  size_t vertex = 0, edge = 0;
+  for (size_t c = 0; c < tags.creaseLengths.size(); ++c) {
+    for (int k = 0; k + 1 < tags.creaseLengths[c]; ++k, ++edge) {
+      const int a = tags.creaseIndices[vertex + k], b = tags.creaseIndices[vertex + k + 1];
+      if (!edges.count({std::min(a, b), std::max(a, b)})) continue;
+      pairs->push_back(a);
+      pairs->push_back(b);
+      weights->push_back(tags.creaseSharpnesses[perCrease ? c : edge]);
+    }
+    vertex += static_cast<size_t>(tags.creaseLengths[c]);
+  }
+}
+
+Sdc::Options ToSdcOptions(const SubdivTags& tags) {
+  Sdc::Options options;
+  using B = SubdivTags::Boundary;
+  options.SetVtxBoundaryInterpolation(tags.interpolateBoundary == B::None       ? Sdc::Options::VTX_BOUNDARY_NONE
+                                      : tags.interpolateBoundary == B::EdgeOnly ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
+                                                                                : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  using F = SubdivTags::FaceVaryingLinear;
+  switch (tags.faceVaryingLinearInterpolation) {
+    case F::None: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_NONE); break;
+    case F::CornersOnly: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_ONLY); break;
+    case F::CornersPlus1: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1); break;
+    case F::CornersPlus2: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_PLUS2); break;
+    case F::Boundaries: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_BOUNDARIES); break;
+    case F::All: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL); break;
+  }
+  options.SetTriangleSubdivision(tags.triangleSubdivisionRule == SubdivTags::TriangleRule::Smooth
+                                     ? Sdc::Options::TRI_SUB_SMOOTH
+                                     : Sdc::Options::TRI_SUB_CATMARK);
+  return options;
+}
+
+Sdc::SchemeType ToSdcScheme(SubdivScheme scheme) {
+  switch (scheme) {
+    case SubdivScheme::Loop: return Sdc::SCHEME_LOOP;
+    case SubdivScheme::Bilinear: return Sdc::SCHEME_BILINEAR;
+    case SubdivScheme::CatmullClark: break;
+  }
+  return Sdc::SCHEME_CATMARK;
+}
+
+/// The validated topology under its scheme and tags (creases, corners, holes, boundary and face-varying rules),
+/// refined uniformly to `level` with the full topology of the last level kept (PrimvarRefiner::Limit needs its
+/// vertex neighbourhoods). With `fvar` set, the topology also carries that face-varying channel (channel 0).
 std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& topology, int pointCount,
                                                             int level,
                                                             const Far::TopologyDescriptor::FVarChannel* fvar) {
@@ -56,18 +164,26 @@ std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& 
   descriptor.numFaces = static_cast<int>(topology.faceVertexCounts.size());
   descriptor.numVertsPerFace = topology.faceVertexCounts.data();
   descriptor.vertIndicesPerFace = topology.faceVertexIndices.data();
+  std::vector<Far::Index> creasePairs;
+  std::vector<float> creaseWeights;
+  CreaseEdges(topology, &creasePairs, &creaseWeights);
+  descriptor.numCreases = static_cast<int>(creaseWeights.size());
+  descriptor.creaseVertexIndexPairs = creasePairs.data();
+  descriptor.creaseWeights = creaseWeights.data();
+  const SubdivTags& tags = topology.subdivTags;
+  descriptor.numCorners = static_cast<int>(tags.cornerIndices.size());
+  descriptor.cornerVertexIndices = tags.cornerIndices.data();
+  descriptor.cornerWeights = tags.cornerSharpnesses.data();
+  descriptor.numHoles = static_cast<int>(topology.holeIndices.size());
+  descriptor.holeIndices = topology.holeIndices.data();
   if (fvar) {
     descriptor.numFVarChannels = 1;
     descriptor.fvarChannels = fvar;
   }
 
-  Sdc::Options sdcOptions;
-  sdcOptions.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-  // UsdGeom's default faceVaryingLinearInterpolation, "cornersPlus1" (Hydra maps it the same way).
-  sdcOptions.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(descriptor, Factory::Options(Sdc::SCHEME_CATMARK, sdcOptions)));
+  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
+      descriptor, Factory::Options(ToSdcScheme(topology.scheme), ToSdcOptions(topology.subdivTags))));
   if (!refiner) Fail("OpenSubdiv rejected the topology");
 
   Far::TopologyRefiner::UniformOptions options(level);
@@ -158,13 +274,19 @@ void SubdivRefiner::BuildRefinedFaces() {
   }
   _faceParents = std::move(parents);
 
+  // Holes (authored, or the boundary faces interpolateBoundary "none" drops) are refined but not rendered.
   const Far::TopologyLevel& last = _refiner->GetLevel(_level);
-  _quadIndices.resize(4 * static_cast<size_t>(last.GetNumFaces()));
+  _faceSize = _coarse.scheme == SubdivScheme::Loop ? 3 : 4;
+  std::vector<int> kept;
   for (int f = 0; f < last.GetNumFaces(); ++f) {
+    if (last.IsFaceHole(f)) continue;
     const Far::ConstIndexArray verts = last.GetFaceVertices(f);
-    assert(verts.size() == 4 && "Catmull-Clark refines every face into quads");
-    for (int k = 0; k < 4; ++k) _quadIndices[4 * static_cast<size_t>(f) + k] = verts[k];
+    assert(verts.size() == _faceSize && "uniform refinement makes every face a quad (a triangle for loop)");
+    _renderedFaces.push_back(f);
+    kept.push_back(_faceParents[static_cast<size_t>(f)]);
+    for (int k = 0; k < _faceSize; ++k) _faceIndices.push_back(verts[k]);
   }
+  _faceParents = std::move(kept);
 }
 
 void SubdivRefiner::EvaluatePoints(const std::vector<glm::vec3>& coarse, std::vector<glm::vec3>* refined) const {
@@ -254,13 +376,13 @@ std::vector<float> SubdivRefiner::EvaluateFaceVarying(const std::vector<float>& 
   }
 
   const Far::TopologyLevel& last = refiner->GetLevel(_level);
-  if (last.GetNumFaces() * 4 != static_cast<int>(_quadIndices.size()))
+  if (last.GetNumFaces() != _refiner->GetLevel(_level).GetNumFaces())
     Fail("face-varying refinement produced a different face count");  // same topology: cannot happen
-  std::vector<float> out(_quadIndices.size() * width);
-  for (int f = 0; f < last.GetNumFaces(); ++f) {
-    const Far::ConstIndexArray fv = last.GetFaceFVarValues(f, 0);
-    for (int k = 0; k < 4; ++k)
-      std::copy_n(&limit[static_cast<size_t>(fv[k]) * width], width, &out[(4 * static_cast<size_t>(f) + k) * width]);
+  std::vector<float> out(_faceIndices.size() * width);
+  for (size_t r = 0; r < _renderedFaces.size(); ++r) {
+    const Far::ConstIndexArray fv = last.GetFaceFVarValues(_renderedFaces[r], 0);
+    for (int k = 0; k < _faceSize; ++k)
+      std::copy_n(&limit[static_cast<size_t>(fv[k]) * width], width, &out[(r * _faceSize + k) * width]);
   }
   return out;
 }

@@ -1,5 +1,6 @@
 #pragma once
-// hdeye::SubdivRefiner: uniform Catmull-Clark refinement of a mesh's topology, done once, plus the
+// hdeye::SubdivRefiner: uniform subdivision (Catmull-Clark, Loop or bilinear, with the mesh's creases, corners,
+// holes and boundary rules) of a mesh's topology, done once, plus the
 // precomputed stencils that map coarse points (and any vertex primvar) to refined points every frame.
 //
 // This is the OpenSubdiv side of HdRprim mesh sync: DirtyTopology builds a new SubdivRefiner,
@@ -28,8 +29,9 @@ class StencilTable;
 namespace hdeye {
 
 
-/// A mesh topology refined uniformly with Catmull-Clark (boundary interpolation: edges and corners
-/// sharp), owning the OpenSubdiv refiner and stencil table it built. Move-only.
+/// A mesh topology refined uniformly under its scheme and subdivision tags (MeshTopology::scheme, subdivTags,
+/// holeIndices, through OpenSubdiv's TopologyDescriptor and Sdc::Options), owning the OpenSubdiv refiner and
+/// stencil table it built. Move-only.
 class SubdivRefiner {
  public:
   /// Deepest level accepted. OpenSubdiv stores levels in 4 bits (15), but faces grow as 4^level and
@@ -39,7 +41,10 @@ class SubdivRefiner {
   /// Refines `coarse` (over `coarsePointCount` points) uniformly to `level` in [1, kMaxLevel] and builds
   /// the stencil table of the refined points. Throws std::invalid_argument with a one-line message naming
   /// the problem for: no faces, a face with fewer than 3 vertices, counts that do not add up to the number
-  /// of indices, an index negative or not below coarsePointCount, or a level out of range.
+  /// of indices, an index negative or not below coarsePointCount, a level out of range, a hole outside the
+  /// faces, a loop mesh with a face that is not a triangle, or malformed creases or corners (lengths that do
+  /// not add up, indices out of range, a sharpness count that is neither per crease nor per edge, NaN).
+  /// Crease edges that are not edges of the mesh are ignored.
   SubdivRefiner(const MeshTopology& coarse, int coarsePointCount, int level);
   ~SubdivRefiner();
   SubdivRefiner(SubdivRefiner&&) noexcept;
@@ -52,10 +57,12 @@ class SubdivRefiner {
   /// Number of points of the refined mesh at Level().
   int RefinedPointCount() const { return _refinedPointCount; }
 
-  /// Faces of the refined mesh: 4 indices per quad into the refined points, same winding as the coarse
-  /// faces. Catmull-Clark turns every n-gon into n quads at the first level, so all faces are quads.
-  const std::vector<int>& RefinedQuadIndices() const { return _quadIndices; }
-  /// For each refined quad, the index of the coarse face it lies in (uniform primvars, primId).
+  /// Vertices per refined face: 4 (Catmull-Clark turns an n-gon into n quads, bilinear too), 3 for loop.
+  int RefinedFaceSize() const { return _faceSize; }
+  /// The rendered faces of the refined mesh: RefinedFaceSize() indices per face into the refined points, same
+  /// winding as the coarse faces. Faces inside holes are left out.
+  const std::vector<int>& RefinedFaceIndices() const { return _faceIndices; }
+  /// For each rendered refined face, the index of the coarse face it lies in (uniform primvars, materials).
   const std::vector<int>& RefinedFaceParents() const { return _faceParents; }
 
   /// Refined points from coarse points through the stencil table (a weighted sum per refined point; no
@@ -79,10 +86,10 @@ class SubdivRefiner {
 
   /// A face-varying primvar (`width` floats per coarse face corner, in faceVertexIndices order, indices
   /// expanded) refined through an OpenSubdiv face-varying channel and pushed to the limit, so it matches
-  /// the limit positions the mesh renders: `width` floats per refined quad corner, in
-  /// RefinedQuadIndices() order. Corners that share a point and hold identical values share one
+  /// the limit positions the mesh renders: `width` floats per rendered refined face corner, in
+  /// RefinedFaceIndices() order. Corners that share a point and hold identical values share one
   /// face-varying value; corners of one point with different values are a seam and stay apart, so a
-  /// UV layout's islands never blend. Linear interpolation rule: UsdGeom's default "cornersPlus1".
+  /// UV layout's islands never blend. Linear interpolation rule: the topology's faceVaryingLinearInterpolation.
   /// The channel's topology depends on the values, so this refines a second topology each call (a
   /// DirtyPrimvar cost, never a per-frame one). Throws std::invalid_argument for a wrong size or width.
   std::vector<float> EvaluateFaceVarying(const std::vector<float>& coarseCornerValues, int width) const;
@@ -94,8 +101,10 @@ class SubdivRefiner {
   MeshTopology _coarse;  ///< kept for face-varying channels, which need the coarse faces again
   int _coarsePointCount = 0;
   int _refinedPointCount = 0;
-  std::vector<int> _quadIndices;
+  int _faceSize = 4;
+  std::vector<int> _faceIndices;
   std::vector<int> _faceParents;
+  std::vector<int> _renderedFaces;  ///< last-level face index of each rendered face (holes skipped)
   std::unique_ptr<const OpenSubdiv::Far::TopologyRefiner> _refiner;  ///< all levels, full last level
   std::unique_ptr<const OpenSubdiv::Far::StencilTable> _stencils;    ///< coarse -> last-level points
 };

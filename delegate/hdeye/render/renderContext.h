@@ -13,10 +13,20 @@ namespace hdeye {
 struct EyeGeometry;
 class Texture;
 
+/// A material as the renderer shades it: its parameters and its diffuse texture (owned by the Material sprim).
+struct SurfaceMaterial {
+  MaterialParams params;
+  const Texture* diffuseTexture = nullptr;
+  /// False for the fallback material (no material sprim bound), which shows the displayColor primvar as Hydra's
+  /// fallback surface does; a bound UsdPreviewSurface shows its own diffuseColor.
+  bool bound = false;
+};
+
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
   glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
   MaterialParams material;            ///< resolved from the bound material (or the fallback)
+  bool materialBound = false;         ///< a material sprim is bound (else `material` is the fallback)
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
   const std::vector<Vec3f>* displayColor = nullptr;
   const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle: indices into points, normals, rest
@@ -38,6 +48,10 @@ struct GeometryContext {
   const EyeGeometry* meshEye = nullptr;
   /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
   const Texture* diffuseTexture = nullptr;
+  /// Per-face materials (geomSubsets): per rendered triangle, an index into subsetMaterials, or -1 for the
+  /// prim's own material above; null when the prim has no subsets.
+  const std::vector<int>* triangleSubsets = nullptr;
+  std::vector<SurfaceMaterial> subsetMaterials;
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
   /// finds the eyeball's boundary in it, never in the rest of the scene.
   RTCScene prototypeScene = nullptr;

@@ -47,12 +47,21 @@ class SampleStream {
 
 double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 
-/// The UsdPreviewSurface BSDF of a non-eye hit: the bound material's parameters, with its diffuse
+/// The material of triangle (or primitive) `part` of a geometry: its geomSubset's, else the prim's own.
+SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
+  if (context.triangleSubsets && part < context.triangleSubsets->size()) {
+    const int subset = (*context.triangleSubsets)[part];
+    if (subset >= 0 && std::size_t(subset) < context.subsetMaterials.size()) return context.subsetMaterials[subset];
+  }
+  return SurfaceMaterial{context.material, context.diffuseTexture, context.materialBound};
+}
+
+/// The UsdPreviewSurface BSDF of a non-eye hit: the hit's material's parameters, with its diffuse
 /// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
-PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& albedo, const glm::dvec2& st) {
-  const MaterialParams& m = context.material;
+PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& albedo, const glm::dvec2& st) {
+  const MaterialParams& m = material.params;
   PreviewSurface s;
-  s.albedo = context.diffuseTexture ? glm::dvec3(context.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
+  s.albedo = material.diffuseTexture ? glm::dvec3(material.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
   s.roughness = m.roughness;
   s.metallic = m.metallic;
   s.opacity = m.opacity;
@@ -72,6 +81,7 @@ struct SurfaceHit {
   unsigned part;    // the primitive; for eyes, EyeGeometry::Part
   double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
   glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
+  SurfaceMaterial material;  // the material of the hit's face (geomSubsets), else the prim's
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -190,7 +200,7 @@ class Tracer {
       // UsdPreviewSurface.
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
       const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
+          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(hit.material, hit.albedo, hit.st);
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
       sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
@@ -257,8 +267,11 @@ class Tracer {
              : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
                                                  : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
-    hit->albedo = ctx.displayColor ? glm::dvec3(atCorners(*ctx.displayColor)) : glm::dvec3(ctx.material.diffuseColor);
-    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(ctx.material.emissiveColor);
+    hit->material = MaterialAt(ctx, hit->part);
+    // displayColor is the fallback surface's colour (Hydra's): a face with a bound material shows the material's.
+    hit->albedo = ctx.displayColor && !hit->material.bound ? glm::dvec3(atCorners(*ctx.displayColor))
+                                                            : glm::dvec3(hit->material.params.diffuseColor);
+    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
 
@@ -374,7 +387,7 @@ class Tracer {
   static void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, SurfaceHit* hit) {
     if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
     if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
-    else if (hit->context->diffuseTexture) hit->albedo = glm::dvec3(hit->context->diffuseTexture->Lookup(glm::vec2(hit->st)));
+    else if (hit->material.diffuseTexture) hit->albedo = glm::dvec3(hit->material.diffuseTexture->Lookup(glm::vec2(hit->st)));
     hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
   }
 

@@ -22,6 +22,22 @@ void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& top
   index_->InsertRprim(primTypes::kEyeMesh, this, id);
 }
 
+void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology,
+                                           const std::vector<Vec3f>& points, const Matrix4d& transform,
+                                           const PrimId& materialId) {
+  meshes_[id] = MeshData{{}, points, {}, materialId};
+  curves_[id] = topology;
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kBasisCurves, this, id);
+}
+
+void InMemorySceneDelegate::AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform,
+                                      const PrimId& materialId) {
+  meshes_[id] = MeshData{{}, points, {}, materialId};
+  transforms_[id] = transform;
+  index_->InsertRprim(primTypes::kPoints, this, id);
+}
+
 void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
   cameras_[id] = params;
   transforms_[id] = transform;
@@ -60,6 +76,20 @@ void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& to
   meshes_.at(id).topology = topology;
   meshes_.at(id).points = points;
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
+}
+
+void InMemorySceneDelegate::SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags,
+                                           const std::vector<int>& holeIndices) {
+  MeshTopology& topology = meshes_.at(id).topology;
+  topology.scheme = scheme;
+  topology.subdivTags = tags;
+  topology.holeIndices = holeIndices;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
+}
+
+void InMemorySceneDelegate::SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets) {
+  meshes_.at(id).topology.geomSubsets = subsets;
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology);
 }
 
 void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
@@ -120,7 +150,7 @@ void InMemorySceneDelegate::SetMaterialId(const PrimId& id, const PrimId& materi
 
 void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
   index_->RemovePrim(id);
-  meshes_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
+  meshes_.erase(id), curves_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
   materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
 }
 

@@ -18,6 +18,12 @@ class InMemorySceneDelegate final : public SceneDelegate {
 
   void AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
                const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+  /// BasisCurves (primTypes::kBasisCurves) over `points`; widths and normals through SetPrimvar.
+  void AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology, const std::vector<Vec3f>& points,
+                      const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+  /// Points (primTypes::kPoints), spheres of SetPrimvar's "widths" (default 1).
+  void AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform = Matrix4d(1.0),
+                 const PrimId& materialId = "");
   void AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform);
   /// type: one of the light prim types (sphereLight, distantLight, rectLight, diskLight, domeLight).
   void AddLight(const PrimId& id, const std::string& type, const LightParams& params,
@@ -34,6 +40,10 @@ class InMemorySceneDelegate final : public SceneDelegate {
 
   void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
   void SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points);
+  /// A mesh's subdivision scheme and tags and its holes (the rest of its topology kept). Marks DirtyTopology.
+  void SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags, const std::vector<int>& holeIndices);
+  /// A mesh's per-face materials (the rest of its topology kept). Marks DirtyTopology.
+  void SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets);
   void SetTransform(const PrimId& id, const Matrix4d& transform);
   void SetVisible(const PrimId& id, bool visible);
   /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); an empty one removes it.
@@ -51,6 +61,7 @@ class InMemorySceneDelegate final : public SceneDelegate {
 
   MeshTopology GetMeshTopology(const PrimId& id) override { return meshes_.at(id).topology; }
   std::vector<Vec3f> GetPoints(const PrimId& id) override { return meshes_.at(id).points; }
+  BasisCurvesTopology GetBasisCurvesTopology(const PrimId& id) override { return curves_.at(id); }
   Matrix4d GetTransform(const PrimId& id) override { return transforms_.at(id); }
   bool GetVisible(const PrimId& id) override { return !hidden_.count(id); }
   Primvar GetPrimvar(const PrimId& id, const std::string& name) override;
@@ -68,7 +79,8 @@ class InMemorySceneDelegate final : public SceneDelegate {
     PrimId materialId;
   };
   RenderIndex* index_;
-  std::map<PrimId, MeshData> meshes_;
+  std::map<PrimId, MeshData> meshes_;  ///< meshes, and the points, primvars and material of curves and points
+  std::map<PrimId, BasisCurvesTopology> curves_;
   std::map<PrimId, Matrix4d> transforms_;
   std::map<PrimId, CameraParams> cameras_;
   std::map<PrimId, LightParams> lights_;

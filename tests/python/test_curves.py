@@ -1,0 +1,117 @@
+"""BasisCurves and Points through the USD scene delegate (curves.py): rendered with their material, casting shadows
+(MNEE's shadow rays to the iris meet them), animated points re-pushed, bad prims skipped with one warning."""
+import numpy as np
+import pytest
+
+eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
+from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
+
+from eyerender import RenderSession  # noqa: E402
+from shading_stages import preview_material  # noqa: E402
+
+
+def eye_stage():
+    """An analytic eye (mm, gaze +z) seen from 40 mm, lit by a small sphere light up and to the right."""
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageMetersPerUnit(stage, 0.001)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateFocalLengthAttr(50.0)
+    cam.CreateHorizontalApertureAttr(24.0)
+    cam.CreateVerticalApertureAttr(24.0)
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 40))
+    UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim().AddAppliedSchema("EyeAPI")
+    light = UsdLux.SphereLight.Define(stage, "/World/key")
+    light.CreateRadiusAttr(1.0)
+    light.CreateIntensityAttr(2000.0)
+    light.AddTranslateOp().Set(Gf.Vec3d(10, 10, 30))
+    return stage
+
+
+def lash(stage, offset=(0.0, 0.0), path="/World/lash"):
+    """A thick pinned bspline curve across the light's path to the eye (7 mm off the camera's view of the iris)."""
+    curve = UsdGeom.BasisCurves.Define(stage, path)
+    curve.CreateTypeAttr(UsdGeom.Tokens.cubic)
+    curve.CreateBasisAttr(UsdGeom.Tokens.bspline)
+    curve.CreateWrapAttr(UsdGeom.Tokens.pinned)
+    curve.CreateCurveVertexCountsAttr([5])
+    curve.CreatePointsAttr([(5 + t + offset[0], 5 - t + offset[1], 15) for t in (-8, -4, 0, 4, 8)])
+    curve.CreateWidthsAttr([4.0])
+    curve.SetWidthsInterpolation(UsdGeom.Tokens.constant)
+    return curve
+
+
+def iris_light(stage):
+    s = RenderSession(stage, width=40, height=40, aovs=["irisMnee"], refine_level=1)
+    s.render(spp=8)
+    return float(s.image("irisMnee").mean()), s
+
+
+def test_a_curve_between_the_light_and_the_eye_darkens_the_iris_mnee_light():
+    open_light, _ = iris_light(eye_stage())
+    stage = eye_stage()
+    lash(stage)
+    shadowed, s = iris_light(stage)
+    stage = eye_stage()
+    lash(stage, offset=(30, 30))  # the same curve far from the light's path
+    aside, _ = iris_light(stage)
+    assert open_light > 0
+    assert shadowed < 0.5 * open_light, (shadowed, open_light)  # measured 0.25: light passes beside the tube
+    assert aside == pytest.approx(open_light, rel=1e-6), (aside, open_light)
+    assert not s.scene.warnings
+
+
+def flat_stage():
+    stage = Usd.Stage.CreateInMemory()
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateHorizontalApertureAttr(20.0)
+    cam.CreateVerticalApertureAttr(20.0)
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    UsdLux.DomeLight.Define(stage, "/World/dome")
+    return stage
+
+
+def test_curves_and_points_render_with_their_material():
+    stage = flat_stage()
+    curve = UsdGeom.BasisCurves.Define(stage, "/World/hair")
+    curve.CreateTypeAttr(UsdGeom.Tokens.linear)
+    curve.CreateCurveVertexCountsAttr([2])
+    curve.CreatePointsAttr([(-3, 0, 0), (3, 0, 0)])
+    curve.CreateWidthsAttr([0.5, 0.5])
+    curve.SetWidthsInterpolation(UsdGeom.Tokens.vertex)
+    UsdShade.MaterialBindingAPI.Apply(curve.GetPrim()).Bind(preview_material(stage, "/World/red", (0.8, 0.1, 0.1)))
+    dots = UsdGeom.Points.Define(stage, "/World/dots")
+    dots.CreatePointsAttr([(0, 2, 0)])
+    dots.CreateWidthsAttr([1.0])
+    UsdShade.MaterialBindingAPI.Apply(dots.GetPrim()).Bind(preview_material(stage, "/World/green", (0.1, 0.7, 0.2)))
+    s = RenderSession(stage, width=41, height=41, aovs=["albedo", "depth"])
+    s.render(spp=1)
+    albedo, depth = s.image("albedo"), s.image("depth")
+    assert albedo[20, 20] == pytest.approx((0.8, 0.1, 0.1), abs=1e-6)
+    assert depth[20, 20, 0] == pytest.approx(10 - 0.25, abs=1e-3)  # the tube's radius in front of its axis
+    # World y = 2 at 10 units: 2 / (20 / 50 * 10 / 41) = 20.5 rows above the centre.
+    assert albedo[20 - 20, 20] == pytest.approx((0.1, 0.7, 0.2), abs=1e-6)
+    assert albedo[5, 5].sum() == 0  # nothing else in view
+
+
+def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warning():
+    stage = flat_stage()
+    curve = lash(stage)
+    points = curve.GetPointsAttr().Get()
+    curve.GetPointsAttr().Set(points, 1)
+    curve.GetPointsAttr().Set([p + Gf.Vec3f(0, 0, 1) for p in points], 2)
+    bad = UsdGeom.BasisCurves.Define(stage, "/World/bad")
+    bad.CreateCurveVertexCountsAttr([5])
+    bad.CreatePointsAttr([(0, 0, 0)] * 4)
+    thin = UsdGeom.BasisCurves.Define(stage, "/World/thin")
+    thin.CreateCurveVertexCountsAttr([4, 4])
+    thin.CreatePointsAttr([(i, 0, 0) for i in range(8)])
+    thin.CreateWidthsAttr([1.0, 1.0, 1.0])
+    thin.SetWidthsInterpolation(UsdGeom.Tokens.varying)  # cubic bezier: 2 per curve
+    s = RenderSession(stage, width=8, height=8)
+    assert s.scene.warnings == ["/World/bad: curveVertexCounts add up to 5, there are 4 points; not rendered",
+                                "/World/thin: widths has 3 values, varying needs 4; not rendered"]
+    s.render(spp=1, time=2)
+    assert s.stats["updated"] == {"points": 1}
+    assert "/World/bad" not in s.index.rprim_ids() and "/World/thin" not in s.index.rprim_ids()
+    assert "/World/lash" in s.index.rprim_ids()
+    assert np.isfinite(s.image("color")).all()
