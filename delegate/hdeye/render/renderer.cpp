@@ -57,8 +57,10 @@ SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
 }
 
 /// The UsdPreviewSurface BSDF of a non-eye hit: the hit's material's parameters, with its diffuse
-/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
-PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& albedo, const glm::dvec2& st) {
+/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set; `thinWalled`:
+/// the geometry is an open sheet (its glass is a thin wall, thinWalls.h).
+PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& albedo, const glm::dvec2& st,
+                            bool thinWalled) {
   const MaterialParams& m = material.params;
   PreviewSurface s;
   s.albedo = material.diffuseTexture ? glm::dvec3(material.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
@@ -66,7 +68,7 @@ PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& a
   s.metallic = m.metallic;
   s.opacity = m.opacity;
   s.ior = m.ior;
-  s.thinWalled = context.thinWalled;
+  s.thinWalled = thinWalled;
   return s;
 }
 
@@ -200,7 +202,7 @@ class Tracer {
       // UsdPreviewSurface.
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
       const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(hit.material, hit.albedo, hit.st);
+          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(hit.material, hit.albedo, hit.st, hit.context->thinWalled);
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
       sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
