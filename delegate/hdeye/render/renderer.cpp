@@ -176,7 +176,7 @@ class Tracer {
         sample.hitAny = hitGeometry;
         if (hitGeometry) sample.first = hit;
       }
-      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, depth == 0 && !settings_.domeLightVisible);
       if (!hitGeometry) break;
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
@@ -278,13 +278,15 @@ class Tracer {
   /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
+  /// skipDomes: the ray is a camera ray and domes are not visible to the camera (RenderSettings).
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
-                const EyeLighting* skipMneeOf = nullptr) const {
+                const EyeLighting* skipMneeOf, bool skipDomes) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
       const RenderLight& l = lights_[k];
+      if (skipDomes && l.type == LightType::Dome) continue;
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
       if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
@@ -296,10 +298,11 @@ class Tracer {
 
   /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
   /// ray was chosen (PathState's flags).
-  glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool skipDomes) const {
     glm::dvec3 le(0);
     double lpdf = 0;
-    if (path.skipLights || !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr))
+    if (path.skipLights ||
+        !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr, skipDomes))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
@@ -472,7 +475,8 @@ class Tracer {
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
     if (!(f.x > 0 || f.y > 0 || f.z > 0) || Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
-    const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
+    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
     return beta * f * ls.radiance * (cosS * w / pl);
   }
 
