@@ -39,6 +39,9 @@ class SampleStream {
   SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
       : seed_(seed), pixel_(pixel), base_(sample * kDimsPerSample) {}
   double Next() { return eyelib::UniformAt(seed_, pixel_, base_ + dim_++ % kDimsPerSample); }
+  /// Dimension k counted from the top of the sample's range (the lens's): Next() never shifts for them, so a
+  /// pinhole render, which draws none, is unchanged bit for bit.
+  double FromTop(std::uint64_t k) const { return eyelib::UniformAt(seed_, pixel_, base_ + kDimsPerSample - 1 - k); }
 
  private:
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
@@ -566,7 +569,9 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
         SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
         const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
-        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+        const bool lens = camera.HasLens();
+        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
+                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
         if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
       }
   }
