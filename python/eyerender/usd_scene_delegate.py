@@ -111,6 +111,8 @@ class UsdSceneDelegate:
             self._add_camera(prim)
         elif lights.light_type(prim):
             self._add_light(prim)
+        elif lights.skipped_light(prim):
+            self.warnings.append(lights.skipped_light(prim))
         elif prim.IsA(UsdGeom.Gprim):
             self._add_gprim(prim)
         elif eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable):
@@ -359,6 +361,8 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
         self.cameras.append(prim_id)
+        if cameras.depth_of_field_note(camera, self.time):
+            self.warnings.append(cameras.depth_of_field_note(camera, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
             self._updaters.append(
@@ -366,13 +370,12 @@ class UsdSceneDelegate:
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
-        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
+        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self.time),
                              _matrix(self._world_of(prim)))
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("light", lambda t: self.store.set_light_params(
-                prim_id, lights.read_light(prim, self._world_of(prim), t))))
+            self._updaters.append(("light", lambda t: self.store.set_light_params(prim_id, lights.read_light(prim, t))))
 
     def _bind_material(self, prim):
         """(material id, st primvar name) of prim's bound material, adding the material on first use."""

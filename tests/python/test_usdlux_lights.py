@@ -1,0 +1,121 @@
+"""UsdLux and UsdGeomCamera as authored, through the scene delegate: a sun at the schema's fallbacks renders at
+order 1, colour temperature, ShapingAPI, the dome's poleAxis and visibility, depth of field, and the features the
+renderer skips warned about by prim (docs/lights.md)."""
+import numpy as np
+import pytest
+
+eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
+from pxr import Gf, Usd, UsdGeom, UsdLux  # noqa: E402
+
+from eyerender import RenderSession  # noqa: E402
+from eyerender.cameras import read_camera  # noqa: E402
+from eyerender.lights import read_light  # noqa: E402
+
+
+def card_stage(size=20.0):
+    """A camera 10 units above a card in the xy plane (looking down -z), nothing else."""
+    stage = Usd.Stage.CreateInMemory()
+    cam = UsdGeom.Camera.Define(stage, "/cam")
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    card = UsdGeom.Mesh.Define(stage, "/card")
+    h = size / 2
+    card.CreatePointsAttr([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)])
+    card.CreateFaceVertexCountsAttr([4])
+    card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    card.CreateSubdivisionSchemeAttr("none")
+    return stage
+
+
+def render(stage, spp=4, **kwargs):
+    s = RenderSession(stage, width=kwargs.pop("width", 16), height=kwargs.pop("height", 16), **kwargs)
+    s.render(spp=spp)
+    return s
+
+
+def test_a_sun_at_the_schema_fallbacks_lights_the_card_at_order_one():
+    # DistantLight's fallbacks, as McUsd's sun has them: intensity 50000, the radiance of a 0.53 degree disc.
+    stage = card_stage()
+    UsdLux.DistantLight.Define(stage, "/sun")
+    mean = render(stage).image("color")[:, :, :3].mean()
+    # E = 50000 pi sin^2(0.265 deg) = 3.36 lux on the 0.18 card: radiance 0.19 plus its 4 % coat.
+    assert 0.15 < mean < 0.35, mean
+
+
+def test_colour_temperature_warms_the_light_and_6500_k_is_white():
+    stage = card_stage()
+    sun = UsdLux.DistantLight.Define(stage, "/sun")
+    sun.CreateAngleAttr(0.0)
+    sun.CreateEnableColorTemperatureAttr(True)
+    sun.CreateColorTemperatureAttr(3000.0)
+    r, g, b = render(stage).image("color")[:, :, :3].reshape(-1, 3).mean(axis=0)
+    assert r > g > b, (r, g, b)
+    sun.CreateColorTemperatureAttr(6500.0)
+    r, g, b = render(stage).image("color")[:, :, :3].reshape(-1, 3).mean(axis=0)
+    assert r == pytest.approx(g, rel=1e-4) and g == pytest.approx(b, rel=1e-4)
+
+
+def test_a_spot_cone_lights_the_middle_of_the_card_and_not_its_corners():
+    stage = card_stage()
+    spot = UsdLux.SphereLight.Define(stage, "/spot")
+    spot.CreateRadiusAttr(0.1)
+    spot.CreateIntensityAttr(1000.0)
+    spot.AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    shaping = UsdLux.ShapingAPI.Apply(spot.GetPrim())
+    shaping.CreateShapingConeAngleAttr(20.0)  # tan 20 deg x 5 = 1.8 units of the card's 20
+    image = render(stage, width=32, height=32).image("color")[:, :, 0]
+    assert image[14:18, 14:18].min() > 0.1
+    assert image[:6, :6].max() == 0 and image[-6:, -6:].max() == 0
+
+
+def test_dome_pole_axis_follows_dome_light_1_and_the_stage_up_axis():
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    scene_pole = UsdLux.DomeLight_1.Define(stage, "/scene")
+    y_pole = UsdLux.DomeLight_1.Define(stage, "/y")
+    y_pole.CreatePoleAxisAttr("Y")
+    old = UsdLux.DomeLight.Define(stage, "/old")
+    t = Usd.TimeCode.Default()
+    assert read_light(scene_pole.GetPrim(), t).dome_pole_z
+    assert not read_light(y_pole.GetPrim(), t).dome_pole_z
+    assert not read_light(old.GetPrim(), t).dome_pole_z  # DomeLight's pole is always +y
+
+
+def test_camera_rays_see_the_dome_only_when_asked():
+    stage = card_stage(size=1.0)  # the card fills the middle of the view; the rest is sky
+    UsdLux.DomeLight.Define(stage, "/sky").CreateIntensityAttr(0.5)
+    hidden = render(stage).image("color")
+    shown = render(stage, dome_light_visible=True).image("color")
+    sky = hidden[:, :, 3] == 0
+    assert sky.any() and (hidden[sky][:, :3] == 0).all()
+    assert np.allclose(shown[sky][:, :3], 0.5)
+    card = hidden[:, :, 3] == 1
+    assert card.any() and np.array_equal(hidden[card], shown[card])  # the dome still lights the card the same
+
+
+def test_camera_depth_of_field_is_read_and_a_missing_focus_distance_warned_about():
+    stage = card_stage()
+    cam = UsdGeom.Camera(stage.GetPrimAtPath("/cam"))
+    cam.CreateFStopAttr(2.8)
+    cam.CreateFocusDistanceAttr(10.0)
+    p = read_camera(cam, Usd.TimeCode.Default())
+    assert (p.f_stop, p.focus_distance) == (pytest.approx(2.8), 10.0)
+    assert eyerender._hdeye.lens_aperture_diameter(p) == pytest.approx(50 * 0.1 / 2.8)
+    cam.CreateFocusDistanceAttr(0.0)
+    UsdLux.DistantLight.Define(stage, "/sun")
+    s = render(stage, spp=1)
+    assert any("/cam: fStop 2.8 with focusDistance 0" in w for w in s.scene.warnings)
+
+
+def test_lights_the_renderer_skips_and_ignored_links_are_warned_about_by_prim():
+    stage = card_stage()
+    UsdLux.CylinderLight.Define(stage, "/tube")
+    key = UsdLux.SphereLight.Define(stage, "/key")
+    key.AddTranslateOp().Set(Gf.Vec3d(0, 0, 3))
+    link = Usd.CollectionAPI(key.GetPrim(), "lightLink")
+    link.CreateIncludeRootAttr(False)
+    link.CreateIncludesRel().AddTarget("/card")
+    UsdLux.ShapingAPI.Apply(key.GetPrim()).CreateShapingIesFileAttr("spot.ies")
+    warnings = render(stage, spp=1).scene.warnings
+    assert "/tube: CylinderLight is not rendered; skipped" in warnings
+    assert any(w.startswith("/key: collection:lightLink is ignored") for w in warnings)
+    assert any(w.startswith("/key: inputs:shaping:ies:file is ignored") for w in warnings)
