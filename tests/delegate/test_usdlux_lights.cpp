@@ -22,14 +22,7 @@ constexpr double kAlbedo = 0.5;
 glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, double height, double patch = 0.02,
                             int pixels = 4, int spp = 128) {
   test::RenderStack s;
-  MeshTopology plane;
-  std::vector<Vec3f> points;
-  test::Quad(100, &plane, &points);
-  MaterialParams m;
-  m.diffuseColor = glm::vec3(float(kAlbedo));
-  m.ior = 1;  // pure Lambert: no specular coat in the closed forms
-  s.scene.AddMaterial("/mat", m);
-  s.scene.AddMesh("/floor", plane, points, Matrix4d(1.0), "/mat");
+  test::AddLambertPlane(s.scene, 100, kAlbedo);
   s.scene.AddLight("/light", type, light, test::LookDownZ(height));
   CameraParams ortho;
   ortho.orthographic = true;
@@ -204,14 +197,7 @@ TEST_CASE("a spot light's cone: full inside, smoothstep over the softness, zero 
   spot.shaping.coneAngle = 30;
   spot.shaping.coneSoftness = 0.5f;
   test::RenderStack s;
-  MeshTopology plane;
-  std::vector<Vec3f> points;
-  test::Quad(100, &plane, &points);
-  MaterialParams m;
-  m.diffuseColor = glm::vec3(float(kAlbedo));
-  m.ior = 1;
-  s.scene.AddMaterial("/mat", m);
-  s.scene.AddMesh("/floor", plane, points, Matrix4d(1.0), "/mat");
+  test::AddLambertPlane(s.scene, 100, kAlbedo);
   s.scene.AddLight("/spot", primTypes::kSphereLight, spot, test::LookDownZ(d));
   CameraParams ortho;
   ortho.orthographic = true;

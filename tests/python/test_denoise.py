@@ -11,18 +11,22 @@ from eyerender.denoise import denoise_beauty  # noqa: E402
 from eyerender.eyerecord import main  # noqa: E402
 
 
-@pytest.fixture
-def card_file(tmp_path):
-    """A grey card under a sphere light and a dim dome, a camera looking at it."""
-    path = tmp_path / "card.usda"
-    stage = Usd.Stage.CreateNew(str(path))
-    cam = UsdGeom.Camera.Define(stage, "/cam")
-    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+def card_with_camera(stage):
+    """A 16-unit grey card in the xy plane and a camera 10 units in front of it."""
+    UsdGeom.Camera.Define(stage, "/cam").AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
     card = UsdGeom.Mesh.Define(stage, "/card")
     card.CreatePointsAttr([(-8, -8, 0), (8, -8, 0), (8, 8, 0), (-8, 8, 0)])
     card.CreateFaceVertexCountsAttr([4])
     card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
     card.CreateSubdivisionSchemeAttr("none")
+
+
+@pytest.fixture
+def card_file(tmp_path):
+    """The card under a sphere light and a dim dome."""
+    path = tmp_path / "card.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    card_with_camera(stage)
     key = UsdLux.SphereLight.Define(stage, "/key")
     key.CreateIntensityAttr(30.0)
     key.AddTranslateOp().Set(Gf.Vec3d(2, 2, 4))
@@ -47,12 +51,7 @@ def test_denoised_beauty_is_closer_to_a_converged_render_than_the_raw_one():
     from eyerender import RenderSession
 
     stage = Usd.Stage.CreateInMemory()
-    cam = UsdGeom.Camera.Define(stage, "/cam")
-    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
-    card = UsdGeom.Mesh.Define(stage, "/card")
-    card.CreatePointsAttr([(-8, -8, 0), (8, -8, 0), (8, 8, 0), (-8, 8, 0)])
-    card.CreateFaceVertexCountsAttr([4])
-    card.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    card_with_camera(stage)
     key = UsdLux.RectLight.Define(stage, "/key")
     key.CreateIntensityAttr(5.0)
     key.AddTranslateOp().Set(Gf.Vec3d(1, 1, 3))
