@@ -3,8 +3,9 @@
 The attributes go to the delegate as authored; the delegate applies UsdLux's formulas (RenderLight::FromParams:
 radiance = color x blackbody(colorTemperature) x intensity x 2^exposure / sizeFactor with normalize, a distant
 light's intensity the radiance of its disc, treatAsPoint, ShapingAPI's cone and focus, the dome's poleAxis).
-What the renderer does not do (CylinderLight, IES profiles, rect light textures, light linking) is reported once
-per prim (docs/lights.md).
+Light and shadow linking: the collections' membership over the rendered prims, handed over as the rprim ids each
+light does not light / is not shadowed by (link_excludes). What the renderer does not do (CylinderLight, IES
+profiles, rect light textures) is reported once per prim (docs/lights.md).
 """
 import math
 
@@ -135,10 +136,23 @@ def unsupported_light_features(prim, time):
         notes.append(f"{path}: inputs:shaping:ies:file is ignored (IES profiles are not rendered)")
     if prim.HasAPI(UsdLux.ShapingAPI) and kind in ("DistantLight", "DomeLight", "DomeLight_1"):
         notes.append(f"{path}: ShapingAPI is ignored on a {kind}")
-    for name in ("lightLink", "shadowLink"):
-        collection = Usd.CollectionAPI(prim, name)
-        if not collection.GetIncludeRootAttr().Get() or collection.GetIncludesRel().GetTargets() or \
-                collection.GetExcludesRel().GetTargets():
-            notes.append(f"{path}: collection:{name} is ignored (light and shadow linking are not rendered)")
     return notes
+
+
+def link_excludes(prim, rprims):
+    """(rprim ids the light does not illuminate, rprim ids that cast no shadow for it): the membership of its
+    collection:lightLink and collection:shadowLink (Usd.CollectionAPI.ComputeMembershipQuery: includeRoot,
+    includes, excludes, expansion rules) over `rprims`, {rprim id: the prim path it came from}."""
+    out = []
+    for name in ("lightLink", "shadowLink"):
+        query = Usd.CollectionAPI(prim, name).ComputeMembershipQuery()
+        out.append([rprim for rprim, path in rprims.items() if not query.IsPathIncluded(path)])
+    return tuple(out)
+
+
+def with_links(params, excludes):
+    """`params` with the (light, shadow) link excludes of link_excludes set (None: unchanged)."""
+    if excludes:
+        params.light_link_excludes, params.shadow_link_excludes = list(excludes[0]), list(excludes[1])
+    return params
 

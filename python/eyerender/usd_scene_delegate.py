@@ -67,6 +67,9 @@ class UsdSceneDelegate:
         self._xforms = UsdGeom.XformCache(self.time)
         self._updaters = []      # (kind, callable(time)) for what varies in time
         self._materials = {}     # material path -> st primvar name
+        self._rprims = {}        # rprim id -> the prim path it came from (light linking's membership)
+        self._lights = {}        # light prim path -> its prim
+        self._link_excludes = {}  # light prim path -> (not lit, not shadowing) rprim ids, where linked
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -85,6 +88,15 @@ class UsdSceneDelegate:
                 continue
             if self._add_prim(prim):
                 it.PruneChildren()
+        self._link_lights()
+
+    def _link_lights(self):
+        """Resolves each light's light and shadow link collections over the rprims, once every rprim is known."""
+        for prim_id, prim in self._lights.items():
+            excludes = lights.link_excludes(prim, self._rprims)
+            if any(excludes):
+                self._link_excludes[prim_id] = excludes
+                self.store.set_light_params(prim_id, lights.with_links(lights.read_light(prim, self.time), excludes))
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
@@ -173,6 +185,7 @@ class UsdSceneDelegate:
         return counts, indices, points
 
     def _add_mesh(self, prim, prim_id, world):
+        self._rprims[prim_id] = prim.GetPath()
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
@@ -312,6 +325,7 @@ class UsdSceneDelegate:
             return
         counts, indices, points = tessellated
         prim_id = prim.GetPath().pathString
+        self._rprims[prim_id] = prim.GetPath()
         material_id, _ = self._bind_material(prim)
         self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
@@ -370,12 +384,14 @@ class UsdSceneDelegate:
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
+        self._lights[prim_id] = prim
         self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self.time),
                              _matrix(self._world_of(prim)))
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._updaters.append(("light", lambda t: self.store.set_light_params(prim_id, lights.read_light(prim, t))))
+            self._updaters.append(("light", lambda t: self.store.set_light_params(
+                prim_id, lights.with_links(lights.read_light(prim, t), self._link_excludes.get(prim_id)))))
 
     def _bind_material(self, prim):
         """(material id, st primvar name) of prim's bound material, adding the material on first use."""
@@ -395,6 +411,7 @@ class UsdSceneDelegate:
 
     def _add_analytic_eye(self, prim):
         prim_id = prim.GetPath().pathString
+        self._rprims[prim_id] = prim.GetPath()
         self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
                                     _matrix(self._world_of(prim)))
         self.eyes.append(prim_id)

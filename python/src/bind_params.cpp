@@ -5,6 +5,7 @@
 
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 namespace hdeye::python {
 
@@ -73,7 +74,9 @@ void BindParams(nb::module_& m) {
       .def_rw("color_temperature", &LightParams::colorTemperature, "kelvin")
       .def_rw("treat_as_point", &LightParams::treatAsPoint)
       .def_rw("shaping", &LightParams::shaping)
-      .def_rw("dome_pole_z", &LightParams::domePoleZ, "dome: image's top pole on local +z");
+      .def_rw("dome_pole_z", &LightParams::domePoleZ, "dome: image's top pole on local +z")
+      .def_rw("light_link_excludes", &LightParams::lightLinkExcludes, "rprim ids this light does not illuminate")
+      .def_rw("shadow_link_excludes", &LightParams::shadowLinkExcludes, "rprim ids casting no shadow for it");
   Vec3Property<LightParams, &LightParams::color>(light, "color");
 
   nb::class_<MaterialParams> material(m, "MaterialParams");

@@ -106,16 +106,47 @@ def test_camera_depth_of_field_is_read_and_a_missing_focus_distance_warned_about
     assert any("/cam: fStop 2.8 with focusDistance 0" in w for w in s.scene.warnings)
 
 
-def test_lights_the_renderer_skips_and_ignored_links_are_warned_about_by_prim():
+def test_lights_the_renderer_skips_are_warned_about_by_prim():
     stage = card_stage()
     UsdLux.CylinderLight.Define(stage, "/tube")
     key = UsdLux.SphereLight.Define(stage, "/key")
     key.AddTranslateOp().Set(Gf.Vec3d(0, 0, 3))
-    link = Usd.CollectionAPI(key.GetPrim(), "lightLink")
-    link.CreateIncludeRootAttr(False)
-    link.CreateIncludesRel().AddTarget("/card")
     UsdLux.ShapingAPI.Apply(key.GetPrim()).CreateShapingIesFileAttr("spot.ies")
     warnings = render(stage, spp=1).scene.warnings
     assert "/tube: CylinderLight is not rendered; skipped" in warnings
-    assert any(w.startswith("/key: collection:lightLink is ignored") for w in warnings)
     assert any(w.startswith("/key: inputs:shaping:ies:file is ignored") for w in warnings)
+
+
+def test_a_catch_light_linked_to_one_card_lights_that_card_alone():
+    stage = card_stage(size=1.0)  # the left card
+    right = UsdGeom.Mesh.Define(stage, "/right")
+    right.CreatePointsAttr([(1, -0.5, 0), (2, -0.5, 0), (2, 0.5, 0), (1, 0.5, 0)])
+    right.CreateFaceVertexCountsAttr([4])
+    right.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    catch = UsdLux.DistantLight.Define(stage, "/catch")
+    catch.CreateAngleAttr(0.0)
+    link = Usd.CollectionAPI(catch.GetPrim(), "lightLink")
+    link.CreateIncludeRootAttr(False)
+    link.CreateIncludesRel().AddTarget("/card")
+    s = render(stage, width=48, height=48)
+    image, ids = s.image("color")[:, :, 0], s.scene
+    left_px, right_px = image[20:28, 18:22], image[20:28, 38:42]  # the cards' middles (x grows to the right)
+    assert left_px.min() > 0.1 and right_px.max() == 0, (left_px.min(), right_px.max())
+    assert ids.warnings == []
+
+
+def test_geometry_shadow_unlinked_from_a_light_casts_no_shadow_for_it():
+    stage = card_stage()
+    blocker = UsdGeom.Mesh.Define(stage, "/lashes")
+    blocker.CreatePointsAttr([(-30, -30, 5), (30, -30, 5), (30, 30, 5), (-30, 30, 5)])
+    blocker.CreateFaceVertexCountsAttr([4])
+    blocker.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    UsdGeom.Camera(stage.GetPrimAtPath("/cam")).CreateClippingRangeAttr(Gf.Vec2f(6, 100))  # sees past the lashes
+    sun = UsdLux.DistantLight.Define(stage, "/sun")
+    sun.CreateAngleAttr(0.0)
+    sun.CreateIntensityAttr(2.0)
+    shadowed = render(stage).image("color")[:, :, 0].max()
+    link = Usd.CollectionAPI(sun.GetPrim(), "shadowLink")
+    link.CreateExcludesRel().AddTarget("/lashes")
+    lit = render(stage).image("color")[:, :, 0]
+    assert shadowed < 0.05 * lit.mean() and lit.min() > 0

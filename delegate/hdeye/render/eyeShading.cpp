@@ -82,7 +82,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
-    if (lighting.occluded(Offset(eye, p, n), toLight, tFar)) continue;
+    if (lighting.occluded(index, Offset(eye, p, n), toLight, tFar)) continue;
     // Emission towards this path's own cornea point (ShapingAPI; the apex sample's radiance for distant
     // lights and domes, which have no shaping).
     const glm::dvec3 le = distant ? ls.radiance : light.radiance * EmissionShaping(light, -toLight);

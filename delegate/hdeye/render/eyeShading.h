@@ -22,7 +22,12 @@ namespace hdeye {
 /// What the eye needs from the renderer: its lights, a world-space occlusion test, random numbers.
 struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
-  std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> occluded;
+  /// Whether light `light` (an index into *lights) is blocked from origin along dir before tFar: its shadow
+  /// linking decides what blocks it.
+  std::function<bool(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> occluded;
+  /// The eye's GeometryContext::primIndex: lights linked away from it (Illuminates) give it nothing, MNEE
+  /// included.
+  int receiver = -1;
   bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
   /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
   /// path tracing, for A/B comparisons); MNEE is not run.
@@ -39,6 +44,9 @@ struct EyeLighting {
 /// not at all.
 inline bool MneeCountsLight(const EyeLighting& lighting, std::size_t index) {
   if (!lighting.mnee) return false;
+  // A light linked away from the eye is counted by neither: the path leaving the iris skips it too (the renderer
+  // checks Illuminates against the vertex a ray left).
+  if (lighting.lights && !Illuminates((*lighting.lights)[index], lighting.receiver)) return false;
   const std::vector<bool>* mask = lighting.mneeLights;
   if (!mask || !lighting.lights || mask->size() != lighting.lights->size()) return true;
   return (*mask)[index];

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hdeye {
 
@@ -70,6 +71,12 @@ struct LightParams {
   /// Dome: the lat-long image's top pole is the light's local +z (UsdLuxDomeLight_1 poleAxis "Z", or "scene" on
   /// a Z-up stage), a +90 degree turn about x of the default +y pole; false: +y (UsdLuxDomeLight).
   bool domePoleZ = false;
+  /// Light linking (UsdLuxLightAPI's collection:lightLink, resolved by the scene delegate): the rprims this light
+  /// does not illuminate. Empty: it lights everything.
+  std::vector<std::string> lightLinkExcludes;
+  /// Shadow linking (collection:shadowLink): the rprims whose shadows this light ignores (its shadow rays pass
+  /// through them). Empty: everything casts shadows.
+  std::vector<std::string> shadowLinkExcludes;
 };
 
 /// Material parameters (UsdPreviewSurface subset). Colours are linear; opacity below 1 makes the

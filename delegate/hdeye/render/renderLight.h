@@ -61,6 +61,9 @@ struct RenderLight {
   /// null for a constant dome.
   std::shared_ptr<const DomeTexture> dome;
   glm::dmat3 domeToWorld{1.0};  ///< rotation of the dome's frame (see DomeTexture) into the world
+  /// Light and shadow linking over GeometryContext::primIndex (RenderPass::Execute fills them from LightParams'
+  /// excludes): non-zero where the rprim is not lit by / casts no shadow for this light. Empty: none.
+  std::vector<char> unlit, unshadowed;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
   /// disk emit along their local -z, a distant light shines along -z). The radiance, as UsdLuxLightAPI
@@ -76,6 +79,16 @@ struct RenderLight {
   static RenderLight FromParams(const LightParams& params, const glm::dmat4& transform,
                                 std::shared_ptr<const DomeTexture> dome = nullptr);
 };
+
+/// Whether the light illuminates the rprim of index primIndex (-1, the camera or no geometry: yes).
+inline bool Illuminates(const RenderLight& light, int primIndex) {
+  return primIndex < 0 || std::size_t(primIndex) >= light.unlit.size() || !light.unlit[std::size_t(primIndex)];
+}
+/// Whether the rprim of index primIndex blocks this light's shadow rays.
+inline bool CastsShadow(const RenderLight& light, int primIndex) {
+  return primIndex < 0 || std::size_t(primIndex) >= light.unshadowed.size() ||
+         !light.unshadowed[std::size_t(primIndex)];
+}
 
 /// A sampled direction towards a light from a shading point.
 struct LightSample {

@@ -133,6 +133,7 @@ struct PathState {
   // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
   // by light, never a mixture.
   bool specular = true, skipLights = false, skipMnee = false;
+  int fromPrim = -1;         ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
   double bsdfPdf = 0;        ///< the pdf the current ray was sampled with (after a diffuse bounce)
   EyeLighting eyeLighting;   ///< the lights and switches of the eye last met
   EyeLighting skipMneeOf;    ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
@@ -169,9 +170,11 @@ class Tracer {
     PathSample sample;
     const std::function<double()> random = [&rng] { return rng.Next(); };
     PathState path(ray);
-    path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                                     return Occluded(po, pd, t);
-                                   }, settings_.mneeAllSolutions, settings_.mnee};
+    path.eyeLighting = EyeLighting{&lights_,
+                                   [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
+                                     return OccludedFor(lights_[k], po, pd, t);
+                                   },
+                                   -1, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
@@ -181,6 +184,7 @@ class Tracer {
       }
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, depth == 0 && !settings_.domeLightVisible);
       if (!hitGeometry) break;
+      path.fromPrim = hit.primIndex;  // the next ray leaves this vertex (light linking)
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
         const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
@@ -277,19 +281,38 @@ class Tracer {
     return ray.tfar < 0;
   }
 
+  /// Whether `light` is blocked from o along unit d before tFar. With shadow linking, the rprims the light ignores
+  /// are stepped through: closest hits, one after another, until one that casts its shadow, at most
+  /// kMaxShadowSkips of them (past that it counts as blocked: a light never leaks through a thick stack).
+  bool OccludedFor(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    if (light.unshadowed.empty()) return Occluded(o, d, tFar);
+    constexpr int kMaxShadowSkips = 64;
+    double tNear = 0;
+    for (int skip = 0; skip < kMaxShadowSkips; ++skip) {
+      SurfaceHit hit;
+      if (!Intersect(o, d, tNear, tFar, &hit)) return false;
+      if (CastsShadow(light, hit.primIndex)) return true;
+      // Past the hit by its float rounding (Embree's distances are float), so it is not met again.
+      tNear = std::max(double(std::nextafter(float(hit.t), std::numeric_limits<float>::infinity())), hit.t * (1 + 1e-6));
+    }
+    return true;
+  }
+
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
   /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
-  /// skipDomes: the ray is a camera ray and domes are not visible to the camera (RenderSettings).
+  /// skipDomes: the ray is a camera ray and domes are not visible to the camera (RenderSettings). fromPrim: the
+  /// rprim the ray left; lights linked away from it are passed over.
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
-                const EyeLighting* skipMneeOf, bool skipDomes) const {
+                const EyeLighting* skipMneeOf, bool skipDomes, int fromPrim) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
       const RenderLight& l = lights_[k];
       if (skipDomes && l.type == LightType::Dome) continue;
+      if (!Illuminates(l, fromPrim)) continue;
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
       if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && (!found || dist < best)) {
@@ -305,7 +328,8 @@ class Tracer {
     glm::dvec3 le(0);
     double lpdf = 0;
     if (path.skipLights ||
-        !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr, skipDomes))
+        !HitLight(path.o, path.d, maxDistance, &le, &lpdf, path.skipMnee ? &path.skipMneeOf : nullptr, skipDomes,
+                  path.fromPrim))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
@@ -326,6 +350,7 @@ class Tracer {
     lighting.allSolutions = switches.allSolutions;
     lighting.mneeLights = switches.mneeLights;
     lighting.maxChamberEvents = switches.maxChamberEvents;
+    lighting.receiver = hit->primIndex;
     const EyeEvent ev = ctx.eye ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
                                 : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
                                                    path->d, lighting, random);
@@ -472,11 +497,13 @@ class Tracer {
     const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
     if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
     const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+    if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
     const LightSample ls = SampleLight(light, origin, u1, u2);
     const double cosS = glm::dot(ls.dir, hit.n);
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
-    if (!(f.x > 0 || f.y > 0 || f.z > 0) || Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) return glm::dvec3(0);
+    if (!(f.x > 0 || f.y > 0 || f.z > 0) || OccludedFor(light, origin, ls.dir, ls.distance * (1 - 1e-6)))
+      return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
     // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
     const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
