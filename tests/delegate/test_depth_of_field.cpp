@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <cstdio>
+#include <utility>
 
 using namespace hdeye;
 

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 using namespace hdeye;
 
@@ -40,6 +41,19 @@ double FloorUnderBlocker(const LightParams& beam) {
   return sum / 16;
 }
 
+/// Renders the side-lit eye scene in `s` (24 x 24, 8 spp); returns the sums of the red irisMnee and beauty AOVs.
+std::pair<double, double> RenderIrisAndBeauty(test::RenderStack& s) {
+  s.scene.AddRenderBuffer("/color", 24, 24, 4);
+  s.scene.AddRenderBuffer("/iris", 24, 24, 3);
+  s.delegate.Settings().samplesPerPixel = 8;
+  s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
+  double iris = 0, color = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 24; ++x)
+      iris += s.Buffer("/iris").Resolved(x, y, 0), color += s.Buffer("/color").Resolved(x, y, 0);
+  return {iris, color};
+}
+
 }  // namespace
 
 TEST_CASE("shadow linking: a blocker the light ignores casts no shadow; light linking: an unlinked floor is dark ",
@@ -55,8 +69,10 @@ TEST_CASE("shadow linking: a blocker the light ignores casts no shadow; light li
   beam.shadowLinkExcludes = {};
   beam.lightLinkExcludes = {"/floor"};
   const double unlit = FloorUnderBlocker(beam);
-  std::printf("floor under the blocker: %.6f shadowed, %.6f with the blocker shadow-unlinked (closed form %.6f), "
-              "%.6f light-unlinked\n", shadowed, through, 0.5 * 2 / kPi, unlit);
+  std::printf(
+      "floor under the blocker: %.6f shadowed, %.6f with the blocker shadow-unlinked (closed form %.6f), "
+      "%.6f light-unlinked\n",
+      shadowed, through, 0.5 * 2 / kPi, unlit);
   CHECK(shadowed == 0);
   CHECK(through == Approx(0.5 * 2 / kPi).epsilon(1e-6));
   CHECK(unknown == 0);
@@ -75,21 +91,15 @@ TEST_CASE("a key light linked away from an eye gives it nothing, no caustic eith
       key.lightLinkExcludes = {"/World/eye"};
       s.scene.SetLightParams("/World/key", key);
     }
-    s.scene.AddRenderBuffer("/color", 24, 24, 4);
-    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
-    s.delegate.Settings().samplesPerPixel = 8;
-    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
-    double iris = 0, color = 0;
-    for (int y = 0; y < 24; ++y)
-      for (int x = 0; x < 24; ++x)
-        iris += s.Buffer("/iris").Resolved(x, y, 0), color += s.Buffer("/color").Resolved(x, y, 0);
-    return std::pair{iris, color};
+    return RenderIrisAndBeauty(s);
   };
   const auto [linkedIris, linkedColor] = render(1, false);
   const auto [unlinkedIris, unlinkedColor] = render(1, true);
   const auto [offIris, offColor] = render(0, true);
-  std::printf("iris MNEE light: %.5f with the key, %.5f with it linked away, %.5f with it off; beauty %.4f / %.4f / "
-              "%.4f\n", linkedIris, unlinkedIris, offIris, linkedColor, unlinkedColor, offColor);
+  std::printf(
+      "iris MNEE light: %.5f with the key, %.5f with it linked away, %.5f with it off; beauty %.4f / %.4f / "
+      "%.4f\n",
+      linkedIris, unlinkedIris, offIris, linkedColor, unlinkedColor, offColor);
   CHECK(unlinkedIris == offIris);
   CHECK(unlinkedColor == offColor);
   CHECK(linkedIris > 1.5 * unlinkedIris);  // the key's caustic was there before
@@ -118,14 +128,7 @@ TEST_CASE("lashes shadow-unlinked from the key cast no shadow on the iris causti
       key.shadowLinkExcludes = {"/World/lashes"};
       s.scene.SetLightParams("/World/key", key);
     }
-    s.scene.AddRenderBuffer("/color", 24, 24, 4);
-    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
-    s.delegate.Settings().samplesPerPixel = 8;
-    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
-    double iris = 0;
-    for (int y = 0; y < 24; ++y)
-      for (int x = 0; x < 24; ++x) iris += s.Buffer("/iris").Resolved(x, y, 0);
-    return iris;
+    return RenderIrisAndBeauty(s).first;
   };
   const double open = render(false, false), shadowed = render(true, false), unlinked = render(true, true);
   std::printf("iris MNEE light: %.5f without the card, %.5f with it, %.5f with it shadow-unlinked from the key\n", open,

@@ -122,8 +122,7 @@ TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2); normalize
   CHECK(on == Approx(Lambert(L / (R * R + d * d))).epsilon(0.01));
 }
 
-TEST_CASE("a rect light facing the plane gives its four corner form factors; normalize divides L by w h ",
-          "[usdlux]") {
+TEST_CASE("a rect light facing the plane gives its four corner form factors; normalize divides L by w h ", "[usdlux]") {
   const double w = 2, h = 1, d = 1.5, L = 3;
   // The form factor of an a x b rectangle at height d from a point under one corner (Howell's catalogue, C-11).
   const auto corner = [d](double a, double b) {

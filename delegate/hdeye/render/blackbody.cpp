@@ -15,9 +15,10 @@ double Lobe(double nm, double mu, double sigmaBelow, double sigmaAbove) {
 
 /// CIE 1931 colour matching functions at a wavelength (nm): Wyman, Sloan, Shirley 2013, table 1.
 glm::dvec3 ColorMatching(double nm) {
-  return {1.056 * Lobe(nm, 599.8, 37.9, 31.0) + 0.362 * Lobe(nm, 442.0, 16.0, 26.7) - 0.065 * Lobe(nm, 501.1, 20.4, 26.2),
-          0.821 * Lobe(nm, 568.8, 46.9, 40.5) + 0.286 * Lobe(nm, 530.9, 16.3, 31.1),
-          1.217 * Lobe(nm, 437.0, 11.8, 36.0) + 0.681 * Lobe(nm, 459.0, 26.0, 13.8)};
+  return {
+      1.056 * Lobe(nm, 599.8, 37.9, 31.0) + 0.362 * Lobe(nm, 442.0, 16.0, 26.7) - 0.065 * Lobe(nm, 501.1, 20.4, 26.2),
+      0.821 * Lobe(nm, 568.8, 46.9, 40.5) + 0.286 * Lobe(nm, 530.9, 16.3, 31.1),
+      1.217 * Lobe(nm, 437.0, 11.8, 36.0) + 0.681 * Lobe(nm, 459.0, 26.0, 13.8)};
 }
 
 /// XYZ of a blackbody (arbitrary scale): Planck's spectral radiance against the matching functions, 1 nm steps.
