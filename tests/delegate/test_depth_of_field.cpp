@@ -1,5 +1,7 @@
 // Thin-lens depth of field (UsdGeomCamera fStop, focusDistance): a small emitting sphere off the plane in focus
 // blurs into a disk whose diameter is the thin-lens circle of confusion; a pinhole stays sharp.
+#include "hdeye/plan/renderPlan.h"
+#include "hdeye/scene/sampleScenes.h"
 #include "scene_helpers.h"
 
 #include <catch2/catch.hpp>
@@ -82,4 +84,34 @@ TEST_CASE("an object in the plane of focus stays as sharp as through a pinhole "
   std::printf("bead at the focus distance: blur %.3f px, through a pinhole %.3f px\n", focused, sharp);
   CHECK(focused < 1);
   CHECK(sharp < 1);
+}
+
+TEST_CASE("the render plan sizes a defocused eye by its blur: resolved pixels = pixels / circle of confusion ",
+          "[camera]") {
+  // The side-lit eye 45 mm from a 100 mm lens (the scene is in mm: focalLengthUnit 1) at f/16, focused 6 mm
+  // behind the iris: macro depth of field is that shallow.
+  test::RenderStack s;
+  hdeye::sampleScenes::AddSideLitEye(s.scene);
+  const int width = 256;
+  const RenderPlan sharp = s.pass.Plan(hdeye::sampleScenes::kCamera, width, width, PlanOverrides{});
+  CameraParams lens = s.scene.GetCameraParams(hdeye::sampleScenes::kCamera);
+  lens.fStop = 16;
+  lens.focusDistance = 55;
+  lens.focalLengthUnit = 1;
+  s.scene.SetCameraParams(hdeye::sampleScenes::kCamera, lens);
+  const RenderPlan blurred = s.pass.Plan(hdeye::sampleScenes::kCamera, width, width, PlanOverrides{});
+  REQUIRE(sharp.eyes.size() == 1);
+  REQUIRE(blurred.eyes.size() == 1);
+  const EyePlan &a = sharp.eyes[0], &b = blurred.eyes[0];
+  // The iris plane is 3.735 mm behind the apex, 45 mm from the camera: D = 48.735 mm.
+  const double A = 100.0 / 16, D = 48.735, F = 55;
+  const double coc = A * 100 * std::abs(D - F) / (D * F) / lens.horizontalAperture * width;
+  std::printf("eye %.1f px; f/16 focused at 55 mm: blur %.2f px (thin lens %.2f), resolved %.2f px, refine %d -> %d\n",
+              b.pixels, b.blurPixels, coc, b.resolvedPixels, a.refineLevel, b.refineLevel);
+  CHECK(a.blurPixels == 0);
+  CHECK(a.resolvedPixels == a.pixels);
+  CHECK(b.pixels == Approx(a.pixels));
+  CHECK(b.blurPixels == Approx(coc).epsilon(1e-3));
+  CHECK(b.resolvedPixels == Approx(b.pixels / coc).epsilon(1e-3));
+  CHECK(b.pixelFootprintMm > a.pixelFootprintMm);
 }
