@@ -44,6 +44,8 @@ pip_missing=()
 "$PYTHON" -c "import numpy" 2>/dev/null || pip_missing+=(numpy)
 # The farm extra (eyerender[farm]: eyerecord --scheduler/--workers), so tests/python/test_farm.py runs.
 "$PYTHON" -c "import dask, distributed" 2>/dev/null || pip_missing+=("dask[distributed]>=2024.1")
+# eyerecord --denoise: Intel Open Image Denoise with its CPU device, bundled in the wheel.
+"$PYTHON" -c "import pyoidn" 2>/dev/null || pip_missing+=("pyoidn>=2.5")
 # The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
 "$PYTHON" -c "import nanobind" 2>/dev/null || pip_missing+=("nanobind>=2.0")
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")

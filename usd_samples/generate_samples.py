@@ -688,6 +688,7 @@ def write_two_eyes(out):
     rim = UsdLux.DistantLight.Define(stage, "/World/Lights/Rim")
     rim.CreateAngleAttr(1.0)
     set_light_common(rim, 0.6, (0.9, 0.95, 1.0))
+    rim.CreateNormalizeAttr(True)  # intensity 0.6 is then the illuminance (lux) on a surface facing the rim
     rim.AddTransformOp().Set(look_at((-30.0, 40.0, -40.0), (0.0, 0.0, 0.0)))
     add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -30.0), (0.0, 0.0, 1.0), 60.0, shade=0.08)
     stage.GetRootLayer().Save()

@@ -23,12 +23,28 @@ def read_camera(camera, time):
         p.vertical_aperture *= APERTURE_UNIT
     p.near_clip, p.far_clip = gf.clippingRange.min, gf.clippingRange.max
     path = camera.GetPath()
+    # Depth of field: the f-number and the focus distance (scene units); the lens aperture is
+    # focalLength * APERTURE_UNIT / fStop scene units across.
+    p.f_stop, p.focus_distance = float(gf.fStop), float(gf.focusDistance)
+    p.focal_length_unit = APERTURE_UNIT
+    if not (math.isfinite(p.f_stop) and p.f_stop >= 0 and math.isfinite(p.focus_distance) and p.focus_distance >= 0):
+        raise EyeRenderError(f"{path}: fStop ({p.f_stop:g}) and focusDistance ({p.focus_distance:g}) must be finite "
+                             "and non-negative")
     values = (p.focal_length, p.horizontal_aperture, p.vertical_aperture, p.near_clip, p.far_clip)
     if not all(math.isfinite(v) for v in values) or min(values[:3]) <= 0:
         raise EyeRenderError(f"{path}: focal length and apertures must be positive and finite")
     if not 0 <= p.near_clip < p.far_clip:
         raise EyeRenderError(f"{path}: clipping range ({p.near_clip:g}, {p.far_clip:g}) is empty")
     return p
+
+
+def depth_of_field_note(camera, time):
+    """A warning when the camera asks for depth of field it cannot have (fStop > 0 with focusDistance 0), else
+    None."""
+    gf = camera.GetCamera(time)
+    if gf.fStop > 0 and gf.projection != Gf.Camera.Orthographic and not gf.focusDistance > 0:
+        return f"{camera.GetPath()}: fStop {gf.fStop:g} with focusDistance 0: rendered as a pinhole (no depth of field)"
+    return None
 
 
 def default_camera(stage, time, purposes, aspect):

@@ -7,9 +7,11 @@ tone-mapped to sRGB. Bad input ends with a one-line error and exit status 1 (2 f
 outputs are written atomically, so a failed or interrupted render never leaves a half-written image.
 """
 import argparse
+import dataclasses
 import sys
 
 from .console import ProgressBar, describe_written, print_warnings, warn_non_finite
+from .denoise import GUIDE_AOVS, denoised_png_path
 from .errors import EyeRenderError, run_command
 from .job import (
     AOV_NAMES,
@@ -51,6 +53,11 @@ def build_parser():
                    "color is always written)")
     p.add_argument("--exposure", type=float, default=0.0, help="PNG exposure in stops (default 0)")
     p.add_argument("--png", action="store_true", help="with an .exr output, also write a .png preview beside it")
+    p.add_argument("--denoise", action="store_true", help="also write the beauty denoised by Intel Open Image "
+                   "Denoise (albedo and normal AOVs as guides): EXR channels denoised.R/G/B, PNG <name>.denoised.png; "
+                   "the raw beauty is kept (docs/denoise.md)")
+    p.add_argument("--enableDomeLightVisibility", action="store_true",
+                   help="camera rays see dome lights (usdrecord's flag; default: domes light the scene unseen)")
     p.add_argument("--cornea-model", choices=("ellipsoidCone", "paraboloid"), help="A/B: override every eye's model")
     p.add_argument("--no-mnee", action="store_true",
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
@@ -83,6 +90,8 @@ def run(argv=None):
     args = build_parser().parse_args(argv)
     spp = samples_per_pixel(args)
     if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
+        if args.denoise:
+            raise EyeRenderError("--denoise is not available on the farm yet: denoise a local render")
         from .farm_cli import run_farm
 
         return run_farm(args, spp)
@@ -106,7 +115,10 @@ def render_locally(args, spp):
     outputs = output_patterns(args.outputImagePath, args.png)
     if not args.plan:  # --plan writes nothing
         check_outputs(outputs)
-    session = open_session(stage, session_options(args), frames[0])
+    options = session_options(args)
+    if args.denoise:  # OIDN's guides
+        options = dataclasses.replace(options, aovs=tuple(dict.fromkeys(("color", *options.aovs, *GUIDE_AOVS))))
+    session = open_session(stage, options, frames[0])
     if args.plan:
         from .plan import plan_json
 
@@ -146,8 +158,10 @@ def render_frames(session, frames, outputs, spp, args):
         bar.finish()
         warn_non_finite(stats["non_finite_samples"])
         for path in frame_outputs(outputs, frame):
-            session.write(path, args.exposure)
+            session.write(path, args.exposure, denoise=args.denoise)
             written.append(path)
+            if args.denoise and path.lower().endswith(".png"):
+                written.append(denoised_png_path(path))
         total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp, "

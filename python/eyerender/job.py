@@ -64,7 +64,8 @@ def session_options(args):
         render_settings_prim=args.renderSettingsPrimPath, purposes=parse_purposes(args.purposes),
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
-                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
+                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
+                  ("dome_light_visible", args.enableDomeLightVisibility)),
         plan=plan_options(args))
 
 

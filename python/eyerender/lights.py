@@ -1,12 +1,15 @@
 """UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, dome).
 
-Radiance = color * intensity * 2^exposure, as UsdLux defines it. With inputs:normalize the intensity is divided
-by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. colorTemperature and
-light textures other than the dome's are not rendered yet; the front end reports them.
+The attributes go to the delegate as authored; the delegate applies UsdLux's formulas (RenderLight::FromParams:
+radiance = color x blackbody(colorTemperature) x intensity x 2^exposure / sizeFactor with normalize, a distant
+light's intensity the radiance of its disc, treatAsPoint, ShapingAPI's cone and focus, the dome's poleAxis).
+Light and shadow linking: the collections' membership over the rendered prims, handed over as the rprim ids each
+light does not light / is not shadowed by (link_excludes). What the renderer does not do (CylinderLight, IES
+profiles, rect light textures) is reported once per prim (docs/lights.md).
 """
 import math
 
-from pxr import Sdf, UsdLux
+from pxr import Sdf, Usd, UsdGeom, UsdLux
 
 from ._hdeye import LightParams
 from .errors import EyeRenderError
@@ -18,6 +21,13 @@ LIGHT_TYPES = {
     "RectLight": "rectLight",
     "DiskLight": "diskLight",
     "DomeLight": "domeLight",
+    "DomeLight_1": "domeLight",
+}
+
+# UsdLux lights the renderer skips, with why (one warning each).
+SKIPPED_LIGHTS = {
+    "CylinderLight": "CylinderLight is not rendered",
+    "PortalLight": "PortalLight is not rendered (the dome is sampled without portals)",
 }
 
 
@@ -25,13 +35,45 @@ def light_type(prim):
     return LIGHT_TYPES.get(prim.GetTypeName())
 
 
-def _scale(world):
-    """The geometric-mean scale of a transform's linear part (lights are sized by it)."""
-    return abs(world.GetDeterminant3()) ** (1.0 / 3.0)
+def skipped_light(prim):
+    """One warning line for a UsdLux light prim the renderer skips, else None."""
+    why = SKIPPED_LIGHTS.get(prim.GetTypeName())
+    return f"{prim.GetPath()}: {why}; skipped" if why else None
 
 
-def read_light(prim, world, time):
-    """LightParams for a UsdLux light prim with local-to-world `world` (Gf.Matrix4d) at `time`."""
+def _finite(path, **values):
+    for name, v in values.items():
+        if not math.isfinite(v):
+            raise EyeRenderError(f"{path}: {name} = {v:g} must be finite")
+
+
+def _read_shaping(prim, time, p):
+    """ShapingAPI's cone and focus into p.shaping (IES profiles are reported by unsupported_light_features)."""
+    if not prim.HasAPI(UsdLux.ShapingAPI):
+        return
+    api = UsdLux.ShapingAPI(prim)
+    s = p.shaping
+    s.enabled = True
+    s.cone_angle = float(api.GetShapingConeAngleAttr().Get(time))
+    s.cone_softness = float(api.GetShapingConeSoftnessAttr().Get(time))
+    s.focus = float(api.GetShapingFocusAttr().Get(time))
+    s.focus_tint = tuple(float(c) for c in api.GetShapingFocusTintAttr().Get(time))
+    _finite(prim.GetPath(), **{"inputs:shaping:cone:angle": s.cone_angle, "inputs:shaping:cone:softness":
+                               s.cone_softness, "inputs:shaping:focus": s.focus})
+    p.shaping = s
+
+
+def _dome_pole_z(prim):
+    """Whether the dome's top pole is +z: DomeLight_1's poleAxis Z, or scene on a Z-up stage."""
+    if prim.GetTypeName() != "DomeLight_1":
+        return False
+    axis = UsdLux.DomeLight_1(prim).GetPoleAxisAttr().Get()
+    return axis == "Z" or (axis == "scene" and UsdGeom.GetStageUpAxis(prim.GetStage()) == UsdGeom.Tokens.z)
+
+
+def read_light(prim, time):
+    """LightParams for a UsdLux light prim at `time` (its size in the world comes from its transform, in the
+    delegate)."""
     api = UsdLux.LightAPI(prim)
     path = prim.GetPath()
     p = LightParams()
@@ -40,28 +82,30 @@ def read_light(prim, world, time):
     p.exposure = float(api.GetExposureAttr().Get(time))
     if not all(math.isfinite(v) for v in (*p.color, p.intensity, p.exposure)) or min(p.color) < 0 or p.intensity < 0:
         raise EyeRenderError(f"{path}: light color, intensity and exposure must be finite and non-negative")
+    p.normalize = bool(api.GetNormalizeAttr().Get(time))
+    p.enable_color_temperature = bool(api.GetEnableColorTemperatureAttr().Get(time))
+    p.color_temperature = float(api.GetColorTemperatureAttr().Get(time))
+    if p.enable_color_temperature and not 1000 <= p.color_temperature <= 40000:
+        raise EyeRenderError(f"{path}: inputs:colorTemperature = {p.color_temperature:g} K must be in "
+                             "[1000, 40000] (UsdLux: 1000-10000)")
     kind = prim.GetTypeName()
-    scale = _scale(world)
-    area = None
+    _read_shaping(prim, time, p)
     if kind == "SphereLight":
         light = UsdLux.SphereLight(prim)
-        # treatAsPoint is a hint renderers with area lights may disregard (UsdLux): the sphere keeps its radius,
-        # and with it its power (UsdLux intensity is radiance: a zero-radius sphere would emit nothing).
         p.radius = float(light.GetRadiusAttr().Get(time))
-        area = 4 * math.pi * (p.radius * scale) ** 2
+        p.treat_as_point = bool(light.GetTreatAsPointAttr().Get(time))
     elif kind == "DiskLight":
         p.radius = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
-        area = math.pi * (p.radius * scale) ** 2
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
         p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
-        area = p.width * p.height * scale * scale
     elif kind == "DistantLight":
         p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
         if not 0 <= p.angle < 180:
             raise EyeRenderError(f"{path}: inputs:angle = {p.angle:g} degrees must be in [0, 180)")
-    elif kind == "DomeLight":
-        dome = UsdLux.DomeLight(prim)
+    elif kind in ("DomeLight", "DomeLight_1"):
+        p.dome_pole_z = _dome_pole_z(prim)
+        dome = UsdLux.DomeLight(prim) if kind == "DomeLight" else UsdLux.DomeLight_1(prim)
         asset = dome.GetTextureFileAttr().Get(time)
         if isinstance(asset, Sdf.AssetPath) and asset.path:
             if not asset.resolvedPath:
@@ -73,8 +117,6 @@ def read_light(prim, world, time):
     for name in ("radius", "width", "height"):
         if not (getattr(p, name) >= 0 and math.isfinite(getattr(p, name))):
             raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
-    if api.GetNormalizeAttr().Get(time) and area:
-        p.intensity /= area
     return p
 
 
@@ -82,11 +124,35 @@ def unsupported_light_features(prim, time):
     """Authored light features the renderer ignores, for a one-time warning."""
     api = UsdLux.LightAPI(prim)
     notes = []
-    if api.GetEnableColorTemperatureAttr().Get(time):
-        notes.append(f"{prim.GetPath()}: colorTemperature is ignored")
-    if prim.GetTypeName() in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time):
-        notes.append(f"{prim.GetPath()}: radius 0 emits nothing (intensity is radiance)")
-    if prim.GetTypeName() == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
-        notes.append(f"{prim.GetPath()}: rect light texture is ignored")
+    path = prim.GetPath()
+    kind = prim.GetTypeName()
+    point = kind == "SphereLight" and UsdLux.SphereLight(prim).GetTreatAsPointAttr().Get(time)
+    if kind in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time) and \
+            not (point and api.GetNormalizeAttr().Get(time)):
+        notes.append(f"{path}: radius 0 emits nothing (intensity is radiance)")
+    if kind == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
+        notes.append(f"{path}: inputs:texture:file is ignored (rect light textures are not rendered)")
+    if prim.HasAPI(UsdLux.ShapingAPI) and UsdLux.ShapingAPI(prim).GetShapingIesFileAttr().Get(time):
+        notes.append(f"{path}: inputs:shaping:ies:file is ignored (IES profiles are not rendered)")
+    if prim.HasAPI(UsdLux.ShapingAPI) and kind in ("DistantLight", "DomeLight", "DomeLight_1"):
+        notes.append(f"{path}: ShapingAPI is ignored on a {kind}")
     return notes
+
+
+def link_excludes(prim, rprims):
+    """(rprim ids the light does not illuminate, rprim ids that cast no shadow for it): the membership of its
+    collection:lightLink and collection:shadowLink (Usd.CollectionAPI.ComputeMembershipQuery: includeRoot,
+    includes, excludes, expansion rules) over `rprims`, {rprim id: the prim path it came from}."""
+    out = []
+    for name in ("lightLink", "shadowLink"):
+        query = Usd.CollectionAPI(prim, name).ComputeMembershipQuery()
+        out.append([rprim for rprim, path in rprims.items() if not query.IsPathIncluded(path)])
+    return tuple(out)
+
+
+def with_links(params, excludes):
+    """`params` with the (light, shadow) link excludes of link_excludes set (None: unchanged)."""
+    if excludes:
+        params.light_link_excludes, params.shadow_link_excludes = list(excludes[0]), list(excludes[1])
+    return params
 

@@ -30,14 +30,17 @@ class RenderSession:
     """Renders one stage, frame after frame, into in-memory AOV buffers."""
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
-                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None):
+                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
+                 dome_light_visible=False):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
         aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
-        sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given)."""
+        sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given);
+        dome_light_visible: camera rays see dome lights (usdrecord's --enableDomeLightVisibility; off, domes light
+        the scene behind a black background)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -46,6 +49,7 @@ class RenderSession:
         self.delegate = RenderDelegate()
         self.index = RenderIndex(self.delegate)
         self.store = SceneStore(self.index)
+        self.delegate.settings.dome_light_visible = bool(dome_light_visible)
         for name, value in (settings or {}).items():
             setattr(self.delegate.settings, name, value)
         self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
@@ -152,29 +156,45 @@ class RenderSession:
         except RuntimeError as e:
             raise EyeRenderError(str(e)) from None
 
-    def write(self, path, exposure=0.0):
+    def write(self, path, exposure=0.0, denoise=False):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
-        .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
+        .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic. denoise: also the OIDN-denoised
+        beauty (eyerender.denoise; the session must render the albedo and normal AOVs)."""
         from .plan import plan_json
 
         attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
-        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes)
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
+                     denoise=denoise)
 
 
-def write_images(path, images, exposure=0.0, attributes=None):
+def write_images(path, images, exposure=0.0, attributes=None, denoise=False):
     """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
-    RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG)."""
+    RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG).
+    denoise: the beauty denoised with the albedo and normal images as guides goes beside the raw one, never over
+    it: channels denoised.R/G/B in an .exr, `<name>.denoised.png` beside a .png."""
+    from .denoise import DENOISED_CHANNELS, GUIDE_AOVS, denoise_beauty, denoised_png_path
+
     ext = os.path.splitext(path)[1].lower()
+    if ext not in (".exr", ".png"):
+        raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+    denoised = None
+    if denoise:
+        missing = [aov for aov in GUIDE_AOVS if aov not in images]
+        if missing:
+            raise EyeRenderError(f"denoise needs the {' and '.join(missing)} AOV(s)")
+        denoised = denoise_beauty(images["color"], images["albedo"], images["normal"])
     try:
         if ext == ".exr":
             planes = []
             for aov, pixels in images.items():
                 planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
+            if denoised is not None:
+                planes += [(name, np.ascontiguousarray(denoised[:, :, c])) for c, name in enumerate(DENOISED_CHANNELS)]
             write_exr(path, planes, list((attributes or {}).items()))
-        elif ext == ".png":
-            write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
         else:
-            raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+            write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
+            if denoised is not None:
+                write_png_preview(denoised_png_path(path), denoised, exposure)
     except RuntimeError as e:
         raise EyeRenderError(str(e)) from None
 

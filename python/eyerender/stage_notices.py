@@ -75,7 +75,8 @@ class StageChangeQueue:
 class StageFollowing:
     """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
-    `_point_counts` (mesh id -> points sent), `_add_subtree`, `_world_of` and the eye and material readers."""
+    `_point_counts` (mesh id -> points sent), `_add_subtree`, `_forget`, `_world_of`, `_link_light`, `_light_params`
+    and the eye and material readers."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -128,9 +129,7 @@ class StageFollowing:
             for prim_id in self._owned.pop(owner):
                 self.store.remove_prim(prim_id)
                 removed += 1
-                for ids in (self.eyes, self.cameras):
-                    if prim_id in ids:
-                        ids.remove(prim_id)
+                self._forget(prim_id)
         self._updaters = [u for u in self._updaters if not u[0].HasPrefix(path)]
         self._skinning.remove_under(path)
         before = sum(len(ids) for ids in self._owned.values())
@@ -196,13 +195,12 @@ class StageFollowing:
         is_light = bool(lights.light_type(prim))
         if kind == TRANSFORM:
             self.store.set_transform(prim_id, to_matrix(self._world_of(prim)))
-            if is_light:  # a light's parameters are read in world space
-                self.store.set_light_params(prim_id, lights.read_light(prim, self._world_of(prim), self.time))
         elif kind == VISIBILITY:
             self.store.set_visible(prim_id, UsdGeom.Imageable(prim).ComputeVisibility(self.time) !=
                                    UsdGeom.Tokens.invisible)
-        elif kind == PARAMS and is_light:
-            self.store.set_light_params(prim_id, lights.read_light(prim, self._world_of(prim), self.time))
+        elif kind == PARAMS and is_light:  # its link collections may be what changed
+            self._link_light(prim_id, prim)
+            self.store.set_light_params(prim_id, self._light_params(prim, self.time))
         elif kind == PARAMS and prim.IsA(UsdGeom.Camera):
             self.store.set_camera_params(prim_id, cameras.read_camera(UsdGeom.Camera(prim), self.time))
         elif kind == EYE and eyes.is_eye(prim):

@@ -64,6 +64,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._skinning = StageSkinning(self.warnings)  # filled as populate meets SkelRoots
         self._rigs = None        # eye_rigs.EyeRigs: the cornea shells left out, found by populate
         self._warned = set()     # warnings given once per stage (mesh_topology's)
+        self._rprims = {}        # rprim id -> the prim path it came from (light linking's membership)
+        self._lights = {}        # light prim path -> its prim
+        self._link_excludes = {}  # light prim path -> (not lit, not shadowing) rprim ids, where linked
         self._populated = False
 
     # -- public ------------------------------------------------------------------------------------------------
@@ -93,6 +96,26 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 continue
             if self._add_prim(prim):
                 it.PruneChildren()
+        self._link_lights()
+
+    def _link_lights(self):
+        """Resolves each light's light and shadow link collections over the rprims, once every rprim is known (after
+        populate and after every re-population by a stage edit, which may add or remove rprims)."""
+        for prim_id, prim in self._lights.items():
+            if self._link_light(prim_id, prim):
+                self.store.set_light_params(prim_id, self._light_params(prim, self.time))
+
+    def _link_light(self, prim_id, prim):
+        """Re-resolves one light's link collections into _link_excludes; returns whether they changed."""
+        excludes = lights.link_excludes(prim, self._rprims)
+        before = self._link_excludes.pop(prim_id, None)
+        if any(excludes):
+            self._link_excludes[prim_id] = excludes
+        return self._link_excludes.get(prim_id) != before
+
+    def _light_params(self, prim, time):
+        """A light's LightParams at `time` with the rprims its link collections leave out."""
+        return lights.with_links(lights.read_light(prim, time), self._link_excludes.get(prim.GetPath().pathString))
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
@@ -111,6 +134,15 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _own(self, prim_id):
         self._owned.setdefault(self._owner, []).append(prim_id)
+
+    def _forget(self, prim_id):
+        """Drops a removed delegate prim from the lists and light-linking tables that name it."""
+        for ids in (self.eyes, self.cameras):
+            if prim_id in ids:
+                ids.remove(prim_id)
+        self._rprims.pop(prim_id, None)
+        self._lights.pop(prim_id, None)
+        self._link_excludes.pop(prim_id, None)
 
     # -- dispatch ----------------------------------------------------------------------------------------------
 
@@ -135,6 +167,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._add_camera(prim)
         elif lights.light_type(prim):
             self._add_light(prim)
+        elif lights.skipped_light(prim):
+            self.warnings.append(lights.skipped_light(prim))
         elif prim.IsA(UsdGeom.Gprim):
             self._add_gprim(prim)
         elif eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable):
@@ -206,6 +240,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return counts, indices, points
 
     def _add_mesh(self, prim, prim_id, world):
+        self._rprims[prim_id] = prim.GetPath()
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
@@ -423,6 +458,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             return
         counts, indices, points = tessellated
         prim_id = prim.GetPath().pathString
+        self._rprims[prim_id] = prim.GetPath()
         material_id, _ = self._bind_material(prim)
         self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
         self._own(prim_id)
@@ -435,6 +471,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         prim_id = prim.GetPath().pathString
         material_id, _ = self._bind_material(prim)
         add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
+        self._rprims[prim_id] = prim.GetPath()
         try:
             animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
         except EyeRenderError as e:
@@ -491,20 +528,22 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
         self.cameras.append(prim_id)
         self._own(prim_id)
+        if cameras.depth_of_field_note(camera, self.time):
+            self.warnings.append(cameras.depth_of_field_note(camera, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
             self._track(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
-        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
+        self._lights[prim_id] = prim
+        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self.time),
                              _matrix(self._world_of(prim)))
         self._own(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._track(("light", lambda t: self.store.set_light_params(
-                prim_id, lights.read_light(prim, self._world_of(prim), t))))
+            self._track(("light", lambda t: self.store.set_light_params(prim_id, self._light_params(prim, t))))
 
     def _bind_material(self, prim):
         """(material id, st primvar name) of prim's bound material, adding the material on first use."""
@@ -524,6 +563,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _add_analytic_eye(self, prim):
         prim_id = prim.GetPath().pathString
+        self._rprims[prim_id] = prim.GetPath()
         self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
                                     _matrix(self._world_of(prim)))
         self.eyes.append(prim_id)

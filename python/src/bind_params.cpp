@@ -5,6 +5,7 @@
 
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 namespace hdeye::python {
 
@@ -45,7 +46,19 @@ void BindParams(nb::module_& m) {
       .def_rw("horizontal_aperture", &CameraParams::horizontalAperture, "mm, or scene units (orthographic)")
       .def_rw("vertical_aperture", &CameraParams::verticalAperture, "mm, or scene units (orthographic)")
       .def_rw("near_clip", &CameraParams::nearClip, "scene units")
-      .def_rw("far_clip", &CameraParams::farClip, "scene units");
+      .def_rw("far_clip", &CameraParams::farClip, "scene units")
+      .def_rw("f_stop", &CameraParams::fStop, "f-number; 0: pinhole")
+      .def_rw("focus_distance", &CameraParams::focusDistance, "scene units")
+      .def_rw("focal_length_unit", &CameraParams::focalLengthUnit, "scene units per focal-length unit (USD: 0.1)");
+  m.def("lens_aperture_diameter", &LensApertureDiameter, "scene units (0: pinhole)");
+
+  nb::class_<LightShaping> shaping(m, "LightShaping");
+  shaping.def(nb::init<>())
+      .def_rw("enabled", &LightShaping::enabled)
+      .def_rw("cone_angle", &LightShaping::coneAngle, "degrees off the axis")
+      .def_rw("cone_softness", &LightShaping::coneSoftness, "[0, 1]")
+      .def_rw("focus", &LightShaping::focus, "exponent of |cos|");
+  Vec3Property<LightShaping, &LightShaping::focusTint>(shaping, "focus_tint");
 
   nb::class_<LightParams> light(m, "LightParams");
   light.def(nb::init<>())
@@ -55,7 +68,15 @@ void BindParams(nb::module_& m) {
       .def_rw("width", &LightParams::width, "scene units (rect)")
       .def_rw("height", &LightParams::height, "scene units (rect)")
       .def_rw("angle", &LightParams::angle, "degrees, angular diameter (distant)")
-      .def_rw("texture_file", &LightParams::textureFile, "lat-long image (dome)");
+      .def_rw("texture_file", &LightParams::textureFile, "lat-long image (dome)")
+      .def_rw("normalize", &LightParams::normalize)
+      .def_rw("enable_color_temperature", &LightParams::enableColorTemperature)
+      .def_rw("color_temperature", &LightParams::colorTemperature, "kelvin")
+      .def_rw("treat_as_point", &LightParams::treatAsPoint)
+      .def_rw("shaping", &LightParams::shaping)
+      .def_rw("dome_pole_z", &LightParams::domePoleZ, "dome: image's top pole on local +z")
+      .def_rw("light_link_excludes", &LightParams::lightLinkExcludes, "rprim ids this light does not illuminate")
+      .def_rw("shadow_link_excludes", &LightParams::shadowLinkExcludes, "rprim ids casting no shadow for it");
   Vec3Property<LightParams, &LightParams::color>(light, "color");
 
   nb::class_<MaterialParams> material(m, "MaterialParams");

@@ -84,6 +84,8 @@ void BindPlan(nb::module_& m) {
       .def_ro("behind_camera", &EyePlan::behindCamera)
       .def_ro("view_angle_deg", &EyePlan::viewAngleDeg, "gaze to the direction to the camera, degrees")
       .def_ro("limbus_pixels", &EyePlan::limbusPixels, "the limbus band's projected width, pixels")
+      .def_ro("blur_pixels", &EyePlan::blurPixels, "circle of confusion at the iris, pixels (0: in focus)")
+      .def_ro("resolved_pixels", &EyePlan::resolvedPixels, "pixels / max(1, blur_pixels)")
       .def_ro("lights", &EyePlan::lights)
       .def_ro("mnee", &EyePlan::mnee)
       .def_ro("mnee_all_solutions", &EyePlan::mneeAllSolutions)

@@ -26,7 +26,8 @@ void BindRender(nb::module_& m) {
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
-              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
+      .def_rw("dome_light_visible", &RenderSettings::domeLightVisible, "camera rays see dome lights");
 
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)

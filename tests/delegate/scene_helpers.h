@@ -84,6 +84,19 @@ inline void Quad(double h, hdeye::MeshTopology* topology, std::vector<hdeye::Vec
   topology->faceVertexIndices = {0, 1, 2, 3};
 }
 
+/// A pure-Lambert square ("/floor", material "/mat": no specular coat, what closed forms assume) of half-size h
+/// and albedo `albedo` in the plane z = 0, added to a scene delegate.
+inline void AddLambertPlane(hdeye::InMemorySceneDelegate& scene, double h, double albedo) {
+  hdeye::MeshTopology plane;
+  std::vector<hdeye::Vec3f> points;
+  Quad(h, &plane, &points);
+  hdeye::MaterialParams m;
+  m.diffuseColor = glm::vec3(float(albedo));
+  m.ior = 1;  // F0 = 0: no coat
+  scene.AddMaterial("/mat", m);
+  scene.AddMesh("/floor", plane, points, hdeye::Matrix4d(1.0), "/mat");
+}
+
 /// A cube of half-size h around the origin, as 6 quads.
 inline void Cube(double h, hdeye::MeshTopology* topology, std::vector<hdeye::Vec3f>* points) {
   const float f = float(h);

@@ -73,14 +73,7 @@ TEST_CASE("a diffuse plane under a sphere light matches the analytic irradiance,
   double results[2];
   for (int mis = 0; mis < 2; ++mis) {
     Scene s;
-    MeshTopology plane;
-    std::vector<Vec3f> points;
-    test::Quad(10, &plane, &points);
-    MaterialParams m;
-    m.diffuseColor = glm::vec3(float(rho));
-    m.ior = 1;  // pure Lambert: the closed form has no specular coat
-    s.scene.AddMaterial("/mat", m);
-    s.scene.AddMesh("/floor", plane, points, Matrix4d(1.0), "/mat");
+    test::AddLambertPlane(s.scene, 10, rho);  // pure Lambert: the closed form has no specular coat
     LightParams light;
     light.type = LightType::Sphere;
     light.radius = float(R);

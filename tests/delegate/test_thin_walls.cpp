@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 using namespace hdeye;
 
@@ -114,6 +116,35 @@ TEST_CASE("seen through a sheet of opacity a, the lit plane is (1 - a)^2 as brig
   const double got = above.MeanRed(), expected = 0.25 * unshadowed;
   std::printf("plane seen through a 0.5 sheet: %.6f (closed form %.6f)\n", got, expected);
   CHECK(got == Approx(expected).epsilon(0.03));
+}
+
+TEST_CASE("shadow linking and thin walls in one shadow ray: an ignored card passes all, the sheet 1 - a, else dark",
+          "[thin][linking][render]") {
+  // An opaque 4 x 4 card at z = 4, between the sheet (opacity 0.5, z = 2) and the light (z = 8), hides the light
+  // from the patch. Shadow-unlinking the card leaves the sheet's attenuation; unlinking the sheet too, none.
+  const double unshadowed = kRho * (kLightRadius / kLightHeight) * (kLightRadius / kLightHeight);
+  auto render = [](std::vector<PrimId> unshadowed) {
+    // Light sampling alone (the card still blocks BSDF rays, which see no links), direct light only (no bounce
+    // off the card's underside).
+    SheetScene s(0.5f, 1, false);
+    s.delegate.Settings().maxDepth = 0;
+    MeshTopology quad;
+    std::vector<Vec3f> points;
+    test::Quad(2, &quad, &points);
+    s.scene.AddMesh("/card", quad, points, test::LookDownZ(4));
+    LightParams key = s.scene.GetLightParams("/key");
+    key.shadowLinkExcludes = std::move(unshadowed);
+    s.scene.SetLightParams("/key", key);
+    return s.MeanRed();
+  };
+  const double blocked = render({}), cardIgnored = render({"/card"}), bothIgnored = render({"/card", "/sheet"});
+  std::printf(
+      "plane under card and 0.5 sheet: %.6f, card shadow-unlinked %.6f (closed form %.6f), both %.6f "
+      "(closed form %.6f)\n",
+      blocked, cardIgnored, 0.5 * unshadowed, bothIgnored, unshadowed);
+  CHECK(blocked == 0);
+  CHECK(cardIgnored == Approx(0.5 * unshadowed).epsilon(0.015));
+  CHECK(bothIgnored == Approx(unshadowed).epsilon(0.015));
 }
 
 TEST_CASE("a mesh is a thin wall while it is open; closing it makes it glass again", "[thin]") {

@@ -214,6 +214,8 @@ def test_each_light_kind_lights_a_card(light_type):
     quad_grid_mesh(stage, "/card", n=1, size=20, scheme="none")
     light = getattr(UsdLux, light_type).Define(stage, "/light")
     light.CreateIntensityAttr(1.0)
+    if light_type == "DistantLight":  # intensity 1 is the radiance of a 0.53 degree disc: normalize makes it 1 lux
+        light.CreateNormalizeAttr(True)
     if light_type not in ("DomeLight", "DistantLight"):
         light.AddTranslateOp().Set(Gf.Vec3d(0, 0, 3))
     s = session(stage, width=8, height=8)

@@ -9,6 +9,7 @@
 #include "hdeye/prims/renderDelegate.h"
 #include "hdeye/render/renderContext.h"
 
+#include <map>
 #include <stdexcept>
 
 namespace hdeye {
@@ -40,6 +41,19 @@ SurfaceMaterial Resolve(RenderIndex& index, const PrimId& id) {
   return material ? SurfaceMaterial{material->Params(), material->DiffuseTexture(), true} : SurfaceMaterial{};
 }
 
+/// Flags, over every rprim index, the rprims named in `excludes` (ids of prims not in the index are skipped:
+/// the scene delegate may name prims that are not rendered). Leaves `flags` empty when none is named.
+void MarkLinked(const std::vector<PrimId>& excludes, const std::map<PrimId, int>& primIndices, int count,
+                std::vector<char>* flags) {
+  flags->clear();
+  for (const PrimId& id : excludes) {
+    const auto found = primIndices.find(id);
+    if (found == primIndices.end()) continue;
+    flags->resize(std::size_t(count), 0);
+    (*flags)[std::size_t(found->second)] = 1;
+  }
+}
+
 }  // namespace
 
 RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
@@ -54,17 +68,13 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   const auto* camera = dynamic_cast<const Camera*>(index_->GetSprim(cameraId));
   if (!camera) throw std::runtime_error("render pass: camera " + cameraId + " not found");
 
-  std::vector<RenderLight> lights;
-  for (const auto& [id, entry] : index_->Sprims())
-    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
-
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
+  std::map<PrimId, int> primIndices;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
-    context->primIndex = primIndex++;
+    primIndices[id] = context->primIndex = primIndex++;
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
     context->material = bound.params;
     context->materialBound = bound.bound;
@@ -74,6 +84,14 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
       for (const PrimId& subsetMaterial : mesh->SubsetMaterialIds())
         context->subsetMaterials.push_back(subsetMaterial.empty() ? bound : Resolve(*index_, subsetMaterial));
   }
+
+  std::vector<RenderLight> lights;
+  for (const auto& [id, entry] : index_->Sprims())
+    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      MarkLinked(light->Params().lightLinkExcludes, primIndices, primIndex, &lights.back().unlit);
+      MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
+    }
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

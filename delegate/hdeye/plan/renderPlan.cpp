@@ -119,7 +119,13 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
     plan.pixels = longest;
     plan.inView = hi.x >= 0 && lo.x <= width && hi.y >= 0 && lo.y <= height;
   }
-  plan.limbusPixels = plan.pixels * (eye.chamber.LimbusOuterRadius() - eye.chamber.LimbusInnerRadius()) /
+  // The circle of confusion at the iris centre's depth along the view axis (film units, then pixels).
+  const double depth = -glm::dvec3(worldToCamera * glm::dvec4(IrisCentre(eye), 1)).z;
+  const double aperture = LensApertureDiameter(cp), focus = cp.focusDistance;
+  if (aperture > 0 && focus > 0 && depth > 0)
+    plan.blurPixels = aperture * cp.focalLength * std::abs(depth - focus) / (depth * focus) / cp.horizontalAperture * width;
+  plan.resolvedPixels = plan.pixels / std::max(1.0, plan.blurPixels);
+  plan.limbusPixels = plan.resolvedPixels * (eye.chamber.LimbusOuterRadius() - eye.chamber.LimbusInnerRadius()) /
                       (2 * eyelib::paper::kRimRadius);
 
   const glm::dvec3 centre = IrisCentre(eye), gaze = eye.DirToWorld({0, 0, 1});
@@ -244,12 +250,12 @@ Decision<bool> DecideAllSolutions(const EyePlan& e, const PlanRules& rules, cons
   const LightFacts* grazing = nullptr;
   for (const LightFacts& l : e.lights)
     if (l.strategy == LightStrategy::Mnee && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
-  if (grazing && e.pixels >= rules.allSolutionsMinPixels)
+  if (grazing && e.resolvedPixels >= rules.allSolutionsMinPixels)
     return {true, grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) + " deg >= " +
-                      Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.pixels, 4) +
+                      Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.resolvedPixels, 4) +
                       " px eye: caustic fold (sweep allsol-size: one path misses up to 47% in a pixel from 200 px)"};
   if (grazing)
-    return {false, "grazing light but eye " + Num(e.pixels, 4) + " px < " + Num(rules.allSolutionsMinPixels, 4) +
+    return {false, "grazing light but eye " + Num(e.resolvedPixels, 4) + " px < " + Num(rules.allSolutionsMinPixels, 4) +
                        " px: one path per sample is cheaper for the same error (sweep allsol-size)"};
   return {false, "no MNEE light at >= " + Num(rules.allSolutionsMinAngleDeg, 3) +
                      " deg: one path per sample (second paths carry < 0.2% of the iris light)"};
@@ -277,13 +283,13 @@ Decision<ScleraModel> DecideSclera(const EyePlan& e, const std::string& hidden, 
     return {model, std::string("flag: ") + ToString(model)};
   }
   if (!hidden.empty()) return {ScleraModel::Diffuse, hidden};
-  if (e.pixels >= rules.sssMinPixels)
+  if (e.resolvedPixels >= rules.sssMinPixels)
     return {ScleraModel::RandomWalk,
-            "eye " + Num(e.pixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
+            "eye " + Num(e.resolvedPixels, 3) + " px >= " + Num(rules.sssMinPixels, 3) +
                 " px: a Lambertian sclera is visibly off (sweep sclera: its equal-time MSE 1.6-6.7x the walk's "
                 "at 2.5 px, 2.0-10.5x at 3 px, 1.4-3.3x from 4 to 32 px)"};
   return {ScleraModel::Diffuse,
-          "eye " + Num(e.pixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
+          "eye " + Num(e.resolvedPixels, 3) + " px < " + Num(rules.sssMinPixels, 3) +
               " px: a Lambertian sclera is within the walk's equal-time noise (sweep sclera at 2 px: its MSE "
               "0.15-0.70x the walk's front-lit, 1.1-12x side-lit, on 4 eye pixels)"};
 }
@@ -316,12 +322,12 @@ Decision<bool> DecideLimbalArc(const EyePlan& e, const PlanRules& rules, const P
 Decision<int> DecideRefineLevel(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
   if (e.geometry != primTypes::kEyeMesh) return {-1, "analytic eye: no mesh"};
   int level = 0;
-  if (e.pixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e.pixels / rules.refinePixelsLevel1)));
+  if (e.resolvedPixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e.resolvedPixels / rules.refinePixelsLevel1)));
   const bool capped = level > rules.refineMaxLevel;
   level = std::min(level, rules.refineMaxLevel);
   const bool held = level > ov.refineLevelCeiling;
   return {std::min(level, ov.refineLevelCeiling),
-          Num(e.pixels, 4) + " px -> level " + std::to_string(level) +
+          Num(e.resolvedPixels, 4) + " px -> level " + std::to_string(level) +
               (held ? ", held at the --complexity ceiling " : " (ceiling ") + std::to_string(ov.refineLevelCeiling) +
               (held ? "" : ")") + ": one level per doubling from " + Num(rules.refinePixelsLevel1, 3) +
               " px, at most level " + std::to_string(rules.refineMaxLevel) +
@@ -356,7 +362,8 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   Record(e, &e->sss, "sss", DecideSclera(*e, hidden, rules, ov));
   Record(e, &e->limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
   Record(e, &e->refineLevel, "refineLevel", DecideRefineLevel(*e, rules, ov));
-  e->pixelFootprintMm = e->pixels > 0 ? eyelib::paper::kRimRadius * 2 / e->pixels : std::numeric_limits<double>::infinity();
+  e->pixelFootprintMm =
+      e->resolvedPixels > 0 ? eyelib::paper::kRimRadius * 2 / e->resolvedPixels : std::numeric_limits<double>::infinity();
   Record(e, &e->floatWouldSuffice, "precision", DecideFloatWouldSuffice(*e, rules));
 }
 
@@ -500,6 +507,7 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
     for (const LightFacts& l : e.lights)
       if (l.strategy == LightStrategy::Mnee) mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
     std::string line = "plan " + e.prim + ": " + Num(e.pixels, 4) + " px" +
+                       (e.blurPixels > 1 ? " (blur " + Num(e.blurPixels, 3) + " px)" : "") +
                        (e.behindCamera ? " (behind camera)" : e.inView ? "" : " (out of view)") +
                        ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) +
                        ", all solutions " + (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) +

@@ -134,6 +134,13 @@ struct EyePlan {
   bool behindCamera = false;   ///< all of it behind the camera plane
   double viewAngleDeg = 0;     ///< gaze to the direction from the eye to the camera, degrees (0: looking at it)
   double limbusPixels = 0;     ///< the limbus band's projected width, pixels
+  /// Depth of field: the circle of confusion's diameter at the iris centre's depth, pixels (thin lens:
+  /// A f |D - F| / (D F) on the film, A the aperture, F the focus distance, D the eye's depth; 0 for a pinhole).
+  double blurPixels = 0;
+  /// `pixels` as detail: the iris circle's size in blur disks, pixels / max(1, blurPixels). The size rules
+  /// (all solutions, sclera walk, limbal arc band, subdivision level, float footprint) read this; MNEE, which
+  /// brings the caustic's energy whatever blurs it, reads `pixels`.
+  double resolvedPixels = 0;
   std::vector<LightFacts> lights;
 
   bool mnee = false;           ///< MNEE for at least one light
@@ -144,7 +151,8 @@ struct EyePlan {
   ScleraModel sss = ScleraModel::Diffuse;
   bool limbalArc = false;       ///< the teleportation cylinder in the sclera walk
   int refineLevel = -1;         ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
-  /// Millimetres of the eye per pixel: the 15.08 mm iris circle over `pixels` (infinite when not projected).
+  /// Millimetres of the eye per resolved pixel: the 15.08 mm iris circle over `resolvedPixels` (the blur disk
+  /// widens it; infinite when not projected).
   double pixelFootprintMm = 0;
   /// Float's measured worst hit error is under PlanRules::floatMaxErrorPixels of a pixel here: float would be
   /// enough for this eye's intersections. Reported only: the renderer has no float eye path.

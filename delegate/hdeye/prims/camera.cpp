@@ -1,5 +1,6 @@
 #include "hdeye/prims/camera.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace hdeye {
@@ -10,6 +11,9 @@ void Camera::Sync(SceneDelegate* sceneDelegate, RenderParam*, DirtyBits* dirtyBi
     const CameraParams p = sceneDelegate->GetCameraParams(Id());
     if (!(p.horizontalAperture > 0) || !(p.verticalAperture > 0) || (!p.orthographic && !(p.focalLength > 0)))
       throw std::runtime_error("camera " + Id() + ": focal length and apertures must be positive");
+    if (!(p.fStop >= 0) || !std::isfinite(p.fStop) || !(p.focusDistance >= 0) || !std::isfinite(p.focusDistance) ||
+        !(p.focalLengthUnit > 0) || !std::isfinite(p.focalLengthUnit))
+      throw std::runtime_error("camera " + Id() + ": fStop and focusDistance must be finite and >= 0");
     view_.params = p;
   }
   *dirtyBits = dirty::Clean;

@@ -2,9 +2,20 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
+
 namespace hdeye {
 
-WorldRay CameraView::GenerateRay(double u, double v, double imageAspect) const {
+glm::dvec2 ConcentricDisk(double u1, double u2) {
+  constexpr double kQuarterPi = 0.78539816339744830962;
+  const double a = 2 * u1 - 1, b = 2 * u2 - 1;
+  if (a == 0 && b == 0) return {0, 0};
+  const bool wide = std::abs(a) > std::abs(b);
+  const double r = wide ? a : b, phi = wide ? kQuarterPi * (b / a) : 2 * kQuarterPi - kQuarterPi * (a / b);
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+WorldRay CameraView::GenerateRay(double u, double v, double imageAspect, double lensU, double lensV) const {
   const double halfW = params.horizontalAperture / 2, halfH = halfW / imageAspect;
   const double fx = (2 * u - 1) * halfW, fy = (1 - 2 * v) * halfH;
   glm::dvec3 o(0), d;
@@ -14,10 +25,17 @@ WorldRay CameraView::GenerateRay(double u, double v, double imageAspect) const {
   } else {
     d = glm::normalize(glm::dvec3(fx, fy, -params.focalLength));
   }
+  // Clipping distances are along the view axis; convert to the ray parameter of a unit direction.
+  double cosAxis = params.orthographic ? 1.0 : -d.z;
+  if (HasLens() && params.focusDistance > 0) {
+    const glm::dvec3 focus = d * (params.focusDistance / cosAxis);  // on the plane z = -focusDistance
+    const glm::dvec2 lens = ConcentricDisk(lensU, lensV) * (LensApertureDiameter(params) / 2);
+    o = {lens.x, lens.y, 0};
+    d = glm::normalize(focus - o);
+    cosAxis = -d.z;
+  }
   const glm::dvec3 wo(transform * glm::dvec4(o, 1)), wd(transform * glm::dvec4(d, 0));
   const double len = glm::length(wd);
-  // Clipping distances are along the view axis; convert to the ray parameter of a unit direction.
-  const double cosAxis = params.orthographic ? 1.0 : -d.z;
   return {wo, wd / len, params.nearClip / cosAxis, params.farClip / cosAxis};
 }
 

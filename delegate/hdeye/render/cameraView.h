@@ -1,6 +1,6 @@
 #pragma once
 // A camera as the renderer sees it: its parameters and camera-to-world transform, and the rays it shoots
-// (perspective or orthographic, looking down its local -z axis).
+// (perspective or orthographic, looking down its local -z axis; a thin lens when CameraParams::fStop > 0).
 #include "hdeye/render/params.h"
 
 namespace hdeye {
@@ -16,9 +16,19 @@ struct CameraView {
   CameraParams params;
   Matrix4d transform{1.0};
 
+  /// Whether rays start on a lens of non-zero aperture (a perspective camera with fStop > 0): GenerateRay then
+  /// reads its lens sample.
+  bool HasLens() const { return LensApertureDiameter(params) > 0; }
+
   /// The ray through film position (u, v) in [0, 1]^2 (u right, v down) of an image of the given
-  /// aspect (width / height), fitting the film's width.
-  WorldRay GenerateRay(double u, double v, double imageAspect) const;
+  /// aspect (width / height), fitting the film's width. With a lens (HasLens), (lensU, lensV) in [0, 1)^2 pick
+  /// a point on the aperture disk (concentric map) and the ray goes from it through the point the pinhole ray
+  /// meets on the plane in focus (pbrt's thin lens: the field of view stays the pinhole's, as USD's projection
+  /// has it); without one they are ignored and the ray is the pinhole's.
+  WorldRay GenerateRay(double u, double v, double imageAspect, double lensU = 0.5, double lensV = 0.5) const;
 };
+
+/// Shirley and Chiu's concentric map of [0, 1)^2 onto the unit disk (area preserving, continuous).
+glm::dvec2 ConcentricDisk(double u1, double u2);
 
 }  // namespace hdeye

@@ -50,6 +50,11 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     end.distant = true;
     end.direction = eye.DirToCanonical(ls.dir);
     weight = 1 / ls.pdf;  // E_perp = L dw
+  } else if (light.delta) {
+    // A point of radiant intensity I: E = I x transfer, the transfer per mm^2 and I per world unit^2.
+    y = light.position;
+    end.position = eye.ToCanonical(y);
+    weight = 1 / (eye.worldPerMm * eye.worldPerMm);
   } else {
     y = apex + ls.dir * ls.distance;
     emitterNormal = light.type == LightType::Sphere ? glm::normalize(y - light.position) : light.direction;
@@ -73,13 +78,16 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
       const glm::dvec3 d = y - p;
       tFar = glm::length(d);
       toLight = d / tFar;
-      cosEmit = std::max(0.0, -glm::dot(emitterNormal, toLight));
+      cosEmit = light.delta ? 1.0 : std::max(0.0, -glm::dot(emitterNormal, toLight));
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
-    const double transmittance = lighting.transmittance(Offset(eye, p, n), toLight, tFar);
+    const double transmittance = lighting.transmittance(index, Offset(eye, p, n), toLight, tFar);
     if (!(transmittance > 0)) continue;
-    E += ls.radiance * (s.transfer * cosEmit * weight * transmittance);
+    // Emission towards this path's own cornea point (ShapingAPI; the apex sample's radiance for distant
+    // lights and domes, which have no shaping).
+    const glm::dvec3 le = distant ? ls.radiance : light.radiance * EmissionShaping(light, -toLight);
+    E += le * (s.transfer * cosEmit * weight * transmittance);
   }
   return E * double(counted);
 }

@@ -22,9 +22,13 @@ namespace hdeye {
 /// What the eye needs from the renderer: its lights, a world-space shadow test, random numbers.
 struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
-  /// The fraction of light reaching `origin` from along unit `dir` within tFar (world units): 0 blocked, 1 clear,
-  /// between for thin walls (an occlusion shell) on the way.
-  std::function<double(const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> transmittance;
+  /// The fraction of light `light` (an index into *lights) reaching `origin` from along unit `dir` within tFar
+  /// (world units): 0 blocked, 1 clear, between for thin walls (an occlusion shell) on the way. The light's
+  /// shadow linking decides what blocks it.
+  std::function<double(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> transmittance;
+  /// The eye's GeometryContext::primIndex: lights linked away from it (Illuminates) give it nothing, MNEE
+  /// included.
+  int receiver = -1;
   bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
   /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
   /// path tracing, for A/B comparisons); MNEE is not run.
@@ -41,6 +45,9 @@ struct EyeLighting {
 /// not at all.
 inline bool MneeCountsLight(const EyeLighting& lighting, std::size_t index) {
   if (!lighting.mnee) return false;
+  // A light linked away from the eye is counted by neither: the path leaving the iris skips it too (the renderer
+  // checks Illuminates against the vertex a ray left).
+  if (lighting.lights && !Illuminates((*lighting.lights)[index], lighting.receiver)) return false;
   const std::vector<bool>* mask = lighting.mneeLights;
   if (!mask || !lighting.lights || mask->size() != lighting.lights->size()) return true;
   return (*mask)[index];

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <string>
+#include <vector>
 
 namespace hdeye {
 
@@ -21,21 +22,61 @@ struct CameraParams {
   double horizontalAperture = 36;   ///< mm, or scene units of width (orthographic)
   double verticalAperture = 24;     ///< mm, or scene units of height (orthographic)
   double nearClip = 1e-3, farClip = 1e7;  ///< scene units
+  /// Thin-lens depth of field (UsdGeomCamera): the lens's f-number (unitless); 0 is a pinhole (no blur).
+  double fStop = 0;
+  /// Distance from the lens to the plane in focus, scene units (> 0 when fStop > 0).
+  double focusDistance = 0;
+  /// Scene units per unit of focalLength (and, for perspective cameras, the apertures): USD's tenth of a
+  /// scene unit (Gf.Camera's convention, 0.1: focalLength 50 is 5 scene units, 50 mm in a cm scene). Sizes the
+  /// lens aperture: diameter = focalLength * focalLengthUnit / fStop, scene units.
+  double focalLengthUnit = 0.1;
 };
+
+/// The lens aperture's diameter of a camera, scene units (0 for a pinhole or orthographic camera).
+inline double LensApertureDiameter(const CameraParams& p) {
+  return p.orthographic || !(p.fStop > 0) ? 0.0 : p.focalLength * p.focalLengthUnit / p.fStop;
+}
 
 /// The light kinds the delegate renders.
 enum class LightType { Sphere, Distant, Rect, Disk, Dome };
 
-/// Light parameters (UsdLux subset). Radiance of an area light = color * intensity * 2^exposure.
+/// UsdLuxShapingAPI: the cone and focus of a light's emission about its primary axis (local -z).
+struct LightShaping {
+  bool enabled = false;     ///< the prim has ShapingAPI (otherwise the fields below are ignored)
+  float coneAngle = 90;     ///< degrees off the axis past which the light emits nothing
+  float coneSoftness = 0;   ///< [0, 1]: the fraction of the cone over which emission smoothsteps to 0
+  float focus = 0;          ///< exponent of |cos(off-axis angle)| (< 0: ignored)
+  glm::vec3 focusTint{0, 0, 0};  ///< colour the focus falloff tends to off the axis (white: no focus)
+};
+
+/// Light parameters (UsdLux). Radiance = color (or the colorTemperature's blackbody colour, times color)
+/// * intensity * 2^exposure / sizeFactor (renderLight.h: RenderLight::FromParams, with the formulas).
 struct LightParams {
   /// Set by the light sprim from its prim type (what a scene delegate passes here is ignored).
   LightType type = LightType::Sphere;
   glm::vec3 color{1, 1, 1};
-  float intensity = 1, exposure = 0;
+  float intensity = 1, exposure = 0;  ///< intensity in nits (radiance); exposure in stops
+  /// Divide the radiance by the light's world-space area (distant: by its angular size), so resizing keeps
+  /// its power (distant: intensity becomes the illuminance, lux, of a surface facing it).
+  bool normalize = false;
+  bool enableColorTemperature = false;
+  float colorTemperature = 6500;  ///< kelvin, [1000, 10000]: blackbody colour, 6500 = white (used when enabled)
+  /// Sphere: render as a point light with the sphere's radiant intensity (pi r^2 L, r in world units).
+  bool treatAsPoint = false;
+  LightShaping shaping;
   float radius = 0.5f;      ///< sphere, disk (scene units)
   float width = 1, height = 1;  ///< rect (scene units)
   float angle = 0.53f;      ///< distant: angular diameter, degrees
   std::string textureFile;  ///< dome: lat-long texture (empty: constant colour)
+  /// Dome: the lat-long image's top pole is the light's local +z (UsdLuxDomeLight_1 poleAxis "Z", or "scene" on
+  /// a Z-up stage), a +90 degree turn about x of the default +y pole; false: +y (UsdLuxDomeLight).
+  bool domePoleZ = false;
+  /// Light linking (UsdLuxLightAPI's collection:lightLink, resolved by the scene delegate): the rprims this light
+  /// does not illuminate. Empty: it lights everything.
+  std::vector<std::string> lightLinkExcludes;
+  /// Shadow linking (collection:shadowLink): the rprims whose shadows this light ignores (its shadow rays pass
+  /// through them). Empty: everything casts shadows.
+  std::vector<std::string> shadowLinkExcludes;
 };
 
 /// Material parameters (UsdPreviewSurface subset). Colours are linear; opacity below 1 makes the

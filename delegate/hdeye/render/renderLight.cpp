@@ -1,5 +1,7 @@
 #include "hdeye/render/renderLight.h"
 
+#include "hdeye/render/blackbody.h"
+
 #include <eyelib/sampling.h>
 
 #include <algorithm>
@@ -23,6 +25,25 @@ double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
 
 double PlanarArea(const RenderLight& l) {
   return l.type == LightType::Rect ? 4 * glm::length(glm::cross(l.axisU, l.axisV)) : kPi * l.radius * l.radius;
+}
+
+/// UsdLux's sizeFactor of a distant light of half-angle theta (radians): what normalize divides by, so that
+/// its radiance times sizeFactor is the illuminance of a surface facing it.
+double DistantSizeFactor(double theta) {
+  if (!(theta > 0)) return 1;
+  const double s2 = std::sin(theta) * std::sin(theta);
+  return theta <= kPi / 2 ? kPi * s2 : kPi * (2 - s2);
+}
+
+ShapingRt ShapingOf(const LightShaping& s) {
+  ShapingRt r;
+  if (!s.enabled) return r;
+  r.enabled = true;
+  r.cutoff = std::clamp(double(s.coneAngle), 0.0, 180.0) * kPi / 180;
+  r.smoothStart = r.cutoff * (1 - std::clamp(double(s.coneSoftness), 0.0, 1.0));
+  r.focus = s.focus > 0 ? double(s.focus) : 0.0;
+  r.focusTint = glm::dvec3(s.focusTint);
+  return r;
 }
 
 double Luminance(const glm::vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -98,39 +119,76 @@ std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Text
 RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome) {
   RenderLight l;
   l.type = p.type;
-  l.radiance = glm::dvec3(p.color) * double(p.intensity) * std::exp2(double(p.exposure));
+  glm::dvec3 color(p.color);
+  if (p.enableColorTemperature) color *= BlackbodyColor(p.colorTemperature);
+  l.radiance = color * double(p.intensity) * std::exp2(double(p.exposure));
   l.position = glm::dvec3(m * glm::dvec4(0, 0, 0, 1));
   const glm::dvec3 x(m * glm::dvec4(1, 0, 0, 0)), y(m * glm::dvec4(0, 1, 0, 0)), z(m * glm::dvec4(0, 0, 1, 0));
   const double scale = std::max({glm::length(x), glm::length(y), glm::length(z)});
+  if (p.type != LightType::Dome && p.type != LightType::Distant) {
+    l.direction = -glm::normalize(z);
+    l.shaping = ShapingOf(p.shaping);
+  }
+  double sizeFactor = 1;  // UsdLux's, for normalize
   switch (p.type) {
-    case LightType::Sphere: l.radius = p.radius * scale; break;
+    case LightType::Sphere:
+      l.radius = p.radius * scale;
+      sizeFactor = 4 * kPi * l.radius * l.radius;
+      if (p.treatAsPoint) {
+        // The sphere's radiant intensity in any direction (its silhouette pi r^2 times its radiance); with
+        // normalize, L / 4 at any radius.
+        l.radiance *= p.normalize ? 0.25 : kPi * l.radius * l.radius;
+        l.radius = 0;
+        l.delta = true;
+        sizeFactor = 1;
+      }
+      break;
     case LightType::Distant: {
       l.direction = glm::normalize(z);
-      const double half = std::max(1e-4, double(p.angle) * kPi / 360);
+      const double half = std::clamp(double(p.angle) * kPi / 360, 0.0, kPi);
       l.cosHalfAngle = std::cos(half);
-      // Intensity is the irradiance on a surface facing the light: spread it over the sun's disk.
-      l.radiance /= kPi * std::sin(half) * std::sin(half);
+      l.delta = !(half > 0);
+      sizeFactor = DistantSizeFactor(half);
       break;
     }
     case LightType::Rect:
-      l.direction = -glm::normalize(z);
       l.axisU = x * (p.width / 2.0);
       l.axisV = y * (p.height / 2.0);
+      sizeFactor = PlanarArea(l);
       break;
     case LightType::Disk:
-      l.direction = -glm::normalize(z);
       l.axisU = glm::normalize(x);
       l.axisV = glm::normalize(y);
       l.radius = p.radius * scale;
+      sizeFactor = PlanarArea(l);
       break;
     case LightType::Dome:
       if (!p.textureFile.empty()) {
         l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
-        l.domeToWorld = RotationOf(m);
+        // +90 degrees about x takes the +y pole to +z (columns: the images of x, y, z).
+        const glm::dmat3 poleZ(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
+        l.domeToWorld = p.domePoleZ ? RotationOf(m) * poleZ : RotationOf(m);
       }
       break;
   }
+  // A zero-size light has nothing to divide by: it stays dark rather than infinite.
+  if (p.normalize && sizeFactor != 1) l.radiance = sizeFactor > 0 ? l.radiance / sizeFactor : glm::dvec3(0);
   return l;
+}
+
+glm::dvec3 EmissionShaping(const RenderLight& l, const glm::dvec3& emitDir) {
+  const ShapingRt& s = l.shaping;
+  if (!s.enabled) return glm::dvec3(1);
+  const double cosOff = std::clamp(glm::dot(emitDir, l.direction), -1.0, 1.0), offAxis = std::acos(cosOff);
+  if (offAxis > s.cutoff) return glm::dvec3(0);
+  double cone = 1;
+  if (s.cutoff > s.smoothStart && offAxis > s.smoothStart) {
+    const double t = (offAxis - s.smoothStart) / (s.cutoff - s.smoothStart);
+    cone = 1 - t * t * (3 - 2 * t);
+  }
+  if (!(s.focus > 0)) return glm::dvec3(cone);
+  const double focus = std::pow(std::abs(cosOff), s.focus);
+  return cone * (s.focusTint + (glm::dvec3(1) - s.focusTint) * focus);
 }
 
 LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {
@@ -139,17 +197,30 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     case LightType::Sphere: {
       const glm::dvec3 toC = l.position - p;
       const double d = glm::length(toC);
+      if (l.delta) {  // a point: intensity / d^2 from its one direction
+        if (!(d > 0)) return s;
+        s.dir = toC / d;
+        s.distance = d;
+        s.radiance = l.radiance * EmissionShaping(l, -s.dir) / (d * d);
+        s.pdf = 1;
+        s.delta = true;
+        return s;
+      }
       if (!(d > l.radius)) return s;  // inside the light: not sampled
       const double sinMax = l.radius / d, cosMax = std::sqrt(std::max(0.0, 1 - sinMax * sinMax));
       s.dir = SampleUniformCone(toC / d, cosMax, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
-      s.radiance = l.radiance;
+      s.radiance = l.radiance * EmissionShaping(l, -s.dir);
       s.pdf = UniformConePdf(cosMax);
       return s;
     }
     case LightType::Distant:
+      if (l.delta) {  // a parallel beam: its irradiance from one direction
+        s.dir = l.direction, s.distance = kInf, s.radiance = l.radiance, s.pdf = 1, s.delta = true;
+        return s;
+      }
       s.dir = SampleUniformCone(l.direction, l.cosHalfAngle, u1, u2);
       s.distance = kInf;
       s.radiance = l.radiance;
@@ -190,7 +261,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       if (!(s.distance > 0)) return s;
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
-      if (s.pdf > 0) s.radiance = l.radiance;
+      if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
       return s;
     }
   }
@@ -199,6 +270,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
 
 bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3& dir, double maxDistance,
                     glm::dvec3* radiance, double* pdf, double* distance) {
+  if (l.delta) return false;
   switch (l.type) {
     case LightType::Sphere: {
       const glm::dvec3 toC = l.position - p;
@@ -209,7 +281,7 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       const double t = b - std::sqrt(disc);
       if (!(t > 0) || t >= maxDistance) return false;
       const double sinMax2 = l.radius * l.radius / d2;
-      *radiance = l.radiance;
+      *radiance = l.radiance * EmissionShaping(l, -dir);
       *pdf = UniformConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
       *distance = t;
       return true;
@@ -247,7 +319,7 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       } else if (glm::dot(q, q) > l.radius * l.radius) {
         return false;
       }
-      *radiance = l.radiance;
+      *radiance = l.radiance * EmissionShaping(l, -dir);
       *pdf = AreaToSolidAngle(1 / PlanarArea(l), t, cosL);
       *distance = t;
       return true;

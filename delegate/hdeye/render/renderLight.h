@@ -32,11 +32,28 @@ struct DomeTexture {
   static std::shared_ptr<const DomeTexture> Build(std::shared_ptr<const Texture> image);
 };
 
+/// UsdLuxShapingAPI as the renderer evaluates it (see EmissionShaping).
+struct ShapingRt {
+  bool enabled = false;
+  double cutoff = kHalfTurn;      ///< cone angle, radians off the axis
+  double smoothStart = kHalfTurn; ///< radians: emission smoothsteps from 1 here to 0 at cutoff
+  double focus = 0;               ///< exponent of |cos| (0: none)
+  glm::dvec3 focusTint{0};
+  static constexpr double kHalfTurn = 3.14159265358979323846;
+};
+
 struct RenderLight {
   LightType type = LightType::Sphere;
-  glm::dvec3 radiance{0};    ///< emitted radiance (distant: of the sun disk)
+  /// Emitted radiance (distant: of the sun disk). For a delta light, what it delivers instead: the radiant
+  /// intensity of a point (radiance x world area, per steradian) or the irradiance normal to a parallel beam.
+  glm::dvec3 radiance{0};
+  /// A point (sphere with treatAsPoint) or a parallel beam (distant with angle 0): sampled with pdf 1 in
+  /// LightSample::delta, never met by a ray.
+  bool delta = false;
   glm::dvec3 position{0};    ///< sphere centre, rect/disk centre
-  glm::dvec3 direction{0, 0, 1};  ///< distant: towards the light; rect/disk: emitting normal
+  /// distant: towards the light; rect/disk: emitting normal; sphere: the primary axis (local -z) shaping uses.
+  glm::dvec3 direction{0, 0, 1};
+  ShapingRt shaping;
   glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};  ///< rect: half-extent vectors; disk: unit in-plane axes
   double radius = 0;         ///< sphere, disk
   double cosHalfAngle = 1;   ///< distant
@@ -44,9 +61,18 @@ struct RenderLight {
   /// null for a constant dome.
   std::shared_ptr<const DomeTexture> dome;
   glm::dmat3 domeToWorld{1.0};  ///< rotation of the dome's frame (see DomeTexture) into the world
+  /// Light and shadow linking over GeometryContext::primIndex (RenderPass::Execute fills them from LightParams'
+  /// excludes): non-zero where the rprim is not lit by / casts no shadow for this light. Empty: none.
+  std::vector<char> unlit, unshadowed;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
-  /// disk emit along their local -z, a distant light shines along -z). A dome whose params name a
+  /// disk emit along their local -z, a distant light shines along -z). The radiance, as UsdLuxLightAPI
+  /// writes it: color (times BlackbodyColor(colorTemperature) when enabled) * intensity * 2^exposure /
+  /// sizeFactor, where sizeFactor is 1 without `normalize`, else the world-space area (sphere 4 pi r^2,
+  /// disk pi r^2, rect w h, with the transform's scale), for a distant light of half-angle t pi sin^2(t)
+  /// (t <= pi/2; (2 - sin^2 t) pi above; 1 at t = 0), and 1 for a dome. A sphere with treatAsPoint becomes a
+  /// point of radiant intensity pi r^2 times that radiance (what the sphere sends any way: at r = 0 nothing
+  /// without normalize, L / 4 with it). A dome whose params name a
   /// texture uses `dome` if given (the Light sprim builds it once per texture), else loads the file
   /// and builds the distribution here (slow: for tests and one-off callers). Throws
   /// std::runtime_error naming the file if it cannot be read.
@@ -54,13 +80,29 @@ struct RenderLight {
                                 std::shared_ptr<const DomeTexture> dome = nullptr);
 };
 
+/// Whether the light illuminates the rprim of index primIndex (-1, the camera or no geometry: yes).
+inline bool Illuminates(const RenderLight& light, int primIndex) {
+  return primIndex < 0 || std::size_t(primIndex) >= light.unlit.size() || !light.unlit[std::size_t(primIndex)];
+}
+/// Whether the rprim of index primIndex blocks this light's shadow rays.
+inline bool CastsShadow(const RenderLight& light, int primIndex) {
+  return primIndex < 0 || std::size_t(primIndex) >= light.unshadowed.size() ||
+         !light.unshadowed[std::size_t(primIndex)];
+}
+
 /// A sampled direction towards a light from a shading point.
 struct LightSample {
   glm::dvec3 dir{0};         ///< unit, towards the light
   double distance = 0;       ///< to the sampled point (infinity for distant and dome)
-  glm::dvec3 radiance{0};
+  glm::dvec3 radiance{0};    ///< delta: the irradiance normal to dir it delivers at p (pdf 1)
   double pdf = 0;            ///< solid angle; 0 if the light cannot be sampled from here
+  bool delta = false;        ///< a point or a parallel beam: no BSDF sample can find it (no MIS)
 };
+
+/// The ShapingAPI factor of light emitted along unit `emitDir` (from the light towards the receiver): 0 past
+/// the cone angle, the cone softness's smoothstep (1 - smoothstep(angle, smoothStart, cutoff)), times
+/// lerp(focusTint, 1, |emitDir . axis|^focus) per channel. 1 for a light without shaping.
+glm::dvec3 EmissionShaping(const RenderLight& light, const glm::dvec3& emitDir);
 
 /// Samples a direction towards the light from point p, from two uniform numbers.
 LightSample SampleLight(const RenderLight& light, const glm::dvec3& p, double u1, double u2);

@@ -20,6 +20,9 @@ struct RenderSettings {
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
   bool scleraScattering = true;
+  /// Camera rays see dome lights (the background). Off: they light the scene but the camera sees black behind
+  /// it, as usdrecord renders unless --enableDomeLightVisibility.
+  bool domeLightVisible = true;
 };
 
 }  // namespace hdeye

@@ -40,6 +40,9 @@ class SampleStream {
   SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
       : seed_(seed), pixel_(pixel), base_(sample * kDimsPerSample) {}
   double Next() { return eyelib::UniformAt(seed_, pixel_, base_ + dim_++ % kDimsPerSample); }
+  /// Dimension k counted from the top of the sample's range (the lens's): Next() never shifts for them, so a
+  /// pinhole render, which draws none, is unchanged bit for bit.
+  double FromTop(std::uint64_t k) const { return eyelib::UniformAt(seed_, pixel_, base_ + kDimsPerSample - 1 - k); }
 
  private:
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
@@ -144,6 +147,7 @@ struct PathState {
   // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
   // by light, never a mixture.
   bool specular = true, skipLights = false, skipMnee = false;
+  int fromPrim = -1;         ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
   double bsdfPdf = 0;        ///< the pdf the current ray was sampled with (after a diffuse bounce)
   EyeLighting eyeLighting;   ///< the lights and switches of the eye last met
   EyeLighting skipMneeOf;    ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
@@ -180,9 +184,11 @@ class Tracer {
     PathSample sample;
     const std::function<double()> random = [&rng] { return rng.Next(); };
     PathState path(ray);
-    path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                                     return Transmittance(po, pd, t);
-                                   }, settings_.mneeAllSolutions, settings_.mnee};
+    path.eyeLighting = EyeLighting{&lights_,
+                                   [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
+                                     return Transmittance(lights_[k], po, pd, t);
+                                   },
+                                   -1, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
@@ -190,8 +196,9 @@ class Tracer {
         sample.hitAny = hitGeometry;
         if (hitGeometry) sample.first = hit;
       }
-      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, depth == 0 && !settings_.domeLightVisible);
       if (!hitGeometry) break;
+      path.fromPrim = hit.primIndex;  // the next ray leaves this vertex (light linking)
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
         const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
@@ -277,10 +284,12 @@ class Tracer {
     hit->primIndex = ctx.primIndex;
   }
 
-  /// The fraction of light that passes from o along unit d to tFar: 0 behind an opaque surface, else the product
-  /// of the thin walls crossed (thinWalls.h). One any-hit query that skips thin walls; only if it met one, the
-  /// walls are crossed in order by closest-hit queries (at most kMaxThinWalls; more count as opaque).
-  double Transmittance(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+  /// The fraction of `light` that passes from o along unit d to tFar: 0 behind a surface that casts its shadow,
+  /// else the product of the thin walls crossed (thinWalls.h). Without shadow linking one any-hit query that
+  /// skips thin walls decides, and only if it met one are the hits walked (TransmittanceByHits); with shadow
+  /// linking they are walked at once.
+  double Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    if (!light.unshadowed.empty()) return TransmittanceByHits(light, o, d, tFar);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -293,16 +302,24 @@ class Tracer {
     rtcOccluded1(scene_, &context, &ray);
     ++counts_.rays;
     if (ray.tfar < 0) return 0;
-    if (!ThinWallsMet::Any()) return 1;
-    constexpr int kMaxThinWalls = 16;
+    return ThinWallsMet::Any() ? TransmittanceByHits(light, o, d, tFar) : 1;
+  }
+
+  /// Transmittance by closest hits in order along the ray: a surface the light's shadow linking leaves out is
+  /// passed through, a thin wall attenuates, anything else blocks. Past kMaxShadowHits hits the light counts as
+  /// blocked (it never leaks through a thick stack).
+  double TransmittanceByHits(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    constexpr int kMaxShadowHits = 64;
     double transmittance = 1, left = tFar;
     glm::dvec3 origin = o;
-    for (int crossed = 0; crossed < kMaxThinWalls; ++crossed) {
+    for (int crossed = 0; crossed < kMaxShadowHits; ++crossed) {
       SurfaceHit hit;
       if (!Intersect(origin, d, 0, left, &hit)) return transmittance;
-      if (!IsThinWall(*hit.context)) return 0;  // an eye or a surface the any-hit query let pass in the last bit
-      transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
-      if (!(transmittance > 0)) return 0;
+      if (CastsShadow(light, hit.primIndex)) {
+        if (!IsThinWall(*hit.context)) return 0;  // an eye, or an opaque surface the any-hit query met last
+        transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
+        if (!(transmittance > 0)) return 0;
+      }
       const glm::dvec3 next = SpawnOrigin(hit.p, -hit.ng);  // ng faces the ray: -ng is the far side
       left -= glm::length(next - origin);
       if (!(left > 0)) return transmittance;
@@ -316,13 +333,17 @@ class Tracer {
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
   /// minDistance: lights nearer than this were met before (a ray continued past a thin wall starts there).
+  /// skipDomes: the ray is a camera ray and domes are not visible to the camera (RenderSettings). fromPrim: the
+  /// rprim the ray left; lights linked away from it are passed over.
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
-                double* pdf, const EyeLighting* skipMneeOf = nullptr) const {
+                double* pdf, const EyeLighting* skipMneeOf, bool skipDomes, int fromPrim) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
       const RenderLight& l = lights_[k];
+      if (skipDomes && l.type == LightType::Dome) continue;
+      if (!Illuminates(l, fromPrim)) continue;
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
       if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && dist >= minDistance &&
@@ -335,11 +356,11 @@ class Tracer {
 
   /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
   /// ray was chosen (PathState's flags).
-  glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool skipDomes) const {
     glm::dvec3 le(0);
     double lpdf = 0;
     if (path.skipLights || !HitLight(path.o, path.d, path.tNear, maxDistance, &le, &lpdf,
-                                     path.skipMnee ? &path.skipMneeOf : nullptr))
+                                     path.skipMnee ? &path.skipMneeOf : nullptr, skipDomes, path.fromPrim))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
@@ -360,6 +381,7 @@ class Tracer {
     lighting.allSolutions = switches.allSolutions;
     lighting.mneeLights = switches.mneeLights;
     lighting.maxChamberEvents = switches.maxChamberEvents;
+    lighting.receiver = hit->primIndex;
     const EyeEvent ev = ctx.eye ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
                                 : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
                                                    path->d, lighting, random);
@@ -506,15 +528,17 @@ class Tracer {
     const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
     if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
     const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+    if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
     const LightSample ls = SampleLight(light, origin, u1, u2);
     const double cosS = glm::dot(ls.dir, hit.n);
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
-    const double transmittance = Transmittance(origin, ls.dir, ls.distance * (1 - 1e-6));
+    const double transmittance = Transmittance(light, origin, ls.dir, ls.distance * (1 - 1e-6));
     if (!(transmittance > 0)) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
-    const double w = settings_.mis ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
+    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
     return beta * f * ls.radiance * (cosS * w * transmittance / pl);
   }
 
@@ -616,7 +640,9 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
         SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
         const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
-        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+        const bool lens = camera.HasLens();
+        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
+                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
         if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
       }
   }

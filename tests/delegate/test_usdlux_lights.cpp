@@ -1,0 +1,270 @@
+// UsdLux as its specification writes it, rendered: a Lambert plane under each light type against the light's
+// closed-form irradiance (normalize on and off, exposure, colour temperature, treatAsPoint, ShapingAPI's cone).
+#include "hdeye/render/blackbody.h"
+#include "hdeye/scene/sampleScenes.h"
+#include "scene_helpers.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+using namespace hdeye;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kAlbedo = 0.5;
+
+/// A light at height `height` above the centre of a Lambert plane (z = 0) of albedo 0.5, looking down (-z, so
+/// distant, rect and disk lights shine onto it), and an orthographic camera over a `patch`-wide square at its
+/// centre (`pixels` wide). Returns the mean RGB of the plane's outgoing radiance over the patch.
+glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, double height, double patch = 0.02,
+                            int pixels = 4, int spp = 128) {
+  test::RenderStack s;
+  test::AddLambertPlane(s.scene, 100, kAlbedo);
+  s.scene.AddLight("/light", type, light, test::LookDownZ(height));
+  CameraParams ortho;
+  ortho.orthographic = true;
+  ortho.horizontalAperture = ortho.verticalAperture = patch;
+  s.scene.AddCamera("/cam", ortho, test::LookDownZ(height / 2));
+  s.scene.AddRenderBuffer("/color", pixels, pixels, 4);
+  s.delegate.Settings().samplesPerPixel = spp;
+  s.pass.Execute("/cam", {{"color", "/color"}});
+  glm::dvec3 sum(0);
+  const RenderBuffer& b = s.Buffer("/color");
+  for (int y = 0; y < pixels; ++y)
+    for (int x = 0; x < pixels; ++x) sum += glm::dvec3(b.Resolved(x, y, 0), b.Resolved(x, y, 1), b.Resolved(x, y, 2));
+  return sum / double(pixels * pixels);
+}
+
+/// Outgoing radiance of the Lambert plane under irradiance E.
+double Lambert(double irradiance) { return kAlbedo * irradiance / kPi; }
+
+void Report(const char* what, double got, double expected, const char* reference = "closed form") {
+  std::printf("%-58s %.6g (%s %.6g, ratio %.5f)\n", what, got, reference, expected, got / expected);
+}
+
+}  // namespace
+
+TEST_CASE("a distant light's intensity is the radiance of its disc; with normalize, the illuminance ", "[usdlux]") {
+  LightParams sun;
+  sun.intensity = 50000;  // UsdLux's fallback for a DistantLight, over its 0.53 degree disc
+  sun.angle = 0.53f;
+  const double half = 0.53 * kPi / 360, discSolidAngle = kPi * std::sin(half) * std::sin(half);
+  const double off = RenderUnderLight(primTypes::kDistantLight, sun, 10).x;
+  Report("distant 50000, angle 0.53, normalize off", off, Lambert(50000 * discSolidAngle));
+  CHECK(off == Approx(Lambert(50000 * discSolidAngle)).epsilon(0.01));
+  sun.intensity = 3;
+  sun.normalize = true;
+  const double on = RenderUnderLight(primTypes::kDistantLight, sun, 10).x;
+  Report("distant 3 lux, normalize on", on, Lambert(3));
+  CHECK(on == Approx(Lambert(3)).epsilon(0.01));
+  sun.angle = 0;  // a parallel beam: sizeFactor 1, intensity is the illuminance either way
+  sun.normalize = false;
+  const double beam = RenderUnderLight(primTypes::kDistantLight, sun, 10).x;
+  Report("distant angle 0 (parallel beam)", beam, Lambert(3));
+  CHECK(beam == Approx(Lambert(3)).epsilon(1e-6));
+}
+
+TEST_CASE("exposure scales a light by 2^exposure ", "[usdlux]") {
+  LightParams sun;
+  sun.angle = 0;
+  sun.intensity = 0.5f;
+  sun.exposure = 2;
+  const double got = RenderUnderLight(primTypes::kDistantLight, sun, 10).x;
+  Report("distant 0.5 at exposure 2", got, Lambert(2));
+  CHECK(got == Approx(Lambert(2)).epsilon(1e-6));
+}
+
+TEST_CASE("a sphere light below its centre gives pi L (R/d)^2; normalize divides L by 4 pi R^2 ", "[usdlux]") {
+  const double R = 0.5, d = 4, L = 10;
+  LightParams bulb;
+  bulb.radius = float(R);
+  bulb.intensity = float(L);
+  const double off = RenderUnderLight(primTypes::kSphereLight, bulb, d).x;
+  Report("sphere R 0.5 at 4, normalize off", off, Lambert(kPi * L * R * R / (d * d)));
+  CHECK(off == Approx(Lambert(kPi * L * R * R / (d * d))).epsilon(0.01));
+  bulb.normalize = true;
+  const double on = RenderUnderLight(primTypes::kSphereLight, bulb, d).x;
+  Report("sphere R 0.5 at 4, normalize on", on, Lambert(L / (4 * d * d)));
+  CHECK(on == Approx(Lambert(L / (4 * d * d))).epsilon(0.01));
+}
+
+TEST_CASE("treatAsPoint renders the sphere's radiant intensity pi R^2 L as a point (L / 4 with normalize) ",
+          "[usdlux]") {
+  const double R = 0.5, d = 4, L = 10;
+  LightParams point;
+  point.radius = float(R);
+  point.intensity = float(L);
+  point.treatAsPoint = true;
+  const double off = RenderUnderLight(primTypes::kSphereLight, point, d).x;
+  Report("point (sphere R 0.5) at 4", off, Lambert(kPi * R * R * L / (d * d)));
+  CHECK(off == Approx(Lambert(kPi * R * R * L / (d * d))).epsilon(1e-4));
+  point.normalize = true;
+  point.radius = 0;  // with normalize the radius does not matter, even 0
+  const double on = RenderUnderLight(primTypes::kSphereLight, point, d).x;
+  Report("point, radius 0, normalize on", on, Lambert(L / 4 / (d * d)));
+  CHECK(on == Approx(Lambert(L / 4 / (d * d))).epsilon(1e-4));
+}
+
+TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2); normalize divides L by pi R^2 ", "[usdlux]") {
+  const double R = 1, d = 2, L = 4;
+  LightParams disk;
+  disk.radius = float(R);
+  disk.intensity = float(L);
+  const double off = RenderUnderLight(primTypes::kDiskLight, disk, d).x;
+  Report("disk R 1 at 2, normalize off", off, Lambert(kPi * L * R * R / (R * R + d * d)));
+  CHECK(off == Approx(Lambert(kPi * L * R * R / (R * R + d * d))).epsilon(0.01));
+  disk.normalize = true;
+  const double on = RenderUnderLight(primTypes::kDiskLight, disk, d).x;
+  Report("disk R 1 at 2, normalize on", on, Lambert(L / (R * R + d * d)));
+  CHECK(on == Approx(Lambert(L / (R * R + d * d))).epsilon(0.01));
+}
+
+TEST_CASE("a rect light facing the plane gives its four corner form factors; normalize divides L by w h ", "[usdlux]") {
+  const double w = 2, h = 1, d = 1.5, L = 3;
+  // The form factor of an a x b rectangle at height d from a point under one corner (Howell's catalogue, C-11).
+  const auto corner = [d](double a, double b) {
+    const double A = a / d, B = b / d;
+    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+           (2 * kPi);
+  };
+  const double E = kPi * L * 4 * corner(w / 2, h / 2);
+  LightParams rect;
+  rect.width = float(w), rect.height = float(h), rect.intensity = float(L);
+  const double off = RenderUnderLight(primTypes::kRectLight, rect, d).x;
+  Report("rect 2 x 1 at 1.5, normalize off", off, Lambert(E));
+  CHECK(off == Approx(Lambert(E)).epsilon(0.01));
+  rect.normalize = true;
+  const double on = RenderUnderLight(primTypes::kRectLight, rect, d).x;
+  Report("rect 2 x 1 at 1.5, normalize on", on, Lambert(E / (w * h)));
+  CHECK(on == Approx(Lambert(E / (w * h))).epsilon(0.01));
+}
+
+TEST_CASE("colour temperature: 6500 K is white, 3000 K is warm, both of the same luminance ", "[usdlux]") {
+  LightParams sun;
+  sun.angle = 0;
+  sun.intensity = 2;
+  sun.enableColorTemperature = true;
+  sun.colorTemperature = 6500;
+  const glm::dvec3 white = RenderUnderLight(primTypes::kDistantLight, sun, 10);
+  sun.colorTemperature = 3000;
+  const glm::dvec3 warm = RenderUnderLight(primTypes::kDistantLight, sun, 10);
+  std::printf("6500 K: %.5f %.5f %.5f; 3000 K: %.5f %.5f %.5f\n", white.x, white.y, white.z, warm.x, warm.y, warm.z);
+  CHECK(white.x == Approx(Lambert(2)).epsilon(1e-5));
+  CHECK(white.y == Approx(Lambert(2)).epsilon(1e-5));
+  CHECK(white.z == Approx(Lambert(2)).epsilon(1e-5));
+  CHECK(warm.x > warm.y);
+  CHECK(warm.y > warm.z);
+  const auto luminance = [](const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
+  CHECK(luminance(warm) == Approx(luminance(white)).epsilon(1e-4));
+}
+
+TEST_CASE("a blackbody's chromaticity follows the Planckian locus (Kim et al.'s cubic spline) ", "[usdlux]") {
+  // Kim, Kang, Lee 2002 (the CIE's Planckian locus approximation), x(T) and y(x), 1667-25000 K.
+  const auto locus = [](double T) {
+    const double x = T <= 4000 ? -0.2661239e9 / (T * T * T) - 0.2343589e6 / (T * T) + 0.8776956e3 / T + 0.179910
+                               : -3.0258469e9 / (T * T * T) + 2.1070379e6 / (T * T) + 0.2226347e3 / T + 0.240390;
+    const double y = T <= 2222   ? -1.1063814 * x * x * x - 1.34811020 * x * x + 2.18555832 * x - 0.20219683
+                     : T <= 4000 ? -0.9549476 * x * x * x - 1.37418593 * x * x + 2.09137015 * x - 0.16748867
+                                 : 3.0817580 * x * x * x - 5.87338670 * x * x + 3.75112997 * x - 0.37001483;
+    return glm::dvec2(x, y);
+  };
+  for (double T : {2000.0, 3000.0, 4000.0, 5000.0, 6500.0, 10000.0}) {
+    const glm::dvec2 got = BlackbodyChromaticity(T), want = locus(T);
+    std::printf("%6.0f K: xy %.4f %.4f (locus %.4f %.4f)\n", T, got.x, got.y, want.x, want.y);
+    // 0.004: the multi-lobe fit of the matching functions is weakest in the red (0.0036 at 2000 K).
+    CHECK(glm::length(got - want) < 0.004);
+  }
+  const glm::dvec3 white = BlackbodyColor(6500);
+  CHECK(white.x == Approx(1).epsilon(1e-12));
+  CHECK(white.z == Approx(1).epsilon(1e-12));
+}
+
+TEST_CASE("a spot light's cone: full inside, smoothstep over the softness, zero past the cone angle ", "[usdlux]") {
+  // A point light 2 units above the plane with a 30 degree cone, softness 0.5 (smoothstep from 15 to 30
+  // degrees): one row of pixels across the plane samples the falloff. E(x) = I S(theta) cos(theta) / r^2.
+  const double d = 2, I = 1, span = 3;
+  LightParams spot;
+  spot.treatAsPoint = true;
+  spot.normalize = true;
+  spot.radius = 0;
+  spot.intensity = float(4 * I);  // normalize: radiant intensity L / 4
+  spot.shaping.enabled = true;
+  spot.shaping.coneAngle = 30;
+  spot.shaping.coneSoftness = 0.5f;
+  test::RenderStack s;
+  test::AddLambertPlane(s.scene, 100, kAlbedo);
+  s.scene.AddLight("/spot", primTypes::kSphereLight, spot, test::LookDownZ(d));
+  CameraParams ortho;
+  ortho.orthographic = true;
+  ortho.horizontalAperture = span;  // x from -1.5 to 1.5 (30 degrees is at x = 1.155)
+  ortho.verticalAperture = span / 60;
+  s.scene.AddCamera("/cam", ortho, test::LookDownZ(1));
+  const int width = 120;
+  s.scene.AddRenderBuffer("/color", width, 2, 4);
+  s.delegate.Settings().samplesPerPixel = 1;  // a point light: pixel centres, no noise
+  s.pass.Execute("/cam", {{"color", "/color"}});
+  const RenderBuffer& b = s.Buffer("/color");
+  const double deg = kPi / 180;
+  double worst = 0;
+  int inside = 0, soft = 0, outside = 0;
+  for (int px = 0; px < width; ++px) {
+    // Each row's pixel centre is a quarter of the vertical aperture off the axis.
+    const double x = ((px + 0.5) / width - 0.5) * span, y = span / 60 / 4, rho = std::hypot(x, y);
+    const double theta = std::atan(rho / d);
+    const double t = std::clamp((theta - 15 * deg) / (15 * deg), 0.0, 1.0);
+    const double S = theta > 30 * deg ? 0 : 1 - t * t * (3 - 2 * t), r2 = d * d + rho * rho;
+    const double expected = Lambert(I * S * std::cos(theta) / r2);
+    worst = std::max(worst, std::abs(b.Resolved(px, 0, 0) - expected));
+    (S == 1 ? inside : S == 0 ? outside : soft)++;
+  }
+  std::printf("spot cone 30 deg, softness 0.5: %d px inside, %d in the falloff, %d outside; worst |error| %.2e\n",
+              inside, soft, outside, worst);
+  CHECK(inside > 10);
+  CHECK(soft > 10);
+  CHECK(outside > 10);
+  CHECK(worst < 1e-5);
+}
+
+TEST_CASE("ShapingAPI's focus multiplies by lerp(focusTint, 1, |cos|^focus) ", "[usdlux]") {
+  LightParams p;
+  p.shaping.enabled = true;
+  p.shaping.coneAngle = 90;
+  p.shaping.focus = 4;
+  p.shaping.focusTint = glm::vec3(0.5f, 0, 0);
+  p.radius = 1;
+  const RenderLight l = RenderLight::FromParams(p, test::LookDownZ(0));
+  const double c = std::cos(0.6);
+  const glm::dvec3 along = EmissionShaping(l, {0, 0, -1}), off = EmissionShaping(l, {std::sin(0.6), 0, -c});
+  CHECK(along == glm::dvec3(1));
+  CHECK(off.x == Approx(0.5 + 0.5 * std::pow(c, 4)).epsilon(1e-12));
+  CHECK(off.y == Approx(std::pow(c, 4)).epsilon(1e-12));
+  CHECK(EmissionShaping(l, {1, 0, 0.01}) == glm::dvec3(0));  // behind the 90 degree cone
+}
+
+TEST_CASE("MNEE under a point light (treatAsPoint) brings the caustic of the sphere it stands for ", "[usdlux]") {
+  // The side-lit eye's 3 mm key at 150 mm, as a sphere and as a point of the same radiant intensity: the iris's
+  // MNEE light agrees to the noise of 16 samples.
+  auto irisLight = [](bool point) {
+    test::RenderStack s;
+    sampleScenes::AddSideLitEye(s.scene, 60);
+    LightParams key = s.scene.GetLightParams("/World/key");
+    key.treatAsPoint = point;
+    s.scene.SetLightParams("/World/key", key);
+    s.scene.AddRenderBuffer("/color", 24, 24, 4);
+    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
+    s.delegate.Settings().samplesPerPixel = 16;
+    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
+    double sum = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
+    return sum;
+  };
+  const double sphere = irisLight(false), point = irisLight(true);
+  Report("iris MNEE light under the point", point, sphere, "3 mm sphere");
+  CHECK(point == Approx(sphere).epsilon(0.03));
+}
