@@ -164,7 +164,7 @@ TEST_CASE("texture lookup is bilinear between texel centres and repeats in u and
   CHECK(std::isfinite(t.Lookup({NAN, 0.5f}).r));
 }
 
-TEST_CASE("an unreadable texture is a one-line error naming the file; the cache shares loaded images", "[texture]") {
+TEST_CASE("an unreadable texture is a one-line error naming the file, and the cache shares loaded images", "[texture]") {
   ScratchDir dir;
   const std::string missing = dir / "missing.png";
   std::string e = ErrorOf([&] { Texture::Load(missing); });
