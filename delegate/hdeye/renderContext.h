@@ -2,6 +2,7 @@
 // What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/eyeRenderOptions.h"
+#include "hdeye/material.h"
 #include "hdeye/sceneDelegate.h"
 
 #include <embree3/rtcore.h>
@@ -11,7 +12,6 @@
 namespace hdeye {
 
 struct EyeGeometry;
-class Texture;
 
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
@@ -36,8 +36,8 @@ struct GeometryContext {
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
-  /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
-  const Texture* diffuseTexture = nullptr;
+  /// The bound material's textured inputs (owned by the Material sprim), looked up at the hit's st; or null.
+  const MaterialTextures* textures = nullptr;
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
   /// finds the eyeball's boundary in it, never in the rest of the scene.
   RTCScene prototypeScene = nullptr;

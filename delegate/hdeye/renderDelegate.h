@@ -44,6 +44,9 @@ struct RenderSettings {
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
   bool scleraScattering = true;
+  /// Textures are filtered over each ray's footprint (the ray cone of rayCone.h: MIP-mapped, anisotropic).
+  /// Off: every lookup is at the finest level (point sampling, for A/B comparisons).
+  bool textureFiltering = true;
 };
 
 class RenderDelegate {

@@ -70,10 +70,12 @@ glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
 
 std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
   if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
+  const std::vector<glm::vec3> texels = image->Texels();
+  if (texels.empty()) throw std::invalid_argument("DomeTexture::Build: " + (image->Valid() ? std::string("a UDIM set is no lat-long image") : image->Error()));
   const int w = image->Width(), h = image->Height();
   std::vector<double> luminance(std::size_t(w) * std::size_t(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(image->Texel(x, y)));
+    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
   // Distribution row r is image row h-1-r (v = 0 at the bottom).
   std::vector<double> weights(luminance.size());
   for (int r = 0; r < h; ++r) {
@@ -125,7 +127,12 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
       break;
     case LightType::Dome:
       if (!p.textureFile.empty()) {
-        l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
+        if (!dome) {
+          auto image = Texture::Open(TextureParams::Image(p.textureFile, TextureWrap::Clamp));
+          if (!image->Valid()) throw std::runtime_error(image->Error());
+          dome = DomeTexture::Build(std::move(image));
+        }
+        l.dome = std::move(dome);
         l.domeToWorld = RotationOf(m);
       }
       break;

@@ -51,14 +51,17 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
 
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
+  bool cutouts = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
     context->primIndex = primIndex++;
     const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
     context->material = material ? material->Params() : MaterialParams{};
-    context->diffuseTexture = material ? material->DiffuseTexture() : nullptr;
+    context->textures = material ? &material->Textures() : nullptr;
+    cutouts = cutouts || context->material.opacityThreshold > 0;
   }
+  renderer_.SetCutouts(cutouts);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

@@ -1,7 +1,9 @@
 #include "hdeye/renderer.h"
 
 #include "hdeye/eyeShading.h"
+#include "hdeye/materialShading.h"
 #include "hdeye/previewSurface.h"
+#include "hdeye/rayCone.h"
 #include "hdeye/renderContext.h"
 #include "hdeye/scleraScattering.h"
 #include "hdeye/texture.h"
@@ -45,19 +47,9 @@ class SampleStream {
 
 double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 
-/// The UsdPreviewSurface BSDF of a non-eye hit: the bound material's parameters, with its diffuse
-/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
-PreviewSurface MaterialBsdf(const GeometryContext& context, const glm::dvec3& albedo, const glm::dvec2& st) {
-  const MaterialParams& m = context.material;
-  PreviewSurface s;
-  s.albedo = context.diffuseTexture ? glm::dvec3(context.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
-  s.roughness = m.roughness;
-  s.metallic = m.metallic;
-  s.opacity = m.opacity;
-  s.ior = m.ior;
-  return s;
-}
-
+/// Cut-out surfaces (opacityThreshold) one path or shadow ray passes through at most; past that the
+/// surface counts as there (a bound on the loop, far above any stack of cards a ray meets).
+constexpr int kMaxCutoutCrossings = 64;
 
 struct SurfaceHit {
   double t;
@@ -69,12 +61,15 @@ struct SurfaceHit {
   unsigned part;    // the primitive; for eyes, EyeGeometry::Part
   double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
   glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
+  StFrame stFrame;      // dp/ds, dp/dt of the hit triangle (world), where st and points are known
 };
 
 class Tracer {
  public:
-  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
-      : scene_(scene), lights_(lights), settings_(settings) {}
+  /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
+      : scene_(scene), lights_(lights), settings_(settings), cutouts_(cutouts),
+        textureThread_(CurrentTextureThread()) {}
 
   /// Closest hit of the scene's geometry along the ray, if any.
   bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
@@ -124,6 +119,15 @@ class Tracer {
     hit->n = n;
     hit->u = bu, hit->v = bv;
     hit->st = ctx->st ? glm::dvec2(atCorners(*ctx->st)) : glm::dvec2(0);
+    if (ctx->st && ctx->points && ctx->triangleVertices && !ctx->eye) {
+      const int* tri = &(*ctx->triangleVertices)[firstCorner];
+      const glm::dmat3 toWorld = glm::inverse(glm::transpose(ctx->normalToWorld));  // the instance's linear part
+      const auto& pts = *ctx->points;
+      const auto& st = *ctx->st;
+      hit->stFrame = TriangleStFrame(toWorld * glm::dvec3(pts[tri[0]]), toWorld * glm::dvec3(pts[tri[1]]),
+                                     toWorld * glm::dvec3(pts[tri[2]]), glm::dvec2(st[firstCorner]),
+                                     glm::dvec2(st[firstCorner + 1]), glm::dvec2(st[firstCorner + 2]));
+    }
     hit->albedo = ctx->displayColor ? glm::dvec3(atCorners(*ctx->displayColor)) : glm::dvec3(ctx->material.diffuseColor);
     hit->emission = ctx->eye || ctx->meshEye ? glm::dvec3(0) : glm::dvec3(ctx->material.emissiveColor);
     hit->primIndex = ctx->primIndex;
@@ -207,7 +211,37 @@ class Tracer {
     return step;
   }
 
+  /// Whether anything blocks the segment from o along unit d up to tFar. Cut-outs (opacityThreshold)
+  /// let it through where their opacity is below the threshold.
   bool Occluded(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+    if (!cutouts_) return OccludedAny(o, d, tFar);
+    glm::dvec3 origin = o;
+    double remaining = tFar;
+    for (int crossing = 0; crossing < kMaxCutoutCrossings; ++crossing) {
+      SurfaceHit hit;
+      if (!Intersect(origin, d, 0, remaining, &hit)) return false;
+      if (hit.context->eye || hit.context->meshEye || hit.context->material.opacityThreshold <= 0 ||
+          Shade(hit, d, RayCone{}).present)
+        return true;
+      const double step = hit.t + 1e-5 * (1 + glm::length(hit.p));
+      origin += d * step;
+      remaining -= step;
+      if (!(remaining > 0)) return false;
+    }
+    return true;
+  }
+
+  /// The material at a non-eye hit, its textures filtered over the cone's footprint there.
+  SurfaceShading Shade(const SurfaceHit& hit, const glm::dvec3& d, const RayCone& cone) const {
+    TextureSite site;
+    site.st = hit.st;
+    site.frame = hit.stFrame;
+    if (settings_.textureFiltering) site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
+    site.thread = textureThread_;
+    return ShadeMaterial(*hit.context, hit.albedo, -d, hit.n, site);
+  }
+
+  bool OccludedAny(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -242,8 +276,9 @@ class Tracer {
   }
 
   /// Radiance along a camera ray; fills the first hit for the data AOVs.
-  glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, SampleStream& rng, SurfaceHit* first,
-                bool* hitAny, glm::dvec3* irisMnee, glm::dvec3* limbalArc) const {
+  /// cone: the camera ray's footprint (see rayCone.h), carried along the path for texture filtering.
+  glm::dvec3 Li(glm::dvec3 o, glm::dvec3 d, double tNear, double tFar, RayCone cone, SampleStream& rng,
+                SurfaceHit* first, bool* hitAny, glm::dvec3* irisMnee, glm::dvec3* limbalArc) const {
     glm::dvec3 L(0), beta(1);
     // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only
     // grows, so L at the end minus L then).
@@ -271,6 +306,7 @@ class Tracer {
                               return Occluded(po, pd, t);
                             }, settings_.mneeAllSolutions, settings_.mnee};
     static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
+    int cutoutCrossings = 0;
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(o, d, tNear, tFar, &hit);
@@ -285,6 +321,25 @@ class Tracer {
         else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
       }
       if (!hitGeometry) break;
+      const bool eyeSurface = hit.context->eye || hit.context->meshEye;
+      SurfaceShading shading;
+      if (!eyeSurface) {
+        shading = Shade(hit, d, cone);
+        if (!shading.present && cutoutCrossings++ < kMaxCutoutCrossings) {
+          // A cut-out: the same ray goes on from just past it (lights behind it were not yet tested:
+          // the next segment tests them, with this ray's weights), and it is not a bounce.
+          const double step = hit.t + 1e-5 * (1 + glm::length(hit.p));
+          o += d * step;
+          if (tFar < kInf) tFar -= step;
+          cone.width = cone.WidthAt(step);
+          tNear = 0;
+          --depth;
+          continue;
+        }
+        hit.emission = shading.emission;
+        hit.n = shading.normal;
+        if (depth == 0) first->n = hit.n;  // the normal AOV shows the normal map
+      }
       L += beta * hit.emission;
 
       if (const EyeGeometry* eye = hit.context->eye ? hit.context->eye : hit.context->meshEye) {
@@ -307,6 +362,7 @@ class Tracer {
         *irisMnee += beta * ev.radiance;
         if (ev.kind == EyeEvent::Continue) {
           beta *= ev.weight;
+          cone = cone.AfterBounce(hit.t, true);
           o = ev.origin, d = ev.dir, tNear = 0, tFar = kInf;
           if (!ev.passThrough) {
             specular = true, skipLights = false, skipMnee = ev.skipLightHits;
@@ -319,7 +375,7 @@ class Tracer {
         // and, with a bound material, that material's colour (its diffuse texture at the hit's st, if any).
         if (!ev.scleraOnSurface) hit.n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
         if (!ev.scleraOnSurface || !eye->scleraUsesMaterial) hit.albedo = ev.scleraAlbedo;
-        else if (hit.context->diffuseTexture) hit.albedo = glm::dvec3(hit.context->diffuseTexture->Lookup(glm::vec2(hit.st)));
+        else hit.albedo = glm::dvec3(Shade(hit, d, cone).bsdf.albedo);
         hit.albedo = glm::clamp(hit.albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
         if (depth == 0) first->albedo = hit.albedo;  // the albedo AOV shows the sclera's
         // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert
@@ -328,6 +384,7 @@ class Tracer {
           const ScleraStep step = ScleraWalk(*eye, hit, d, hit.albedo, limbalArc, random);
           if (step.kind == ScleraStep::Ended) break;
           if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+            cone = cone.AfterBounce(hit.t, true);
             o = step.origin, d = step.dir, tNear = 0, tFar = kInf;
             specular = true, skipLights = false, skipMnee = false;
             continue;
@@ -351,9 +408,7 @@ class Tracer {
       }
       // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
       // UsdPreviewSurface.
-      const bool eyeSurface = hit.context->eye || hit.context->meshEye;
-      const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
+      const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
       if (depth == 0 && !eyeSurface) first->albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 wo = -d;
       // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
@@ -366,7 +421,8 @@ class Tracer {
         const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
         const LightSample ls = SampleLight(light, origin, u1, u2);
         const double cosS = glm::dot(ls.dir, hit.n);
-        if (ls.pdf > 0 && cosS > 0) {
+        // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
+        if (ls.pdf > 0 && cosS > 0 && !(shading.normalMapped && glm::dot(ls.dir, hit.ng) <= 0)) {
           const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
           if ((f.x > 0 || f.y > 0 || f.z > 0) && !Occluded(origin, ls.dir, ls.distance * (1 - 1e-6))) {
             const double pl = ls.pdf * lightSelect;
@@ -380,11 +436,15 @@ class Tracer {
       const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
       BsdfSample bs;
       if (!SamplePreviewSurface(bsdf, hit.n, wo, insideGlass, uLobe, uDir1, uDir2, &bs)) break;
+      // Under a normal map, a direction on the wrong side of the surface itself ends the path (the energy a
+      // shading normal cannot conserve); it would otherwise start inside the surface and hit it again.
+      if (shading.normalMapped && (glm::dot(bs.wi, hit.ng) > 0) == bs.transmitted) break;
       if (bs.transmitted) insideGlass = !insideGlass;
       d = bs.wi;
       bsdfPdf = bs.pdf;
       specular = bs.delta, skipLights = !bs.delta && !settings_.mis, skipMnee = false;
       beta *= bs.weight;
+      cone = cone.AfterBounce(hit.t, bs.delta);
       o = glm::dot(d, hit.n) > 0 ? origin : hit.p - hit.n * offset;
       tNear = 0;
       tFar = kInf;
@@ -409,6 +469,8 @@ class Tracer {
   RTCScene scene_;
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
+  bool cutouts_ = false;
+  TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable std::int64_t rays_ = 0;
   mutable std::int64_t walks_ = 0, teleportedWalks_ = 0, cappedWalks_ = 0, invalidWalks_ = 0;
 };
@@ -437,7 +499,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-        Tracer tracer(scene, lights, settings);
+        Tracer tracer(scene, lights, settings, cutouts_);
         for (int tile = range.begin(); tile != range.end(); ++tile) {
           const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
           for (int y = y0; y < std::min(height, y0 + kTile); ++y)
@@ -445,11 +507,15 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
               SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
               const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
               const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
+              // The pixel's cone: the ray one pixel over gives its width (orthographic) and spread (perspective).
+              const WorldRay next = camera.GenerateRay((x + jx + 1) / width, (y + jy) / height, aspect);
+              const RayCone cone{glm::length(next.origin - ray.origin),
+                                 std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
               SurfaceHit first{};
               bool hitAny = false;
               glm::dvec3 irisMnee(0), arc(0);
               glm::dvec3 L =
-                  tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, rng, &first, &hitAny, &irisMnee, &arc);
+                  tracer.Li(ray.origin, ray.dir, ray.tNear, ray.tFar, cone, rng, &first, &hitAny, &irisMnee, &arc);
               if (!std::isfinite(L.x) || !std::isfinite(L.y) || !std::isfinite(L.z)) {
                 L = irisMnee = arc = glm::dvec3(0);  // never let it into the image; count it so tests can fail on it
                 ++nonFinite;

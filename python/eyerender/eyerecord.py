@@ -54,6 +54,8 @@ def build_parser():
                    "rendered or written (docs/render_plan.md)")
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
                    "flags and the renderer's defaults say")
+    p.add_argument("--strict", action="store_true", help="a texture that cannot be read is an error (default: a "
+                   "warning, and its fallback renders)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     farm = p.add_argument_group("render farm (Dask; docs/farm.md)")
     farm.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster of this scheduler "
@@ -190,7 +192,8 @@ def run(argv=None):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model, time=first_time,
         settings={"seed": args.seed, "threads": args.threads, "max_depth": args.max_depth,
                   "mnee": not args.no_mnee, "mnee_all_solutions": args.mnee_all_solutions},
-        plan_overrides=plan_overrides(plan_options(args), stage, COMPLEXITY_REFINE_LEVELS[args.complexity]))
+        plan_overrides=plan_overrides(plan_options(args), stage, COMPLEXITY_REFINE_LEVELS[args.complexity]),
+        strict=args.strict)
     if args.plan:
         print(session.plan().to_json())
         return 0

@@ -6,6 +6,8 @@
 // C-contiguous buffers (numpy arrays, or pxr Vt arrays directly through the buffer protocol) and
 // copied once, into the scene store. Matrices are 4x4 float64 buffers in USD's layout (row vectors,
 // row-major), which is glm's column-major layout of the same transform: no transpose.
+#include "bindTextures.h"
+
 #include "hdeye/imageWriter.h"
 #include "hdeye/inMemorySceneDelegate.h"
 #include "hdeye/mesh.h"
@@ -67,6 +69,17 @@ Interpolation ToInterpolation(const std::string& name) {
   if (name == "varying") return Interpolation::Varying;
   if (name == "faceVarying") return Interpolation::FaceVarying;
   throw std::invalid_argument("unknown primvar interpolation '" + name + "'");
+}
+
+MaterialInput MaterialInputNamed(const std::string& name) {
+  static const std::pair<const char*, MaterialInput> kNames[] = {
+      {"diffuseColor", MaterialInput::DiffuseColor}, {"emissiveColor", MaterialInput::EmissiveColor},
+      {"roughness", MaterialInput::Roughness},       {"metallic", MaterialInput::Metallic},
+      {"opacity", MaterialInput::Opacity},           {"ior", MaterialInput::Ior},
+      {"normal", MaterialInput::Normal}};
+  for (const auto& [n, input] : kNames)
+    if (name == n) return input;
+  throw std::invalid_argument("'" + name + "' is not a texturable UsdPreviewSurface input");
 }
 
 /// A glm vector exposed as a Python 3-tuple property.
@@ -131,6 +144,8 @@ NB_MODULE(_hdeye, m) {
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("texture_filtering", &RenderSettings::textureFiltering,
+              "filter textures over each ray's footprint (off: finest level, point sampled)")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
@@ -154,9 +169,17 @@ NB_MODULE(_hdeye, m) {
       .def_rw("texture_file", &LightParams::textureFile, "lat-long image (dome)");
   Vec3Property<LightParams, &LightParams::color>(light, "color");
 
+  BindTextures(m);
   nb::class_<MaterialParams> material(m, "MaterialParams");
   material.def(nb::init<>())
-      .def_rw("diffuse_texture", &MaterialParams::diffuseTexture)
+      .def(
+          "set_texture",
+          [](MaterialParams& p, const std::string& input, const TextureInput& t) { p.Texture(MaterialInputNamed(input)) = t; },
+          nb::arg("input"), nb::arg("texture"), "Drives a UsdPreviewSurface input (by its name) by a texture.")
+      .def(
+          "texture", [](const MaterialParams& p, const std::string& input) { return p.Texture(MaterialInputNamed(input)); },
+          nb::arg("input"), "The texture driving an input (its texture.file is '' when none does).")
+      .def_rw("opacity_threshold", &MaterialParams::opacityThreshold)
       .def_rw("roughness", &MaterialParams::roughness)
       .def_rw("metallic", &MaterialParams::metallic)
       .def_rw("opacity", &MaterialParams::opacity)
@@ -221,6 +244,8 @@ NB_MODULE(_hdeye, m) {
       .def(nb::init<>())
       .def_prop_ro("settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
                    nb::rv_policy::reference_internal)
+      .def("warnings", [](RenderDelegate& d) { return d.GetRenderParam()->Warnings(); },
+           "Problems found at sync that did not stop the render (textures that cannot be read), one line each.")
       .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
       .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
 
