@@ -83,6 +83,14 @@ void WriteCmykJpeg(const std::string& path, int w, int h, const unsigned char in
   std::fclose(file);
 }
 
+/// An n x n 8-bit gray checker of one-texel cells, 0 and 1.
+void WriteOneTexelChecker(const std::string& path, int n) {
+  std::vector<float> p(std::size_t(n) * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) p[std::size_t(y) * n + x] = float((x + y) % 2);
+  WriteImage(path, n, n, 1, p);
+}
+
 TextureParams Params(const std::string& file, TextureColorSpace space = TextureColorSpace::Auto) {
   TextureParams p;
   p.file = file;
@@ -284,10 +292,7 @@ TEST_CASE("a lookup over a wide footprint averages a one-texel checker to its me
           "[texture]") {
   ScratchDir dir;
   const int n = 256;
-  std::vector<float> p(n * n);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) p[y * n + x] = float((x + y) % 2);
-  WriteImage(dir / "checker.png", n, n, 1, p);
+  WriteOneTexelChecker(dir / "checker.png", n);
   const auto t = Texture::Open(Params(dir / "checker.png"));
   TextureFootprint wide;
   wide.dstDx = {0.1f, 0}, wide.dstDy = {0, 0.1f};
@@ -446,13 +451,10 @@ struct TextureScene : test::RenderStack {
 TEST_CASE("a mip-mapped checker seen from afar renders with far less pixel variance than point sampling at equal spp",
           "[texture][render]") {
   // Emission from a 512^2 one-texel checker on a quad filling a 32^2 image: each pixel covers 16^2 texels. The
-  // filtered lookup returns about their mean, 0.5; point sampling returns 0 or 1 per sample.
+  // filtered lookup returns about their mean, 0.5; point sampling, a bilinear blend of the texels around each sample.
   ScratchDir dir;
   const int n = 512;
-  std::vector<float> p(n * n);
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) p[y * n + x] = float((x + y) % 2);
-  WriteImage(dir / "checker.png", n, n, 1, p);
+  WriteOneTexelChecker(dir / "checker.png", n);
   double variance[2], mean[2];
   for (int filtered = 0; filtered < 2; ++filtered) {
     TextureScene s;
