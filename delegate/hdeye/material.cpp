@@ -10,7 +10,8 @@ namespace hdeye {
 namespace {
 
 constexpr std::array<const char*, kMaterialInputCount> kInputNames = {
-    "diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal"};
+    "diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal", "specularColor", "clearcoat",
+    "clearcoatRoughness"};
 
 void CheckUnit(const PrimId& id, const char* name, float v) {
   if (!(v >= 0 && v <= 1))
@@ -38,6 +39,9 @@ void Material::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, Dirt
     if (!(std::isfinite(p.ior) && p.ior >= 1))
       throw std::runtime_error("material " + Id() + ": ior = " + std::to_string(p.ior) + " must be finite and >= 1");
     CheckUnit(Id(), "opacityThreshold", p.opacityThreshold);
+    CheckUnit(Id(), "clearcoat", p.clearcoat);
+    CheckUnit(Id(), "clearcoatRoughness", p.clearcoatRoughness);
+    CheckColor(Id(), "specularColor", p.specularColor);
     MaterialTextures textures;
     for (int i = 0; i < kMaterialInputCount; ++i) {
       const TextureInput& input = p.textures[std::size_t(i)];

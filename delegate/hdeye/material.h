@@ -22,8 +22,8 @@ class Material final : public Sprim {
   using Sprim::Sprim;
   DirtyBits GetInitialDirtyBitsMask() const override { return dirty::DirtyParams; }
   /// Throws std::runtime_error naming the prim and the attribute if a parameter is out of range
-  /// (roughness, metallic, opacity, opacityThreshold outside [0, 1]; ior below 1; a colour negative or
-  /// not finite). The previous parameters stay in place on failure.
+  /// (roughness, metallic, opacity, opacityThreshold, clearcoat, clearcoatRoughness outside [0, 1]; ior
+  /// below 1; a colour negative or not finite). The previous parameters stay in place on failure.
   void Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) override;
   const MaterialParams& Params() const { return params_; }
   /// The textured inputs, indexed by MaterialInput; valid while the material lives.

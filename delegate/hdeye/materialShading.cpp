@@ -72,6 +72,13 @@ SurfaceShading ShadeMaterial(const GeometryContext& context, const glm::dvec3& a
     opacity = 1;
   }
   out.bsdf.opacity = opacity;
+  out.bsdf.specularWorkflow = m.useSpecularWorkflow;
+  out.bsdf.specularColor = glm::dvec3(m.specularColor);
+  if (LookupInput(context, MaterialInput::SpecularColor, site, &v))
+    out.bsdf.specularColor = glm::clamp(glm::dvec3(v), glm::dvec3(0), glm::dvec3(1));
+  out.bsdf.clearcoat = LookupInput(context, MaterialInput::Clearcoat, site, &v) ? Unit(v.x) : m.clearcoat;
+  out.bsdf.clearcoatRoughness =
+      LookupInput(context, MaterialInput::ClearcoatRoughness, site, &v) ? Unit(v.x) : m.clearcoatRoughness;
   out.emission = glm::dvec3(m.emissiveColor);
   if (LookupInput(context, MaterialInput::EmissiveColor, site, &v)) out.emission = glm::max(glm::dvec3(v), glm::dvec3(0));
   out.normal = n;

@@ -39,7 +39,10 @@ struct LightParams {
 };
 
 /// The UsdPreviewSurface inputs a texture can drive.
-enum class MaterialInput { DiffuseColor, EmissiveColor, Roughness, Metallic, Opacity, Ior, Normal, Count };
+enum class MaterialInput {
+  DiffuseColor, EmissiveColor, Roughness, Metallic, Opacity, Ior, Normal, SpecularColor, Clearcoat, ClearcoatRoughness,
+  Count
+};
 constexpr int kMaterialInputCount = int(MaterialInput::Count);
 
 /// A material input read from a UsdUVTexture: the texture, which of its outputs, and the UsdTransform2d
@@ -65,6 +68,12 @@ struct MaterialParams {
   /// at or above it is opaque.
   float opacityThreshold = 0;
   float ior = 1.5f;        ///< dielectric index of refraction (>= 1)
+  /// useSpecularWorkflow: the specular lobe's colour at normal incidence is specularColor (white at the
+  /// edge) instead of coming from metallic and ior.
+  bool useSpecularWorkflow = false;
+  glm::vec3 specularColor{0, 0, 0};  ///< linear, [0, 1]
+  float clearcoat = 0;               ///< [0, 1]: a white coat of index 1.5 over everything
+  float clearcoatRoughness = 0.01f;  ///< perceptual, [0, 1]
   /// Inputs driven by textures (looked up by the mesh's `st` primvar), indexed by MaterialInput; an
   /// active one replaces the constant above. Normal: a tangent-space normal map (tangents from st).
   std::array<TextureInput, kMaterialInputCount> textures;

@@ -1,13 +1,13 @@
 """UsdShade materials to the delegate's MaterialParams: UsdPreviewSurface and its UsdUVTexture networks.
 
 Inputs are followed through connections (material interface inputs, node graphs) to the attribute that
-produces their value. diffuseColor, emissiveColor, roughness, metallic, opacity, ior and normal (a tangent-space
-normal map) may come from a UsdUVTexture output (rgb, r, g, b or a), with its file, wrapS/wrapT, scale, bias,
+produces their value. diffuseColor, emissiveColor, roughness, metallic, opacity, ior, specularColor (with
+useSpecularWorkflow), clearcoat, clearcoatRoughness and normal (a tangent-space normal map) may come from a
+UsdUVTexture output (rgb, r, g, b or a), with its file, wrapS/wrapT, scale, bias,
 fallback and sourceColorSpace; its st from a UsdPrimvarReader_float2 (the primvar its varname names), optionally
 through a UsdTransform2d (rotation, scale, translation). opacityThreshold makes opacity a cut-out mask.
 
-What is not rendered is listed once in `ignored`: inputs fed by other nodes, clearcoat, specularColor with
-useSpecularWorkflow, displacement. occlusion is not used, as the specification expects of path tracers (the
+What is not rendered is listed once in `ignored`: inputs fed by other nodes, displacement. occlusion is not used, as the specification expects of path tracers (the
 renderer computes occlusion itself). A material whose universal surface is not a UsdPreviewSurface (MaterialX,
 or another shader network) renders its UsdPreviewSurface output for another render context if it has one, else
 the defaults, with one warning.
@@ -29,11 +29,17 @@ DEFAULTS = {
     "opacity": 1.0,
     "opacityThreshold": 0.0,
     "ior": 1.5,
+    "specularColor": (0.0, 0.0, 0.0),
+    "clearcoat": 0.0,
+    "clearcoatRoughness": 0.01,
 }
-RANGES = {"roughness": (0, 1), "metallic": (0, 1), "opacity": (0, 1), "opacityThreshold": (0, 1), "ior": (1, math.inf)}
-TEXTURED = ("diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal")
+RANGES = {"roughness": (0, 1), "metallic": (0, 1), "opacity": (0, 1), "opacityThreshold": (0, 1), "ior": (1, math.inf),
+          "clearcoat": (0, 1), "clearcoatRoughness": (0, 1)}
+TEXTURED = ("diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal", "specularColor",
+            "clearcoat", "clearcoatRoughness")
+COLOR_INPUTS = ("diffuseColor", "emissiveColor", "normal", "specularColor")
 # Inputs the renderer does not model, with the value at which ignoring them changes nothing.
-NOT_RENDERED = {"clearcoat": 0.0, "useSpecularWorkflow": 0, "displacement": 0.0}
+NOT_RENDERED = {"displacement": 0.0}
 CHANNELS = {"rgb": -1, "rgba": -1, "r": 0, "g": 1, "b": 2, "a": 3}
 WRAPS = {"useMetadata": TextureWrap.useMetadata, "black": TextureWrap.black, "clamp": TextureWrap.clamp,
          "repeat": TextureWrap.repeat, "mirror": TextureWrap.mirror}
@@ -160,7 +166,7 @@ def read_material(material, time):
                 ignored.append(f"{shader.GetPath()}: inputs:{name} comes from a node this renderer does not run")
                 continue
             texture_input, texture_st, problem = texture
-            if name not in ("diffuseColor", "emissiveColor", "normal") and texture_input.channel == -1:
+            if name not in COLOR_INPUTS and texture_input.channel == -1:
                 texture_input.channel = 0  # a float input fed by rgb takes r
             params.set_texture(name, texture_input)
             if problem:
@@ -171,6 +177,10 @@ def read_material(material, time):
             st_name = st_name or texture_st
         elif name in DEFAULTS and attr.Get(time) is not None:
             setattr(params, _snake(name), _checked(shader, name, attr.Get(time)))
+    workflow = _value(shader, "useSpecularWorkflow", time, 0)
+    if workflow not in (0, 1):
+        raise EyeRenderError(f"{shader.GetPath()}: inputs:useSpecularWorkflow = {workflow} must be 0 or 1")
+    params.use_specular_workflow = workflow == 1
     for name, neutral in NOT_RENDERED.items():
         if _value(shader, name, time, neutral) != neutral or _is_output(_producer(shader.GetInput(name))):
             ignored.append(f"{shader.GetPath()}: inputs:{name} is not rendered")

@@ -76,7 +76,8 @@ MaterialInput MaterialInputNamed(const std::string& name) {
       {"diffuseColor", MaterialInput::DiffuseColor}, {"emissiveColor", MaterialInput::EmissiveColor},
       {"roughness", MaterialInput::Roughness},       {"metallic", MaterialInput::Metallic},
       {"opacity", MaterialInput::Opacity},           {"ior", MaterialInput::Ior},
-      {"normal", MaterialInput::Normal}};
+      {"normal", MaterialInput::Normal},             {"specularColor", MaterialInput::SpecularColor},
+      {"clearcoat", MaterialInput::Clearcoat},       {"clearcoatRoughness", MaterialInput::ClearcoatRoughness}};
   for (const auto& [n, input] : kNames)
     if (name == n) return input;
   throw std::invalid_argument("'" + name + "' is not a texturable UsdPreviewSurface input");
@@ -180,12 +181,16 @@ NB_MODULE(_hdeye, m) {
           "texture", [](const MaterialParams& p, const std::string& input) { return p.Texture(MaterialInputNamed(input)); },
           nb::arg("input"), "The texture driving an input (its texture.file is '' when none does).")
       .def_rw("opacity_threshold", &MaterialParams::opacityThreshold)
+      .def_rw("use_specular_workflow", &MaterialParams::useSpecularWorkflow)
+      .def_rw("clearcoat", &MaterialParams::clearcoat)
+      .def_rw("clearcoat_roughness", &MaterialParams::clearcoatRoughness)
       .def_rw("roughness", &MaterialParams::roughness)
       .def_rw("metallic", &MaterialParams::metallic)
       .def_rw("opacity", &MaterialParams::opacity)
       .def_rw("ior", &MaterialParams::ior);
   Vec3Property<MaterialParams, &MaterialParams::diffuseColor>(material, "diffuse_color");
   Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
+  Vec3Property<MaterialParams, &MaterialParams::specularColor>(material, "specular_color");
 
   nb::class_<EyeParams> eye(m, "EyeParams");
   ChamberProperty<eyelib::CorneaModel, &eyelib::ChamberParams::model>(eye, "cornea_model");

@@ -67,6 +67,19 @@ PreviewSurface Surface(glm::dvec3 albedo, double roughness, double metallic, dou
   return s;
 }
 
+/// s under a clearcoat of the given weight and roughness.
+PreviewSurface Coated(PreviewSurface s, double clearcoat, double clearcoatRoughness) {
+  s.clearcoat = clearcoat, s.clearcoatRoughness = clearcoatRoughness;
+  return s;
+}
+
+/// The specular workflow: specularColor replaces metallic and ior.
+PreviewSurface SpecularWorkflow(glm::dvec3 albedo, double roughness, glm::dvec3 specularColor) {
+  PreviewSurface s = Surface(albedo, roughness, 0);
+  s.specularWorkflow = true, s.specularColor = specularColor;
+  return s;
+}
+
 const glm::dvec3 kUp(0, 0, 1);
 
 /// The surface's directional albedo (red channel) seen from wo, by sampling: the mean BSDF sample weight over
@@ -88,7 +101,9 @@ TEST_CASE("the BSDF is reciprocal and, with ior 1, exactly Lambert", "[bsdf]") {
   std::uniform_real_distribution<double> u(0, 1);
   const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.2, 0.9));
   for (const PreviewSurface& s : {Surface({0.5, 0.3, 0.2}, 0.3, 0), Surface({0.9, 0.6, 0.2}, 0.6, 1),
-                                  Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5)}) {
+                                  Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5),
+                                  Coated(Surface({0.5, 0.3, 0.2}, 0.5, 0), 0.8, 0.3),
+                                  SpecularWorkflow({0.4, 0.5, 0.6}, 0.4, {0.9, 0.5, 0.1})}) {
     for (int i = 0; i < 200; ++i) {
       glm::dvec3 t, b;
       eyelib::OrthonormalBasis(n, &t, &b);
@@ -117,7 +132,10 @@ TEST_CASE("the BSDF's pdf integrates to the probability that a sample is a non-d
   std::uniform_real_distribution<double> u(0, 1);
   for (const PreviewSurface& s : {Surface({0.5, 0.5, 0.5}, 0.5, 0, 1, 1.0), Surface({0.5, 0.4, 0.3}, 0.3, 0),
                                   Surface({0.9, 0.9, 0.9}, 0.6, 1), Surface({1, 1, 1}, 1, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5)}) {
+                                  Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.3, 0), 1, 0.5),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.5, 1), 0.5, 0.01),
+                                  SpecularWorkflow({0.5, 0.4, 0.3}, 0.3, {0.2, 0.6, 0.9})}) {
     for (double cosO : {0.9, 0.4, 0.1}) {
       const glm::dvec3 wo = DirectionAt(cosO, 0.3);
       const double integral = IntegrateHemisphere([&](const glm::dvec3& wi) { return PdfPreviewSurface(s, kUp, wo, wi); });
@@ -141,7 +159,9 @@ TEST_CASE("a sampled weight is f cos / pdf, and sampling averages to the quadrat
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 1);
   for (const PreviewSurface& s : {Surface({0.5, 0.4, 0.3}, 0.3, 0), Surface({0.9, 0.7, 0.5}, 0.6, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0)}) {
+                                  Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.6, 0), 1, 0.25),
+                                  SpecularWorkflow({0.6, 0.5, 0.4}, 0.35, {0.3, 0.5, 0.7})}) {
     for (double cosO : {0.95, 0.5, 0.15}) {
       const glm::dvec3 wo = DirectionAt(cosO, 1.1);
       const int n = 100000;
@@ -209,6 +229,49 @@ TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most w
       }
 }
 
+TEST_CASE("a clearcoat adds Schlick's 4% white reflection at normal incidence and takes it from what lies below; "
+          "the specular workflow reflects specularColor", "[bsdf]") {
+  std::mt19937_64 rng(17);
+  const glm::dvec3 normal = DirectionAt(1, 0), grazing = DirectionAt(0.2, 0);
+  // Over a black, non-reflecting base (ior 1), a mirror coat reflects exactly clearcoat x Schlick(0.04).
+  const PreviewSurface black = Surface({0, 0, 0}, 0.5, 0, 1, 1.0);
+  for (double c : {1.0, 0.5}) {
+    CHECK(SampledAlbedo(Coated(black, c, 0.01), normal, 2000, rng) == Approx(c * 0.04).epsilon(1e-9));
+    CHECK(SampledAlbedo(Coated(black, c, 0.01), grazing, 2000, rng) ==
+          Approx(c * (0.04 + 0.96 * std::pow(0.8, 5))).epsilon(1e-9));
+  }
+  // Over a white Lambert base, what the coat reflects is missing below: the sum stays at most 1 at every angle.
+  // With a smooth coat at normal incidence it is 0.04 + 0.96 (1 - Fbar), Fbar = 0.04 + 0.96 / 21 the coat's
+  // cosine-weighted mean reflectance (the light that reaches the base leaves through the coat too).
+  const PreviewSurface white = Surface({1, 1, 1}, 0.5, 0, 1, 1.0);
+  for (double roughness : {0.01, 0.3, 0.8})
+    for (const glm::dvec3& wo : {normal, grazing}) {
+      const double albedo = SampledAlbedo(Coated(white, 1, roughness), wo, 40000, rng);
+      INFO("clearcoat roughness " << roughness << " cos_o " << wo.z << ": albedo " << albedo);
+      CHECK(albedo <= 1.01);
+      if (roughness < 0.1 && wo.z == 1.0) CHECK(albedo == Approx(0.04 + 0.96 * (1 - (0.04 + 0.96 / 21))).margin(0.005));
+    }
+  // Specular workflow, mirror: the reflection is specularColor at normal incidence, whatever metallic says.
+  PreviewSurface mirror = SpecularWorkflow({0, 0, 0}, 0, {0.9, 0.5, 0.1});
+  mirror.metallic = 1;
+  BsdfSample bs;
+  std::uniform_real_distribution<double> u(0, 1);
+  glm::dvec3 sum(0);
+  const int n = 2000;
+  for (int i = 0; i < n; ++i)
+    if (SamplePreviewSurface(mirror, kUp, normal, false, u(rng), u(rng), u(rng), &bs)) sum += bs.weight;
+  CHECK(sum.x / n == Approx(0.9).epsilon(1e-9));
+  CHECK(sum.y / n == Approx(0.5).epsilon(1e-9));
+  CHECK(sum.z / n == Approx(0.1).epsilon(1e-9));
+  // ... and its diffuse is not dimmed by metallic (kd = 1): with a black specularColor only Schlick's white edge,
+  // (1 - c)^5, takes from it.
+  const PreviewSurface edge = SpecularWorkflow({0.5, 0.5, 0.5}, 0.5, {0, 0, 0});
+  const glm::dvec3 wo = DirectionAt(0.7, 0), wi = DirectionAt(0.4, 2);
+  const double specular = EvalPreviewSurface(SpecularWorkflow({0, 0, 0}, 0.5, {0, 0, 0}), kUp, wo, wi).x;
+  CHECK(EvalPreviewSurface(edge, kUp, wo, wi).x - specular ==
+        Approx(0.5 / kPi * (1 - std::pow(0.3, 5)) * (1 - std::pow(0.6, 5))).epsilon(1e-12));
+}
+
 TEST_CASE("glass reflects with the Fresnel probability and refracts with weight 1/eta^2", "[bsdf]") {
   const PreviewSurface glass = Surface({1, 1, 1}, 0.5, 0, 0, 1.5);
   CHECK_FALSE(HasSmoothLobe(glass, kUp, DirectionAt(0.5, 0)));
@@ -250,7 +313,7 @@ TEST_CASE("the BSDF never returns NaN or infinity, at grazing angles and for mir
     for (double metallic : {0.0, 1.0})
       for (double opacity : {0.0, 0.5, 1.0})
         for (double cosO : {1.0, 1e-3, 1e-8, 1e-12, 0.0, -0.1}) {
-          const PreviewSurface s = Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5);
+          const PreviewSurface s = Coated(Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5), metallic, roughness);
           const glm::dvec3 wo = glm::normalize(DirectionAt(std::abs(cosO), 0.4) * glm::dvec3(1, 1, cosO < 0 ? -1 : 1));
           for (int i = 0; i < 200; ++i) {
             BsdfSample bs;

@@ -355,7 +355,8 @@ TextureInput Input(const std::string& file, int channel) {
 
 }  // namespace
 
-TEST_CASE("textured roughness, metallic, opacity, ior and diffuseColor take the texel of their channel; "
+TEST_CASE("textured roughness, metallic, opacity, ior, diffuseColor, specularColor, clearcoat and clearcoatRoughness "
+          "take the texel of their channel; "
           "UsdTransform2d scales, rotates and translates st", "[texture][material]") {
   ScratchDir dir;
   // RGBA halves: left (0.2, 0.4, 0.6, 0.8), right (0.9, 0.7, 0.5, 0.3).
@@ -373,6 +374,10 @@ TEST_CASE("textured roughness, metallic, opacity, ior and diffuseColor take the 
   ior.texture.scale = glm::vec4(2);
   t.Bind(MaterialInput::Ior, ior);
   t.Bind(MaterialInput::DiffuseColor, Input(dir / "rgba.exr", -1));
+  t.Bind(MaterialInput::SpecularColor, Input(dir / "rgba.exr", -1));
+  t.Bind(MaterialInput::Clearcoat, Input(dir / "rgba.exr", 3));
+  t.Bind(MaterialInput::ClearcoatRoughness, Input(dir / "rgba.exr", 1));
+  t.context.material.useSpecularWorkflow = true;
   TextureSite site;
   site.st = {0.25, 0.5};
   const glm::dvec3 n(0, 0, 1);
@@ -382,6 +387,10 @@ TEST_CASE("textured roughness, metallic, opacity, ior and diffuseColor take the 
   CHECK(left.bsdf.opacity == Approx(0.8));
   CHECK(left.bsdf.ior == Approx(1.2));
   CHECK(left.bsdf.albedo.b == Approx(0.6));
+  CHECK(left.bsdf.specularWorkflow);
+  CHECK(left.bsdf.specularColor.g == Approx(0.4));
+  CHECK(left.bsdf.clearcoat == Approx(0.8));
+  CHECK(left.bsdf.clearcoatRoughness == Approx(0.4));
   // opacityThreshold: opacity becomes a mask (present at 0.8 >= 0.5, opaque), absent on the right (0.3).
   t.context.material.opacityThreshold = 0.5f;
   left = ShadeMaterial(t.context, glm::dvec3(0.18), n, n, site);

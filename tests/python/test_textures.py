@@ -296,13 +296,18 @@ def test_every_texturable_preview_surface_input_is_read_with_its_channel(tmp_pat
         surface.CreateInput(name, type_name).ConnectToSource(texture.ConnectableAPI(), out)
     surface.CreateInput("opacityThreshold", Sdf.ValueTypeNames.Float).Set(0.5)
     surface.CreateInput("clearcoat", Sdf.ValueTypeNames.Float).Set(1.0)
+    surface.CreateInput("useSpecularWorkflow", Sdf.ValueTypeNames.Int).Set(1)
+    surface.CreateInput("specularColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(texture.ConnectableAPI(), "rgb")
+    surface.CreateInput("displacement", Sdf.ValueTypeNames.Float).Set(0.5)
     params, st, ignored = materials.read_material(UsdShade.Material(stage.GetPrimAtPath("/World/Looks/card")),
                                                   Usd.TimeCode.Default())
     assert params.texture("roughness").channel == 1 and params.texture("metallic").channel == 2
     assert params.texture("opacity").channel == 3 and params.texture("normal").channel == -1
     assert params.texture("roughness").texture.file.endswith("rgba.png")
     assert params.opacity_threshold == pytest.approx(0.5)
-    assert ignored == ["/World/Looks/card/surface: inputs:clearcoat is not rendered"]
+    assert params.clearcoat == pytest.approx(1) and params.use_specular_workflow
+    assert params.texture("specularColor").channel == -1
+    assert ignored == ["/World/Looks/card/surface: inputs:displacement is not rendered"]
 
 
 def test_a_materialx_only_material_warns_and_renders_its_preview_surface_fallback(tmp_path):
