@@ -3,9 +3,9 @@
 // (Akenine-Moller et al., "Texture Level of Detail Strategies for Real-Time Ray Tracing", 2019).
 //
 // A cone has a width (scene units, the footprint's diameter where the ray starts) and a spread angle
-// (radians, how fast the width grows per unit of distance). The camera starts it at one pixel: width
-// the pixel's size at the camera (orthographic), spread the angle between neighbouring pixels' rays
-// (perspective). At a hit the width is width + spread * t; the footprint on the surface is an ellipse
+// (radians, how fast the width grows per unit of distance). The camera starts it at a fraction of a
+// pixel (RenderSettings::textureFootprintScale): width the pixel's size at the camera (orthographic),
+// spread the angle between neighbouring pixels' rays (perspective), both times that fraction. At a hit the width is width + spread * t; the footprint on the surface is an ellipse
 // whose axes are that width across the ray and width / |cos| along it, and mapped through the
 // triangle's (s, t) parameterisation it gives the lookup's derivatives.
 //

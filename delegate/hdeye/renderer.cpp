@@ -509,8 +509,9 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
               const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
               // The pixel's cone: the ray one pixel over gives its width (orthographic) and spread (perspective).
               const WorldRay next = camera.GenerateRay((x + jx + 1) / width, (y + jy) / height, aspect);
-              const RayCone cone{glm::length(next.origin - ray.origin),
-                                 std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
+              const double scale = settings.textureFootprintScale;
+              const RayCone cone{scale * glm::length(next.origin - ray.origin),
+                                 scale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
               SurfaceHit first{};
               bool hitAny = false;
               glm::dvec3 irisMnee(0), arc(0);

@@ -147,6 +147,8 @@ NB_MODULE(_hdeye, m) {
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
       .def_rw("texture_filtering", &RenderSettings::textureFiltering,
               "filter textures over each ray's footprint (off: finest level, point sampled)")
+      .def_rw("texture_footprint_scale", &RenderSettings::textureFootprintScale,
+              "the camera's ray cone as a fraction of a pixel")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
