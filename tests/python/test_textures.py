@@ -339,3 +339,20 @@ def test_texture_filtering_lowers_the_noise_of_a_fine_checker_at_equal_samples(t
         var[filtering] = float(inner(img)[:, :, 0].var())
     assert var[True] < var[False] / 20, var
     assert math.isfinite(var[True])
+
+
+def test_udim_tiles_inside_a_usdz_package_are_extracted_together_and_render(tmp_path, monkeypatch):
+    monkeypatch.setenv("EYERENDER_CACHE", str(tmp_path / "cache"))
+    (tmp_path / "tex").mkdir()
+    write_image(str(tmp_path / "tex" / "t.1001.png"), np.full((8, 8, 3), (1, 0, 0), np.float32))
+    write_image(str(tmp_path / "tex" / "t.1002.png"), np.full((8, 8, 3), (0, 1, 0), np.float32))
+    card_stage(tmp_path / "asset.usda", "tex/t.<UDIM>.png", st_range=((0, 0), (2, 1)))
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(tmp_path / "asset.usda")), str(tmp_path / "asset.usdz"))
+    for tile in (tmp_path / "tex").iterdir():
+        tile.unlink()
+    s, img = render(Usd.Stage.Open(str(tmp_path / "asset.usdz")))
+    assert not s.scene.warnings
+    tl, tr, _, _ = quadrant_means(img)
+    assert tl == pytest.approx((1, 0, 0), abs=1e-3) and tr == pytest.approx((0, 1, 0), abs=1e-3)
+    cached = sorted(f for _, _, files in os.walk(tmp_path / "cache") for f in files)
+    assert cached == ["t.1001.png", "t.1002.png"]
