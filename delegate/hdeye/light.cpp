@@ -28,8 +28,16 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
         p.textureFile.clear();
       }
     }
+    std::shared_ptr<const Texture> rectImage;
+    if (p.type == LightType::Rect && !p.textureFile.empty()) {
+      const TextureParams image = TextureParams::Image(p.textureFile, TextureWrap::Clamp);
+      rectImage = renderParam ? renderParam->Textures().Get(image) : Texture::Open(image);
+      if (!rectImage->Valid() && renderParam)
+        renderParam->Warn("light " + Id() + ": textureFile: " + rectImage->Error() + "; the light emits magenta");
+    }
     params_ = p;
     dome_ = std::move(dome);
+    rectImage_ = std::move(rectImage);
   }
   *dirtyBits = dirty::Clean;
 }

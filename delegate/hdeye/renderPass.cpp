@@ -47,7 +47,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   std::vector<RenderLight> lights;
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
 
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;

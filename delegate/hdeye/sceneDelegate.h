@@ -35,7 +35,9 @@ struct LightParams {
   float radius = 0.5f;      ///< sphere, disk (scene units)
   float width = 1, height = 1;  ///< rect (scene units)
   float angle = 0.53f;      ///< distant: angular diameter, degrees
-  std::string textureFile;  ///< dome: lat-long image, any format OpenImageIO reads (empty: constant colour)
+  /// Dome: a lat-long image; rect: an image over the rectangle (RenderLight::rectImage's orientation). Any
+  /// format OpenImageIO reads; empty: a constant colour.
+  std::string textureFile;
 };
 
 /// The UsdPreviewSurface inputs a texture can drive.

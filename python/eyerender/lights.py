@@ -1,8 +1,9 @@
 """UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, dome).
 
 Radiance = color * intensity * 2^exposure, as UsdLux defines it. With inputs:normalize the intensity is divided
-by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. colorTemperature and
-light textures other than the dome's are not rendered yet; the front end reports them.
+by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. Dome and rect light
+textures are read through eyerender.textures (any OpenImageIO format, .usdz); colorTemperature is not rendered yet
+and the front end reports it.
 """
 import math
 
@@ -57,6 +58,9 @@ def read_light(prim, world, time, warnings=None):
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
         p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
+        p.texture_file, problem = resolve_texture(light.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
+        if problem and warnings is not None:
+            warnings.append(TextureWarning(f"{problem}; the light emits magenta"))
         area = p.width * p.height * scale * scale
     elif kind == "DistantLight":
         p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
@@ -87,7 +91,5 @@ def unsupported_light_features(prim, time):
         notes.append(f"{prim.GetPath()}: colorTemperature is ignored")
     if prim.GetTypeName() in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time):
         notes.append(f"{prim.GetPath()}: radius 0 emits nothing (intensity is radiance)")
-    if prim.GetTypeName() == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
-        notes.append(f"{prim.GetPath()}: rect light texture is ignored")
     return notes
 

@@ -9,6 +9,7 @@
 #include "hdeye/renderBuffer.h"
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
+#include "hdeye/renderLight.h"
 #include "hdeye/renderPass.h"
 #include "hdeye/texture.h"
 #include "scene_helpers.h"
@@ -626,4 +627,48 @@ TEST_CASE("an opacityThreshold cut-out lets camera rays and shadow rays through 
     CHECK(lit[0] > 0);
     CHECK(lit[1] == Approx(lit[0]).epsilon(1e-6));
   }
+}
+
+TEST_CASE("a rect light's texture shows upright to a viewer facing it (UsdLux: the image's first texel at local "
+          "+x, +y), and its sampled and intersected radiance agree", "[texture][light]") {
+  ScratchDir dir;
+  // Quadrants: top-left red, top-right green, bottom-left blue, bottom-right white (row 0 at the top).
+  std::vector<float> p;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const glm::vec3 c = y < 4 ? (x < 4 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0))
+                                : (x < 4 ? glm::vec3(0, 0, 1) : glm::vec3(1, 1, 1));
+      p.insert(p.end(), {c.r, c.g, c.b});
+    }
+  WriteImage(dir / "quads.exr", 8, 8, 3, p, OIIO::TypeDesc::FLOAT);
+  LightParams params;
+  params.type = LightType::Rect;
+  params.width = params.height = 2;
+  params.intensity = 3;
+  params.textureFile = dir / "quads.exr";
+  const RenderLight light = RenderLight::FromParams(params, Matrix4d(1.0), nullptr,
+                                                    Texture::Open(TextureParams::Image(dir / "quads.exr", TextureWrap::Clamp)));
+  // The light emits along -z: seen from below, looking up +z, local +x is on the viewer's left.
+  auto seen = [&](double x, double y) {
+    glm::dvec3 radiance(0);
+    double pdf = 0, distance = 0;
+    REQUIRE(IntersectLight(light, {x, y, -1}, {0, 0, 1}, 1e30, &radiance, &pdf, &distance));
+    return radiance;
+  };
+  CHECK(seen(0.5, 0.5) == glm::dvec3(3, 0, 0));    // +x, +y: the image's top-left, red
+  CHECK(seen(-0.5, 0.5) == glm::dvec3(0, 3, 0));   // the viewer's top-right: green
+  CHECK(seen(0.5, -0.5) == glm::dvec3(0, 0, 3));   // bottom-left: blue
+  CHECK(seen(-0.5, -0.5) == glm::dvec3(3, 3, 3));
+  // A sampled point's radiance is what a ray to it finds.
+  for (double u1 : {0.1, 0.4, 0.8})
+    for (double u2 : {0.2, 0.7}) {
+      const glm::dvec3 from(0.3, -0.2, -2);
+      const LightSample s = SampleLight(light, from, u1, u2);
+      REQUIRE(s.pdf > 0);
+      glm::dvec3 radiance(0);
+      double pdf = 0, distance = 0;
+      REQUIRE(IntersectLight(light, from, s.dir, 1e30, &radiance, &pdf, &distance));
+      CHECK(glm::length(radiance - s.radiance) < 1e-6);
+      CHECK(pdf == Approx(s.pdf).epsilon(1e-9));
+    }
 }

@@ -356,3 +356,24 @@ def test_udim_tiles_inside_a_usdz_package_are_extracted_together_and_render(tmp_
     assert tl == pytest.approx((1, 0, 0), abs=1e-3) and tr == pytest.approx((0, 1, 0), abs=1e-3)
     cached = sorted(f for _, _, files in os.walk(tmp_path / "cache") for f in files)
     assert cached == ["t.1001.png", "t.1002.png"]
+
+
+def test_a_rect_light_texture_is_read_and_a_missing_one_is_a_warning(tmp_path):
+    write_image(str(tmp_path / "panel.png"), np.full((4, 4, 3), 0.5, np.float32))
+    stage, _ = card_stage(tmp_path / "s.usda", "none.png")
+    surface = UsdShade.Shader(stage.GetPrimAtPath("/World/Looks/card/surface"))
+    surface.GetInput("emissiveColor").ClearSources()
+    surface.GetInput("diffuseColor").Set((0.5, 0.5, 0.5))
+    light = UsdLux.RectLight.Define(stage, "/World/panel")
+    light.CreateTextureFileAttr("panel.png")
+    light.AddTranslateOp().Set(Gf.Vec3d(0, 0, 3))
+    lit = render(stage, size=8, spp=4)
+    assert not [w for w in lit[0].scene.warnings if "panel" in w], lit[0].scene.warnings
+    light.GetTextureFileAttr().Set("missing_panel.png")
+    s, magenta = render(stage, size=8, spp=4)
+    problems = [w for w in s.scene.warnings if isinstance(w, TextureWarning)]
+    assert len(problems) == 1 and "/World/panel" in problems[0] and "missing_panel.png" in problems[0]
+    # The texture halves the panel's radiance (0.5, sRGB-decoded: 0.214); the missing one lights it magenta.
+    lit_card, magenta_card = inner(lit[1]).reshape(-1, 3).mean(axis=0), inner(magenta).reshape(-1, 3).mean(axis=0)
+    assert lit_card[0] == pytest.approx(lit_card[1], rel=1e-6) and magenta_card[1] == 0
+    assert lit_card[0] == pytest.approx(magenta_card[0] * srgb_decode(0.5), rel=0.02)
