@@ -1,5 +1,5 @@
 #pragma once
-// Every image the renderer reads (material inputs, the iris, the sclera, dome lights) goes through
+// Every image the renderer reads (material inputs, the iris, the sclera, dome and rect lights) goes through
 // OpenImageIO's TextureSystem: any format OIIO reads (PNG, JPEG, TIFF, EXR, HDR, TGA, ... and tiled,
 // MIP-mapped .tx from maketx), MIP maps built in memory for files that have none, filtered lookups
 // sized by a footprint in (s, t), UDIM sets (`<UDIM>` in the file name), and UsdUVTexture's wrap modes,
