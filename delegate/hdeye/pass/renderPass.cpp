@@ -50,18 +50,22 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   std::vector<RenderLight> lights;
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      lights.push_back(
+          RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
 
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
+  bool cutouts = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
     context->primIndex = primIndex++;
     const auto* material = dynamic_cast<const Material*>(index_->GetSprim(entry.prim->MaterialId()));
     context->material = material ? material->Params() : MaterialParams{};
-    context->diffuseTexture = material ? material->DiffuseTexture() : nullptr;
+    context->textures = material ? &material->Textures() : nullptr;
+    cutouts = cutouts || context->material.opacityThreshold > 0;
   }
+  renderer_.SetCutouts(cutouts);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

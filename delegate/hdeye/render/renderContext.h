@@ -3,15 +3,24 @@
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/render/eyeRenderOptions.h"
 #include "hdeye/render/params.h"
+#include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>
 
+#include <array>
+#include <memory>
 #include <vector>
 
 namespace hdeye {
 
 struct EyeGeometry;
-class Texture;
+
+/// A textured input as the renderer uses it: the opened texture (null: not textured) and its input.
+struct BoundTexture {
+  std::shared_ptr<const Texture> texture;
+  TextureInput input;
+};
+using MaterialTextures = std::array<BoundTexture, kMaterialInputCount>;
 
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
@@ -36,8 +45,8 @@ struct GeometryContext {
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
-  /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
-  const Texture* diffuseTexture = nullptr;
+  /// The bound material's textured inputs (owned by the Material sprim), looked up at the hit's st; or null.
+  const MaterialTextures* textures = nullptr;
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk
   /// finds the eyeball's boundary in it, never in the rest of the scene.
   RTCScene prototypeScene = nullptr;
