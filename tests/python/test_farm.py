@@ -183,14 +183,20 @@ def test_a_resumed_job_skips_finished_frames_unless_overwrite(local_farm, refere
     assert forced.skipped == [] and list(forced.stats) == FRAMES[:1]
 
 
+def sample_with_triangle(path, prim_path):
+    """A new stage at `path` over the animated sample, with a triangle mesh (points unset) at prim_path."""
+    stage = Usd.Stage.CreateNew(str(path))
+    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
+    mesh = UsdGeom.Mesh.Define(stage, prim_path)
+    mesh.CreateFaceVertexCountsAttr([3])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    return stage, mesh
+
+
 def bad_prim_stage(tmp):
     """The animated sample plus a triangle whose points are NaN at time code 3 only."""
     path = tmp / "bad_frame.usda"
-    stage = Usd.Stage.CreateNew(str(path))
-    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
-    mesh = UsdGeom.Mesh.Define(stage, "/World/Bad")
-    mesh.CreateFaceVertexCountsAttr([3])
-    mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    stage, mesh = sample_with_triangle(path, "/World/Bad")
     points = mesh.CreatePointsAttr()
     good = Vt.Vec3fArray([(0, 0, -50), (1, 0, -50), (0, 1, -50)])
     for frame in FRAMES:
@@ -216,11 +222,7 @@ def test_cli_reports_a_deterministically_failing_frame_once_and_completes_the_ot
 def missing_texture_stage(tmp):
     """The animated sample plus a material whose diffuseColor reads a file that does not exist."""
     path = tmp / "missing_texture.usda"
-    stage = Usd.Stage.CreateNew(str(path))
-    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
-    mesh = UsdGeom.Mesh.Define(stage, "/World/Card")
-    mesh.CreateFaceVertexCountsAttr([3])
-    mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    stage, mesh = sample_with_triangle(path, "/World/Card")
     mesh.CreatePointsAttr(Vt.Vec3fArray([(0, 0, -50), (1, 0, -50), (0, 1, -50)]))
     material = UsdShade.Material.Define(stage, "/World/Looks/card")
     surface = UsdShade.Shader.Define(stage, "/World/Looks/card/surface")
