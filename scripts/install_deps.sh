@@ -43,6 +43,7 @@ pip_missing=()
 "$PYTHON" -c "import pytest" 2>/dev/null || pip_missing+=(pytest)
 "$PYTHON" -c "import jinja2" 2>/dev/null || pip_missing+=(jinja2)  # usdGenSchema, for the schema consistency test
 "$PYTHON" -c "import numpy" 2>/dev/null || pip_missing+=(numpy)
+"$PYTHON" -c "import matplotlib" 2>/dev/null || pip_missing+=("matplotlib>=3.5")  # eyestudy's plot
 # The farm extra (eyerender[farm]: eyerecord --scheduler/--workers), so tests/python/test_farm.py runs.
 "$PYTHON" -c "import dask, distributed" 2>/dev/null || pip_missing+=("dask[distributed]>=2024.1")
 # The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
