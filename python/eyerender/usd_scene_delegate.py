@@ -1,8 +1,8 @@
 """The USD scene delegate (UsdImagingDelegate's role): populates the hdeye render index from a Usd.Stage and keeps
 it current as time moves.
 
-Every supported prim becomes one delegate prim with the same path (instance proxies and point-instanced copies
-get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
+Every supported prim becomes one delegate prim with the same path; instances (PointInstancers, instanceable prims)
+become hdeye instancers over prototype prims added once (instancing.py). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
 matching dirty bits. What each `set_time` pushed is counted in `last_update`.
@@ -22,6 +22,7 @@ from pxr import Usd, UsdGeom, UsdShade
 from . import cameras, eyes, lights, materials
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .instancing import Instancing
 
 SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
@@ -51,10 +52,11 @@ class UsdSceneDelegate:
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
     def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("default",), refine_level=2,
-                 cornea_model=None):
+                 cornea_model=None, flatten_instances=False):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
-        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders."""
+        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders; flatten_instances: every instance as its
+        own prims (the reference instancing is compared with) instead of shared instancers."""
         self.stage, self.store = stage, store
         self.time = Usd.TimeCode(time)
         self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
@@ -68,6 +70,7 @@ class UsdSceneDelegate:
         self._updaters = []      # (kind, callable(time)) for what varies in time
         self._materials = {}     # material path -> st primvar name
         self._populated = False
+        self._instancing = Instancing(self, flatten=flatten_instances)
 
     # -- public ------------------------------------------------------------------------------------------------
 
@@ -83,8 +86,12 @@ class UsdSceneDelegate:
             if imageable and imageable.ComputePurpose() not in self.purposes:
                 it.PruneChildren()
                 continue
-            if self._add_prim(prim):
+            if prim.IsInstance() and not self._instancing.flatten:
+                self._instancing.add_native_instance(prim)
                 it.PruneChildren()
+            elif self._add_prim(prim):
+                it.PruneChildren()
+        self._instancing.finish()
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
@@ -101,7 +108,7 @@ class UsdSceneDelegate:
     def _add_prim(self, prim):
         """Adds a prim; returns True when its children are handled too (or must not be rendered)."""
         if prim.IsA(UsdGeom.PointInstancer):
-            self._add_point_instancer(prim)
+            self._instancing.add_point_instancer(prim)
             return True
         if prim.IsA(UsdGeom.Mesh):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
@@ -116,6 +123,16 @@ class UsdSceneDelegate:
         elif eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable):
             self._add_analytic_eye(prim)
         return False
+
+    def _add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
+        """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
+        (or the world, with no instancer_id); `binding`: the prim whose bound material it gets."""
+        if prim.IsA(UsdGeom.Mesh):
+            self._add_mesh(prim, prim_id, transform, instancer_id, binding)
+        elif prim.IsA(UsdGeom.Gprim):
+            self._add_gprim(prim, prim_id, transform, instancer_id, binding)
+        else:
+            self._add_analytic_eye(prim, prim_id, transform)
 
     def _world_of(self, prim):
         return self._xforms.GetLocalToWorldTransform(prim)
@@ -170,7 +187,7 @@ class UsdSceneDelegate:
             raise EyeRenderError(f"{path}: faceVertexIndices refers to points outside [0, {len(points)})")
         return counts, indices, points
 
-    def _add_mesh(self, prim, prim_id, world):
+    def _add_mesh(self, prim, prim_id, world, instancer_id="", binding=None):
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
@@ -181,14 +198,15 @@ class UsdSceneDelegate:
             self.warnings.append(f"{path}: subdivisionScheme '{scheme}' renders as its control polygons")
         level = self.refine_level if scheme == "catmullClark" else 0
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
-        material_id, st_name = self._bind_material(prim)
+        material_id, st_name = self._bind_material(binding or prim)
         if eyes.is_eye(prim):
             eye = self._eye_mesh_params(prim, self.time)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
             self._track_eye(prim, prim_id, mesh=True)
         else:
-            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left,
+                                instancer_id=instancer_id)
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
         names["rest"] = self._rest_source(prim)
         for name, source in names.items():
@@ -303,54 +321,22 @@ class UsdSceneDelegate:
         self.store.set_primvar(prim_id, name, str(interpolation),
                                _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
 
-    def _add_gprim(self, prim):
+    def _add_gprim(self, prim, prim_id=None, world=None, instancer_id="", binding=None):
         tessellated = tessellate_gprim(prim, self.time)
         if tessellated is None:
             self.warnings.append(f"{prim.GetPath()}: {prim.GetTypeName()} is not rendered (not supported)")
             return
         counts, indices, points = tessellated
-        prim_id = prim.GetPath().pathString
-        material_id, _ = self._bind_material(prim)
-        self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
+        material_id, _ = self._bind_material(binding or prim)
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
+        world = self._world_of(prim) if world is None else world
+        self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, 0, False,
+                            instancer_id=instancer_id)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
-        self._track_transform(prim)
+        if own:
+            self._track_transform(prim)
         self._track_visibility(prim, prim_id)
-
-    # -- point instancers --------------------------------------------------------------------------------------
-
-    def _add_point_instancer(self, prim):
-        """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
-        instancer = UsdGeom.PointInstancer(prim)
-        ids = self._add_instances(prim, instancer, self.time)
-        attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
-                 instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
-        if _varies(attrs) or self._transform_varies(prim):
-            def update(t):
-                for prim_id in ids:
-                    self.store.remove_prim(prim_id)
-                ids[:] = self._add_instances(prim, instancer, t)
-            self._updaters.append(("instancer", update))
-
-    def _add_instances(self, prim, instancer, time):
-        prototypes = instancer.GetPrototypesRel().GetTargets()
-        transforms = instancer.ComputeInstanceTransformsAtTime(time, time)
-        proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
-        mask = instancer.ComputeMaskAtTime(time)
-        world = self._xforms.GetLocalToWorldTransform(prim)
-        ids = []
-        for k, (proto, instance) in enumerate(zip(proto_indices, transforms)):
-            if (mask and not mask[k]) or not 0 <= proto < len(prototypes):
-                continue
-            root = self.stage.GetPrimAtPath(prototypes[proto])
-            for mesh_prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
-                if not mesh_prim.IsA(UsdGeom.Mesh):
-                    continue
-                relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
-                relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
-                prim_id = f"{prim.GetPath()}/instance_{k}/{relative_path}"
-                self._add_mesh(mesh_prim, prim_id, relative * instance * world)
-                ids.append(prim_id)
-        return ids
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
 
@@ -390,12 +376,14 @@ class UsdSceneDelegate:
                     path, materials.read_material(material, t)[0])))
         return path, self._materials[path]
 
-    def _add_analytic_eye(self, prim):
-        prim_id = prim.GetPath().pathString
-        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
-                                    _matrix(self._world_of(prim)))
+    def _add_analytic_eye(self, prim, prim_id=None, world=None):
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
+        world = self._world_of(prim) if world is None else world
+        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model), _matrix(world))
         self.eyes.append(prim_id)
-        self._track_transform(prim)
+        if own:
+            self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
     def _track_eye(self, prim, prim_id, mesh=False):
