@@ -61,6 +61,11 @@ std::vector<Vec3f> SmoothNormals(const MeshTopology& topology, const std::vector
 }  // namespace
 
 Mesh::Mesh(PrimId id) : Rprim(std::move(id)) {}
+
+int Mesh::RefineLevelFor(int sceneLevel) {
+  if (plannedRefineLevel_ >= 0) return std::min(sceneLevel, plannedRefineLevel_);
+  return awaitingPlan_ ? 0 : sceneLevel;
+}
 Mesh::~Mesh() = default;
 
 DirtyBits Mesh::GetInitialDirtyBitsMask() const {
@@ -91,6 +96,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   const int previousLevel = sceneRefineLevel_ < 0 ? -1 : topology_.refineLevel;
   topology_ = sceneDelegate->GetMeshTopology(Id());
   sceneRefineLevel_ = topology_.refineLevel;
+  if (plannedRefineLevel_ < 0 && renderParam->MeshLevelsAwaitPlan()) awaitingPlan_ = true;
   topology_.refineLevel = RefineLevelFor(sceneRefineLevel_);
   if (previousLevel >= 0 && previousLevel != topology_.refineLevel) ++stats_.refineLevelChanges;
   controlPointCount_ = controlPointCount;

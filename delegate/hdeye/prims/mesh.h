@@ -68,10 +68,14 @@ class Mesh : public Rprim {
   /// topology asked for at the last topology sync; they differ when RefineLevelFor lowers it (eye meshes).
   int RefineLevel() const { return topology_.refineLevel; }
   int SceneRefineLevel() const { return sceneRefineLevel_; }
-  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: that level. EyeMesh: capped by
-  /// its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
+  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: capped by its planned level
+  /// (0 while a pending plan has not reached it). EyeMesh: capped by its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
   /// changes the rendered level, i.e. whether the mesh's topology is dirty.
-  virtual int RefineLevelFor(int sceneLevel) { return sceneLevel; }
+  virtual int RefineLevelFor(int sceneLevel);
+  /// The render plan's level for this mesh (plan/meshRefinePlan.h): it then renders min(scene level, level).
+  void SetPlannedRefineLevel(int level) { plannedRefineLevel_ = level, awaitingPlan_ = false; }
+  void ClearPlannedRefineLevel() { plannedRefineLevel_ = -1, awaitingPlan_ = false; }
+  int PlannedRefineLevel() const { return plannedRefineLevel_; }
   /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
   const std::vector<Vec2f>& St() const { return st_; }
   const std::vector<Vec3f>& AuthoredNormals() const { return cornerNormals_; }
@@ -104,6 +108,8 @@ class Mesh : public Rprim {
 
   MeshTopology topology_;    ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
   int sceneRefineLevel_ = -1;  ///< the scene delegate's refineLevel at the last topology sync; -1 before it
+  int plannedRefineLevel_ = -1;  ///< the render plan's level, or -1
+  bool awaitingPlan_ = false;    ///< synced while a plan was pending and not planned yet: level 0 until it is
   int controlPointCount_ = 0;
   std::unique_ptr<SubdivRefiner> refiner_;
   std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
