@@ -25,8 +25,9 @@ mesh = UsdGeom.Mesh.Define(stage, "/World/crowd/protos/grid")
 n = 8
 mesh.CreatePointsAttr([(i / n - 0.5, j / n - 0.5, 0.1 * ((i + j) % 2)) for j in range(n + 1) for i in range(n + 1)])
 mesh.CreateFaceVertexCountsAttr([4] * n * n)
+row = n + 1
 mesh.CreateFaceVertexIndicesAttr([v for j in range(n) for i in range(n) for v in
-                                  (j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i)])
+                                  (j * row + i, j * row + i + 1, (j + 1) * row + i + 1, (j + 1) * row + i)])
 pi.CreatePrototypesRel().SetTargets([mesh.GetPath()])
 side = max(1, round(count ** 0.5))
 pi.CreatePositionsAttr([(20.0 * (k % side) / side - 10, 20.0 * (k // side) / side - 10, 0) for k in range(count)])
