@@ -108,7 +108,7 @@ class Instancing:
 
     def add_point_instancer(self, prim):
         d = self.delegate
-        groups = list(point_instancer_groups(prim, [d._world_of(prim)], d.time, d._xforms))
+        groups = list(point_instancer_groups(prim, [d.world_of(prim)], d.time, d.xform_cache))
         for group in groups:
             self._add_group(group, proxy_prefix=None)
         if self.flatten or not self._point_instancer_varies(prim):
@@ -120,7 +120,7 @@ class Instancing:
                 if group.instancer_id in self._instancers:  # eyes-only prototypes have none (flattened, static)
                     d.store.set_instance_transforms(group.instancer_id, _matrices(group.worlds),
                                                     _colors(group.colors))
-        d._updaters.append(("instancer", update))
+        d.add_updater("instancer", update)
 
     def _point_instancer_varies(self, prim):
         d = self.delegate
@@ -128,7 +128,7 @@ class Instancing:
             pi = UsdGeom.PointInstancer(p)
             attrs = [pi.GetPositionsAttr(), pi.GetOrientationsAttr(), pi.GetScalesAttr(), pi.GetProtoIndicesAttr(),
                      pi.GetInvisibleIdsAttr(), pi.GetIdsAttr()]
-            if any(a and a.ValueMightBeTimeVarying() for a in attrs) or d._transform_varies(p):
+            if any(a and a.ValueMightBeTimeVarying() for a in attrs) or d.transform_varies(p):
                 return True
         return False
 
@@ -146,7 +146,7 @@ class Instancing:
         if group is None:
             group = self._native[key] = InstanceGroup(f"{prim.GetPath()}/__instances", prototype, [],
                                                       first_instance=prim)
-        group.worlds.append(d._world_of(prim))
+        group.worlds.append(d.world_of(prim))
 
     def finish(self):
         for group in self._native.values():
@@ -185,7 +185,7 @@ class Instancing:
             d.store.add_instancer(group.instancer_id, _matrices(group.worlds), _colors(group.colors))
             self._instancers.add(group.instancer_id)
         for prim in leaves:
-            relative, _ = d._xforms.ComputeRelativeTransform(prim, group.root)
+            relative, _ = d.xform_cache.ComputeRelativeTransform(prim, group.root)
             # Named below the instancer as under the prototype's parent (PointInstancers: the prototype root is a
             # prim of its own) or under the prototype (native: the root stands for the instance prim).
             if proxy_prefix is None:
@@ -194,12 +194,12 @@ class Instancing:
                 relative_path = prim.GetPath().MakeRelativePath(group.root.GetPath())
                 binding = d.stage.GetPrimAtPath(proxy_prefix.AppendPath(relative_path))
             if prim in shared:
-                d._add_instanced_prim(prim, f"{group.instancer_id}/{relative_path}", relative, group.instancer_id,
+                d.add_instanced_prim(prim, f"{group.instancer_id}/{relative_path}", relative, group.instancer_id,
                                       binding)
                 continue
             for k, world in enumerate(group.worlds):
                 prim_id = f"{group.instancer_id}/instance_{k}/{relative_path}"
-                d._add_instanced_prim(prim, prim_id, relative * world, "", binding)
+                d.add_instanced_prim(prim, prim_id, relative * world, "", binding)
                 if group.colors:
                     color = np.array([group.colors[k]], dtype=np.float32)
                     d.store.set_primvar(prim_id, "displayColor", "constant", color)

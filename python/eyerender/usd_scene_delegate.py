@@ -124,7 +124,25 @@ class UsdSceneDelegate:
             self._add_analytic_eye(prim)
         return False
 
-    def _add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
+    # -- what instancing.py uses --------------------------------------------------------------------------------
+
+    def world_of(self, prim):
+        """prim's local-to-world transform at the current time (Gf.Matrix4d)."""
+        return self._world_of(prim)
+
+    @property
+    def xform_cache(self):
+        """The UsdGeom.XformCache at the current time."""
+        return self._xforms
+
+    def add_updater(self, kind, update):
+        """Registers update(time), called by set_time and counted under `kind` in last_update."""
+        self._updaters.append((kind, update))
+
+    def transform_varies(self, prim):
+        return self._transform_varies(prim)
+
+    def add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
         """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
         (or the world, with no instancer_id); `binding`: the prim whose bound material it gets."""
         if prim.IsA(UsdGeom.Mesh):
