@@ -200,7 +200,7 @@ class Instancing:
             for k, world in enumerate(group.worlds):
                 prim_id = f"{group.instancer_id}/instance_{k}/{relative_path}"
                 d.add_instanced_prim(prim, prim_id, relative * world, "", binding)
-                if group.colors:
+                if group.colors and prim.IsA(UsdGeom.Gprim):  # eyes keep their own colours
                     color = np.array([group.colors[k]], dtype=np.float32)
                     d.store.set_primvar(prim_id, "displayColor", "constant", color)
 

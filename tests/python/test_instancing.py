@@ -134,3 +134,16 @@ def test_animated_instancer_resyncs_only_its_instances():
     for key in ("topology_builds", "refinements", "point_uploads", "transform_updates"):
         assert after[key] == before[key], key
     assert set(s.scene.last_update) == {"instancer"}
+
+
+def test_eyes_in_a_prototype_are_flattened_one_per_instance():
+    stage = crowd_stage()
+    pi = UsdGeom.PointInstancer(stage.GetPrimAtPath("/World/crowd"))
+    eye = UsdGeom.Xform.Define(stage, "/World/crowd/protos/group/eye")
+    eye.GetPrim().AddAppliedSchema("EyeAPI")
+    eye.AddScaleOp().Set(Gf.Vec3f(0.002))  # millimetres of the eye to scene units
+    s = session(stage)
+    visible = sum(1 for k, keep in enumerate(pi.ComputeMaskAtTime(Usd.TimeCode.Default())) if keep and k % 3 == 1)
+    assert len(s.scene.eyes) == visible  # each its own analytic eye prim, with its own frame
+    assert all(e.startswith("/World/crowd/__prototype1/instance_") and e.endswith("/group/eye") for e in s.scene.eyes)
+    assert "/World/crowd/__prototype1/group/tri" in s.index.rprim_ids()  # the rest of the prototype stays shared
