@@ -34,8 +34,10 @@ def build_parser():
     p.add_argument("--frames", "-f", help="frames to render: F, start:end, start:endxstride, comma-separated")
     p.add_argument("--imageWidth", "-w", type=int, help="width in pixels (default: the render settings', else 960)")
     p.add_argument("--imageHeight", type=int, help="height in pixels (default: from the camera's aperture ratio)")
-    p.add_argument("--complexity", "-c", choices=COMPLEXITY_REFINE_LEVELS, default="high",
-                   help="subdivision refinement: low 0, medium 1, high 2, veryhigh 3 levels (default high)")
+    # usdrecord's default: UsdAppUtils.complexityArgs adds --complexity with RefinementComplexities.LOW.
+    p.add_argument("--complexity", "-c", choices=COMPLEXITY_REFINE_LEVELS, default="low",
+                   help="subdivision refinement ceiling: low 0, medium 1, high 2, veryhigh 3 levels (default low, as "
+                        "usdrecord); the render plan lowers it per mesh by size on screen")
     p.add_argument("--purposes", action="append", default=None,
                    help="extra UsdGeom purposes to render besides 'default' (comma-separated or repeated; "
                    "default: proxy)")

@@ -1,8 +1,8 @@
 """The USD scene delegate (UsdImagingDelegate's role): populates the hdeye render index from a Usd.Stage and keeps
 it current as time moves.
 
-Every supported prim becomes one delegate prim with the same path (instance proxies and point-instanced copies
-get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
+Every supported prim becomes one delegate prim with the same path; instances (PointInstancers, instanceable prims)
+become hdeye instancers over prototype prims added once (instancing.py). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
 matching dirty bits. What each `set_time` pushed is counted in `last_update`. Edits made to the stage after
@@ -21,6 +21,7 @@ references and PointInstancers, UsdSkel (skinned points, blend shapes, rigid bin
 and listed once in `warnings`.
 """
 import collections
+import contextlib
 
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade, UsdSkel
@@ -28,6 +29,7 @@ from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .instancing import Instancing
 from .skinning import SkinningError, StageSkinning
 from .textures import TextureWarning
 from .usd_values import to_float_array as _array
@@ -37,15 +39,24 @@ from .usd_values import varies as _varies
 PRIMVARS = ("displayColor", "normals", "rest")
 
 
+def _has_skel_binding(prim):
+    """Whether prim has joint influences or blend shapes authored (UsdSkel.BindingAPI)."""
+    if not prim.HasAPI(UsdSkel.BindingAPI):
+        return False
+    api = UsdSkel.BindingAPI(prim)
+    return api.GetJointIndicesPrimvar().HasAuthoredValue() or bool(api.GetBlendShapeTargetsRel().GetTargets())
+
+
 class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
     def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
-                 cornea_model=None, strict=False):
+                 cornea_model=None, strict=False, flatten_instances=False):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
         eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders; strict: a texture that cannot be read
-        fails populate() (EyeRenderError) instead of being a warning."""
+        fails populate() (EyeRenderError) instead of being a warning; flatten_instances: every instance as its
+        own prims (the reference instancing is compared with) instead of shared instancers."""
         self.stage, self.store = stage, store
         self.time = Usd.TimeCode(time)
         self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
@@ -60,6 +71,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
         self._owned = {}         # owner prim path -> delegate prim ids it added
         self._owner = None       # the prim _add_prim is adding
+        self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
         self._point_counts = {}  # mesh id -> number of points its topology was built for
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
@@ -68,6 +80,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._rigs = None        # eye_rigs.EyeRigs: the cornea shells left out, found by populate
         self._warned = set()     # warnings given once per stage (mesh_topology's)
         self._populated = False
+        self._instancing = Instancing(self, flatten=flatten_instances)
 
     # -- public ------------------------------------------------------------------------------------------------
 
@@ -96,8 +109,12 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             if imageable and imageable.ComputePurpose() not in self.purposes:
                 it.PruneChildren()
                 continue
-            if self._add_prim(prim):
+            if prim.IsInstance() and not self._instancing.flatten:
+                self._instancing.add_native_instance(prim)
                 it.PruneChildren()
+            elif self._add_prim(prim):
+                it.PruneChildren()
+        self._instancing.finish()
         unreadable = [w for w in self.warnings[known:] if isinstance(w, TextureWarning)]
         if self.strict and unreadable:
             raise EyeRenderError(str(unreadable[0]).split("; ")[0])
@@ -130,7 +147,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if prim.IsA(UsdSkel.Root):  # its skinned prims, before they are added
             self._skinning.add_root(prim)
         if prim.IsA(UsdGeom.PointInstancer):
-            self._add_point_instancer(prim)
+            self._instancing.add_point_instancer(prim)
             return True
         if prim.IsA(UsdGeom.Mesh):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
@@ -148,6 +165,58 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         elif eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable):
             self._add_analytic_eye(prim)
         return False
+
+    # -- what instancing.py uses --------------------------------------------------------------------------------
+
+    def world_of(self, prim):
+        """prim's local-to-world transform at the current time (Gf.Matrix4d)."""
+        return self._world_of(prim)
+
+    @property
+    def xform_cache(self):
+        """The UsdGeom.XformCache at the current time."""
+        return self._xforms
+
+    def add_updater(self, kind, update):
+        """Registers update(time), called by set_time and counted under `kind` in last_update; owned by the prim
+        being added (see owning)."""
+        self._track((kind, update))
+
+    @contextlib.contextmanager
+    def owning(self, owner, sources=()):
+        """Within it, every delegate prim and updater added (instancers included, see own_prim) belongs to prim path
+        `owner` and goes when it re-populates; an edit at, above or under a path in `sources` (prototype roots and
+        instance prims the owner reads) re-populates the owner (stage_notices.py)."""
+        previous, self._owner = self._owner, owner
+        for source in sources:
+            self._instance_sources.setdefault(source, set()).add(owner)
+        try:
+            yield
+        finally:
+            self._owner = previous
+
+    def own_prim(self, prim_id):
+        """Owns a delegate prim that has no prim of its own (an instancer) by the current owner."""
+        self._own(prim_id)
+
+    def is_cornea_shell(self, prim):
+        """Whether prim is an eye's cornea shell, left out of the render index (eye_rigs.py)."""
+        return bool(prim) and self._rigs is not None and self._rigs.is_shell(prim)
+
+    def transform_varies(self, prim):
+        return self._transform_varies(prim)
+
+    def add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
+        """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
+        (or the world, with no instancer_id); `binding`: the prim whose bound material it gets."""
+        if prim.IsA(UsdGeom.Mesh):
+            self._add_mesh(prim, prim_id, transform, instancer_id, binding)
+        elif prim.IsA(UsdGeom.Gprim):
+            if not self._add_gprim(prim, prim_id, transform, instancer_id, binding):
+                return
+        else:
+            self._add_analytic_eye(prim, prim_id, transform)
+        self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
 
     def _world_of(self, prim):
         """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint."""
@@ -213,7 +282,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             raise EyeRenderError(f"{path}: faceVertexIndices refers to points outside [0, {len(points)})")
         return counts, indices, points
 
-    def _add_mesh(self, prim, prim_id, world):
+    def _add_mesh(self, prim, prim_id, world, instancer_id="", binding=None):
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
         counts, indices, points = self._topology(prim, mesh, self.time)
@@ -227,7 +296,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         level = self.refine_level if subdivision.refines else 0
         self._point_counts[prim_id] = len(points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
-        material_id, st_name = self._bind_material(prim)
+        material_id, st_name = self._bind_material(binding or prim)
         if eyes.is_eye(prim):
             eye = self._eye_mesh_params(prim, self.time, self.warnings)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
@@ -235,7 +304,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._own_top_level(prim, prim_id)
             self._track_eye(prim, prim_id, mesh=True)
         else:
-            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left,
+                                instancer_id=instancer_id)
             self._own_top_level(prim, prim_id)
         self._push_mesh_tags(prim, prim_id, subdivision, len(counts))
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
@@ -311,19 +381,22 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return None
 
     def _own_top_level(self, prim, prim_id):
-        """Owns a mesh added for itself (not as a PointInstancer's copy, which its instancer owns)."""
+        """Owns a prim added for itself (an instance copy is owned by add_instanced_prim, as its instancer is)."""
         if prim_id == prim.GetPath().pathString:
             self._own(prim_id)
 
     def _skinned_points_of(self, prim, prim_id):
-        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
+        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned, one
+        warning; a native instance's prototype prims, which no SkelRoot populate reaches, warn on their joint
+        influences)."""
         skinned = self._skinning.get(prim)
-        if skinned is None or not skinned.deforms_points:
-            return None
         if prim_id != prim.GetPath().pathString:
-            warning = f"{prim.GetPath()}: point-instanced copies of a skinned mesh render unskinned"
-            if warning not in self.warnings:
-                self.warnings.append(warning)
+            if (skinned is not None and skinned.deforms_points) or (prim.IsInPrototype() and _has_skel_binding(prim)):
+                warning = f"{prim.GetPath()}: instanced copies of a skinned mesh render unskinned"
+                if warning not in self.warnings:
+                    self.warnings.append(warning)
+            return None
+        if skinned is None or not skinned.deforms_points:
             return None
         return skinned
 
@@ -424,19 +497,24 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.store.set_primvar(prim_id, name, str(interpolation),
                                _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
 
-    def _add_gprim(self, prim):
+    def _add_gprim(self, prim, prim_id=None, world=None, instancer_id="", binding=None):
         tessellated = tessellate_gprim(prim, self.time)
         if tessellated is None:
             self.warnings.append(f"{prim.GetPath()}: {prim.GetTypeName()} is not rendered (not supported)")
-            return
+            return False
         counts, indices, points = tessellated
-        prim_id = prim.GetPath().pathString
-        material_id, _ = self._bind_material(prim)
-        self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
-        self._own(prim_id)
+        material_id, _ = self._bind_material(binding or prim)
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
+        world = self._world_of(prim) if world is None else world
+        self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, 0, False,
+                            instancer_id=instancer_id)
+        self._own_top_level(prim, prim_id)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
-        self._track_transform(prim)
+        if own:
+            self._track_transform(prim)
         self._track_visibility(prim, prim_id)
+        return True
 
     def _add_curves_or_points(self, prim):
         """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data skips the prim with a warning."""
@@ -453,43 +531,6 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._track_visibility(prim, prim_id)
         if _varies(animated):
             self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t)))
-
-    # -- point instancers --------------------------------------------------------------------------------------
-
-    def _add_point_instancer(self, prim):
-        """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
-        instancer = UsdGeom.PointInstancer(prim)
-        ids = self._add_instances(prim, instancer, self.time)
-        self._owned[prim.GetPath()] = ids  # the same list: updates replace its contents
-        attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
-                 instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
-        if _varies(attrs) or self._transform_varies(prim):
-            def update(t):
-                for prim_id in ids:
-                    self.store.remove_prim(prim_id)
-                ids[:] = self._add_instances(prim, instancer, t)
-            self._track(("instancer", update))
-
-    def _add_instances(self, prim, instancer, time):
-        prototypes = instancer.GetPrototypesRel().GetTargets()
-        transforms = instancer.ComputeInstanceTransformsAtTime(time, time)
-        proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
-        mask = instancer.ComputeMaskAtTime(time)
-        world = self._xforms.GetLocalToWorldTransform(prim)
-        ids = []
-        for k, (proto, instance) in enumerate(zip(proto_indices, transforms)):
-            if (mask and not mask[k]) or not 0 <= proto < len(prototypes):
-                continue
-            root = self.stage.GetPrimAtPath(prototypes[proto])
-            for mesh_prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
-                if not mesh_prim.IsA(UsdGeom.Mesh) or (self._rigs and self._rigs.is_shell(mesh_prim)):
-                    continue
-                relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
-                relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
-                prim_id = f"{prim.GetPath()}/instance_{k}/{relative_path}"
-                self._add_mesh(mesh_prim, prim_id, relative * instance * world)
-                ids.append(prim_id)
-        return ids
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
 
@@ -530,13 +571,16 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                     path, materials.read_material(material, t)[0])), owner=material.GetPath())
         return path, self._materials[path]
 
-    def _add_analytic_eye(self, prim):
-        prim_id = prim.GetPath().pathString
+    def _add_analytic_eye(self, prim, prim_id=None, world=None):
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
+        world = self._world_of(prim) if world is None else world
         self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model, self.warnings),
-                                    _matrix(self._world_of(prim)))
+                                    _matrix(world))
         self.eyes.append(prim_id)
-        self._own(prim_id)
-        self._track_transform(prim)
+        self._own_top_level(prim, prim_id)
+        if own:
+            self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
     def _track_eye(self, prim, prim_id, mesh=False):

@@ -141,7 +141,7 @@ def test_degenerate_and_nan_meshes_are_reported():
         session(stage)
 
 
-def test_instancing_and_point_instancer_are_flattened():
+def test_instancing_and_point_instancer_share_their_prototypes():
     stage = base_stage()
     proto = quad_grid_mesh(stage, "/Prototypes/card/geo", scheme="none")
     del proto
@@ -158,9 +158,10 @@ def test_instancing_and_point_instancer_are_flattened():
     pi.CreateProtoIndicesAttr([0, 0, 0])
     s = session(stage)
     ids = s.index.rprim_ids()
-    assert "/World/a/geo" in ids and "/World/b/geo" in ids
-    assert sorted(i for i in ids if i.startswith("/World/scatter/")) == [
-        f"/World/scatter/instance_{k}/tile" for k in range(3)]
+    s.index.sync_all()
+    assert s.index.mesh_stats("/World/a/__instances/geo")["instances_drawn"] == 2
+    assert [i for i in ids if i.startswith("/World/scatter/")] == ["/World/scatter/__prototype0/tile"]
+    assert s.index.mesh_stats("/World/scatter/__prototype0/tile")["instances_drawn"] == 3
     assert "/World/scatter/protos/tile" not in ids  # prototypes render only through the instancer
 
 

@@ -86,6 +86,8 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
 
 RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
                             const PlanRules& rules) {
+  // Meshes synced now for the first time wait at level 0 for the plan's level (plan/meshRefinePlan.h).
+  index_->GetRenderDelegate()->GetRenderParam()->SetMeshLevelsAwaitPlan(true);
   index_->SyncAll();
   return MakeRenderPlan(*index_, cameraId, width, height, overrides, rules);
 }

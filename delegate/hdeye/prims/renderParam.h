@@ -23,6 +23,10 @@ class RenderParam {
   }
   RTCDevice Device() const { return device_; }
   std::uint64_t SceneVersion() const { return sceneVersion_; }
+  /// While set (a render plan will run before rendering), a mesh without a planned level refines to level 0 at
+  /// its first topology sync; the plan then raises what needs more (plan/meshRefinePlan.h).
+  void SetMeshLevelsAwaitPlan(bool await) { meshLevelsAwaitPlan_ = await; }
+  bool MeshLevelsAwaitPlan() const { return meshLevelsAwaitPlan_; }
   /// Textures (material, iris, dome) by file path, loaded once per render delegate and shared by the
   /// prims that use them. Thread-safe; lives as long as the render delegate.
   TextureCache& Textures() { return textures_; }
@@ -44,6 +48,7 @@ class RenderParam {
   RTCDevice device_;
   RTCScene scene_;
   std::uint64_t sceneVersion_ = 0;
+  bool meshLevelsAwaitPlan_ = false;
   TextureCache textures_;
   std::mutex warningsMutex_;
   std::vector<std::string> warnings_;

@@ -33,7 +33,9 @@ struct SurfaceMaterial {
 
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
-  glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
+  /// Inverse transpose of the transform's linear part: analytic eyes and meshes drawn once (eye meshes, which are
+  /// never instanced, map hits with it); an instanced mesh's are per instance, in InstanceContext.
+  glm::dmat3 normalToWorld{1.0};
   MaterialParams material;            ///< resolved from the bound material (or the fallback)
   bool materialBound = false;         ///< a material sprim is bound (else `material` is the fallback)
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
@@ -70,6 +72,18 @@ struct GeometryContext {
   /// The mesh is an open surface (it has boundary edges): its glass part, if its material has opacity < 1, is a
   /// thin sheet that transmits straight through and lets shadow rays pass (thinWalls.h).
   bool thinWalled = false;
+};
+
+/// What the renderer knows of one Embree instance of a mesh (HdEmbreeInstanceContext's role), stored as the
+/// instance geometry's user data: the prototype's context, shared by all its instances, and what differs per
+/// instance. A mesh drawn once has one; an instanced mesh one per instance over the same prototype scene.
+struct InstanceContext {
+  const GeometryContext* geometry = nullptr;  ///< the prototype mesh's context
+  glm::dmat3 normalToWorld{1.0};  ///< inverse transpose of this instance's object-to-world linear part
+  /// The instancer's displayColor for this instance (linear RGB), replacing the mesh's colour when hasColor.
+  Vec3f color{0};
+  bool hasColor = false;
+  int instanceIndex = 0;  ///< the instance's index in its instancer (0 when drawn once)
 };
 
 }  // namespace hdeye

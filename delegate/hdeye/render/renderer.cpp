@@ -76,6 +76,8 @@ struct SurfaceHit {
   SurfaceMaterial material;  // the material of the hit's face (geomSubsets), else the prim's
   StFrame stFrame;      // dp/ds, dp/dt of the hit triangle (world), where st and points are known
   bool normalMapped = false;  // n comes from a normal map (it may lean below the surface itself)
+  glm::dmat3 normalToWorld{1.0};       // the hit instance's (object-space normals to world)
+  const Vec3f* instanceColor = nullptr;  // the instancer's displayColor for the hit instance, or null
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -86,8 +88,8 @@ const EyeGeometry* EyeOf(const GeometryContext& context) { return context.eye ? 
 struct WorldNormal {
   glm::dvec3 v;
   double length;
-  WorldNormal(const GeometryContext& context, const glm::dvec3& local)
-      : v(context.normalToWorld * local), length(glm::length(v)) {}
+  WorldNormal(const glm::dmat3& normalToWorld, const glm::dvec3& local)
+      : v(normalToWorld * local), length(glm::length(v)) {}
   bool Valid() const { return length > 1e-12 && std::isfinite(length); }
 };
 
@@ -245,12 +247,21 @@ class Tracer {
     rtcIntersect1(scene_, &context, &rh);
     ++counts_.rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    // Meshes sit under instances; eyes are user geometry in the root scene.
-    const unsigned id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
-    const auto* ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, id)));
+    // Meshes sit under instances (user data: an InstanceContext, one per instance); analytic eyes are user
+    // geometry in the root scene (user data: their GeometryContext).
+    const GeometryContext* ctx;
+    const InstanceContext* instance = nullptr;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+      instance = static_cast<const InstanceContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.instID[0])));
+      ctx = instance->geometry;
+    } else {
+      ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.geomID)));
+    }
+    hit->normalToWorld = instance ? instance->normalToWorld : ctx->normalToWorld;
+    hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
-    glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    glm::dvec3 n = glm::normalize(hit->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
     hit->ng = n;
     hit->u = rh.hit.u, hit->v = rh.hit.v;
@@ -280,16 +291,19 @@ class Tracer {
     } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
       local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
     }
-    const WorldNormal shading(ctx, local);
+    const WorldNormal shading(hit->normalToWorld, local);
     hit->n = !shading.Valid()                    ? hit->ng
              : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
                                                  : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
     hit->material = MaterialAt(ctx, hit->part);
-    // displayColor is the fallback surface's colour (Hydra's): a face with a bound material shows the material's.
-    hit->albedo = ctx.displayColor && !hit->material.bound ? glm::dvec3(atCorners(*ctx.displayColor))
-                                                            : glm::dvec3(hit->material.params.diffuseColor);
+    // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
+    // with a bound material shows the material's.
+    hit->albedo = hit->material.bound     ? glm::dvec3(hit->material.params.diffuseColor)
+                  : hit->instanceColor   ? glm::dvec3(*hit->instanceColor)
+                  : ctx.displayColor     ? glm::dvec3(atCorners(*ctx.displayColor))
+                                         : glm::dvec3(hit->material.params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
@@ -562,7 +576,7 @@ class Tracer {
         3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
       return outward;
     const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
-    const WorldNormal shading(ctx, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+    const WorldNormal shading(ctx.normalToWorld, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
     return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
   }
 

@@ -7,10 +7,28 @@
 namespace hdeye {
 
 void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
-                                    const Matrix4d& transform, const PrimId& materialId) {
-  meshes_[id] = MeshData{topology, points, {}, materialId};
+                                    const Matrix4d& transform, const PrimId& materialId, const PrimId& instancerId) {
+  meshes_[id] = MeshData{topology, points, {}, materialId, instancerId};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kMesh, this, id);
+  if (!instancerId.empty()) index_->GetChangeTracker().AddInstancerRprimDependency(instancerId, id);
+}
+
+void InMemorySceneDelegate::AddInstancer(const PrimId& id, const std::vector<Matrix4d>& transforms,
+                                         const std::vector<Vec3f>& colors) {
+  instancers_[id] = InstancerData{transforms, colors};
+  index_->InsertInstancer(this, id);
+}
+
+void InMemorySceneDelegate::SetInstanceTransforms(const PrimId& id, const std::vector<Matrix4d>& transforms,
+                                                  const std::vector<Vec3f>& colors) {
+  instancers_.at(id) = InstancerData{transforms, colors};
+  index_->GetChangeTracker().MarkInstancerDirty(id);
+}
+
+PrimId InMemorySceneDelegate::GetInstancerId(const PrimId& id) {
+  const auto mesh = meshes_.find(id);
+  return mesh == meshes_.end() ? PrimId{} : mesh->second.instancerId;
 }
 
 void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& topology,
@@ -150,6 +168,9 @@ void InMemorySceneDelegate::SetMaterialId(const PrimId& id, const PrimId& materi
 
 void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
   index_->RemovePrim(id);
+  if (const auto mesh = meshes_.find(id); mesh != meshes_.end() && !mesh->second.instancerId.empty())
+    index_->GetChangeTracker().RemoveInstancerRprimDependency(mesh->second.instancerId, id);
+  instancers_.erase(id);
   meshes_.erase(id), curves_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
   materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
 }
