@@ -22,6 +22,7 @@ from pxr import Usd, UsdGeom, UsdShade
 from . import cameras, eyes, lights, materials
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .validation import check_transform, reading
 
 SUBDIVISION_SCHEMES = ("catmullClark", "none", "loop", "bilinear")
 PRIMVARS = ("displayColor", "normals", "rest")
@@ -34,10 +35,12 @@ def _matrix(m):
 
 def _array(values, components, what):
     """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
-    a = np.asarray(values, dtype=np.float32)
-    if a.size % components:
+    try:
+        a = np.asarray(values, dtype=np.float32)
+    except (TypeError, ValueError):
+        raise EyeRenderError(f"{what} is a {type(values).__name__}, not an array of numbers") from None
+    if a.ndim != 2 or a.shape[1] != components:  # a flat float[] is not a point3f[], whatever its length
         raise EyeRenderError(f"{what} does not hold {components}-component values")
-    a = a.reshape(-1, components)
     if not np.isfinite(a).all():
         raise EyeRenderError(f"{what} holds NaN or infinite values")
     return np.ascontiguousarray(a)
@@ -62,6 +65,7 @@ class UsdSceneDelegate:
         self.cornea_model = cornea_model
         self.cameras = []        # camera prim paths, in traversal order
         self.eyes = []           # eye prim paths (meshes and analytic)
+        self.lights = []         # light prim paths
         self.warnings = []       # one line each: what was skipped or ignored
         self.last_update = collections.Counter()
         self._xforms = UsdGeom.XformCache(self.time)
@@ -83,17 +87,32 @@ class UsdSceneDelegate:
             if imageable and imageable.ComputePurpose() not in self.purposes:
                 it.PruneChildren()
                 continue
-            if self._add_prim(prim):
+            try:
+                with reading(prim.GetPath()):
+                    handled = self._add_prim(prim)
+            except EyeRenderError as e:  # this prim cannot be rendered: the rest of the stage still can
+                self._forget(prim.GetPath().pathString)
+                self.warnings.append(f"{e} (skipped)")
+                handled = True
+            if handled:
                 it.PruneChildren()
+
+    def _forget(self, prim_id):
+        """Removes what a prim that failed part-way through being added left in the store and the lists."""
+        self.store.remove_prim(prim_id)
+        for known in (self.cameras, self.eyes, self.lights):
+            if prim_id in known:
+                known.remove(prim_id)
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
-        for kind, update in self._updaters:
-            update(self.time)
-            self.last_update[kind] += 1
+        with reading(f"time {self.time.GetValue():g}"):
+            for kind, update in self._updaters:
+                update(self.time)
+                self.last_update[kind] += 1
         return self.last_update
 
     # -- dispatch ----------------------------------------------------------------------------------------------
@@ -118,7 +137,7 @@ class UsdSceneDelegate:
         return False
 
     def _world_of(self, prim):
-        return self._xforms.GetLocalToWorldTransform(prim)
+        return check_transform(prim.GetPath(), self._xforms.GetLocalToWorldTransform(prim))
 
     @staticmethod
     def _transform_varies(prim):
@@ -158,9 +177,11 @@ class UsdSceneDelegate:
         counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int32)
         indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int32)
         points = mesh.GetPointsAttr().Get(time)
-        if points is None or len(points) == 0 or len(counts) == 0:
+        if points is None or len(counts) == 0:
             raise EyeRenderError(f"{path}: mesh has no points or no faces")
         points = _array(points, 3, f"{path}: points")
+        if len(points) == 0:
+            raise EyeRenderError(f"{path}: mesh has no points")
         if counts.min() < 3:
             raise EyeRenderError(f"{path}: faceVertexCounts holds a face with fewer than 3 vertices")
         if int(counts.sum()) != len(indices):
@@ -173,6 +194,7 @@ class UsdSceneDelegate:
     def _add_mesh(self, prim, prim_id, world):
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
+        check_transform(prim_id, world)  # an instance's transform composes the instancer's
         counts, indices, points = self._topology(prim, mesh, self.time)
         scheme = str(mesh.GetSubdivisionSchemeAttr().Get())
         if scheme not in SUBDIVISION_SCHEMES:
@@ -297,11 +319,14 @@ class UsdSceneDelegate:
             values, interpolation = mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation()
         else:
             return
-        if values is None or len(values) == 0:
+        if values is None or (hasattr(values, "__len__") and len(values) == 0):
             return
-        components = {"st": 2}.get(name, 3)
-        self.store.set_primvar(prim_id, name, str(interpolation),
-                               _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
+        try:
+            values = _array(values, {"st": 2}.get(name, 3), f"{prim.GetPath()}: primvars:{source}")
+        except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
+            self.warnings.append(f"{e}: ignored")
+            return
+        self.store.set_primvar(prim_id, name, str(interpolation), values)
 
     def _add_gprim(self, prim):
         tessellated = tessellate_gprim(prim, self.time)
@@ -368,6 +393,7 @@ class UsdSceneDelegate:
         prim_id = prim.GetPath().pathString
         self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
                              _matrix(self._world_of(prim)))
+        self.lights.append(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
