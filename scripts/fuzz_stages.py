@@ -1,6 +1,6 @@
 """Fuzzes eyerecord's front end: mutates small stages it authors itself and renders each mutant in a subprocess.
 
-    python scripts/fuzz_stages.py [--seed S] [--count N] [--keep DIR] [--timeout SECONDS]
+    python scripts/fuzz_stages.py [--seed S] [--count N] [--keep DIR] [--timeout SECONDS] [--python PYTHON]
 
 Each mutant is one edit of a seed stage's .usda text: a number set to NaN/Inf/0/1e30/1e20/huge/negative, an
 attribute's type name swapped for another, a quoted token garbled or emptied, a line removed or repeated, the file
@@ -218,9 +218,11 @@ def main(argv=None):
     p.add_argument("--count", type=int, default=200)
     p.add_argument("--timeout", type=float, default=60.0, help="seconds per render (default 60)")
     p.add_argument("--keep", metavar="DIR", help="write every mutant with a problem here")
+    p.add_argument("--python", default=sys.executable, help="the interpreter whose eyerender package is fuzzed "
+                   "(e.g. another checkout's venv, to compare; default: this one)")
     p.add_argument("--verbose", "-v", action="store_true")
     args = p.parse_args(argv)
-    outcomes, problems = fuzz(args.seed, args.count, args.timeout, args.keep,
+    outcomes, problems = fuzz(args.seed, args.count, args.timeout, args.keep, python=args.python,
                               log=(lambda line: print(line, flush=True)) if args.verbose else None)
     print(f"{args.count} mutants (seed {args.seed}): " + ", ".join(f"{k} {v}" for k, v in sorted(outcomes.items())))
     for mutant, what, found, first in problems:

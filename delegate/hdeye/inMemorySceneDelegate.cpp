@@ -4,12 +4,29 @@
 #include "hdeye/renderDelegate.h"
 #include "hdeye/renderIndex.h"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace hdeye {
+
+namespace {
+/// Rejects a transform no prim can use, before a prim syncs it into Embree: NaN/Inf entries, a projective
+/// row or a linear part of determinant 0 (no inverse for rays and normals).
+const Matrix4d& CheckedTransform(const PrimId& id, const Matrix4d& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) throw std::invalid_argument("prim " + id + ": transform has NaN or Inf entries");
+  if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+    throw std::invalid_argument("prim " + id + ": transform is projective");
+  if (glm::determinant(glm::dmat3(m)) == 0) throw std::invalid_argument("prim " + id + ": transform is singular");
+  return m;
+}
+}  // namespace
 
 void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
                                     const Matrix4d& transform, const PrimId& materialId) {
   meshes_[id] = MeshData{topology, points, {}, materialId};
-  transforms_[id] = transform;
+  transforms_[id] = CheckedTransform(id, transform);
   index_->InsertRprim(primTypes::kMesh, this, id);
 }
 
@@ -18,20 +35,20 @@ void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& top
                                        const Matrix4d& transform, const PrimId& materialId) {
   meshes_[id] = MeshData{topology, points, {}, materialId};
   eyes_[id] = eyeParams;
-  transforms_[id] = transform;
+  transforms_[id] = CheckedTransform(id, transform);
   index_->InsertRprim(primTypes::kEyeMesh, this, id);
 }
 
 void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
   cameras_[id] = params;
-  transforms_[id] = transform;
+  transforms_[id] = CheckedTransform(id, transform);
   index_->InsertSprim(primTypes::kCamera, this, id);
 }
 
 void InMemorySceneDelegate::AddLight(const PrimId& id, const std::string& type, const LightParams& params,
                                      const Matrix4d& transform) {
   lights_[id] = params;
-  transforms_[id] = transform;
+  transforms_[id] = CheckedTransform(id, transform);
   index_->InsertSprim(type, this, id);
 }
 
@@ -42,7 +59,7 @@ void InMemorySceneDelegate::AddMaterial(const PrimId& id, const MaterialParams& 
 
 void InMemorySceneDelegate::AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform) {
   eyes_[id] = params;
-  transforms_[id] = transform;
+  transforms_[id] = CheckedTransform(id, transform);
   index_->InsertRprim(primTypes::kAnalyticEye, this, id);
 }
 
@@ -63,7 +80,7 @@ void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& to
 }
 
 void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
-  transforms_.at(id) = transform;
+  transforms_.at(id) = CheckedTransform(id, transform);
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
 }
 

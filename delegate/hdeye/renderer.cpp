@@ -226,11 +226,12 @@ class Tracer {
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double maxDistance, glm::dvec3* radiance, double* pdf,
-                const EyeLighting* skipMneeOf = nullptr) const {
+                const EyeLighting* skipMneeOf = nullptr, bool skipDomes = false) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
+      if (skipDomes && lights_[k].type == LightType::Dome) continue;
       const RenderLight& l = lights_[k];
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
@@ -280,7 +281,9 @@ class Tracer {
       }
       glm::dvec3 le(0);
       double lpdf = 0;
-      if (!skipLights && HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf, skipMnee ? &skipMneeOf : nullptr)) {
+      const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;
+      if (!skipLights &&
+          HitLight(o, d, hitGeometry ? hit.t : kInf, &le, &lpdf, skipMnee ? &skipMneeOf : nullptr, hideDomes)) {
         if (specular) L += beta * le;
         else if (settings_.mis) L += beta * le * PowerHeuristic(bsdfPdf, lpdf * lightSelect);
       }

@@ -61,6 +61,8 @@ def build_parser():
     p.add_argument("--renderer", "-r", choices=RENDERERS, default="Eye", help="the Hydra renderer (only Eye)")
     p.add_argument("--disableCameraLight", action="store_true",
                    help="no camera light for a stage without lights (by default one is added, with a note)")
+    p.add_argument("--enableDomeLightVisibility", action="store_true",
+                   help="show dome lights in the background (by default they light the scene unseen, as usdrecord)")
     p.add_argument("--colorCorrectionMode", "-color", choices=COLOR_CORRECTION_MODES, default="sRGB",
                    help="PNG encoding: sRGB, disabled (linear values), openColorIO (sRGB: no OCIO config is read)")
     p.add_argument("--spp", type=int, help="samples per pixel (default 32; with --time-limit alone: until time is up)")

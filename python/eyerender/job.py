@@ -76,7 +76,8 @@ def session_options(args):
         camera_light=not args.disableCameraLight, purposes=parse_purposes(args.purposes),
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
-                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
+                  ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
+                  ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
         plan=plan_options(args))
 
 
