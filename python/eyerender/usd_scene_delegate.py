@@ -373,8 +373,13 @@ class UsdSceneDelegate:
                 relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
                 relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
                 prim_id = f"{prim.GetPath()}/instance_{k}/{relative_path}"
-                self._add_mesh(mesh_prim, prim_id, relative * instance * world)
                 ids.append(prim_id)
+                try:
+                    self._add_mesh(mesh_prim, prim_id, relative * instance * world)
+                except Exception:  # the instancer is skipped whole: none of its instances stays
+                    for added in ids:
+                        self.store.remove_prim(added)
+                    raise
         return ids
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------

@@ -248,3 +248,41 @@ def test_a_short_seeded_fuzz_pass_finds_no_crash_traceback_long_line_or_leftover
     outcomes, problems = fuzzer.fuzz(seed=2026, count=40, timeout=60)
     assert sum(outcomes.values()) == 40 and not problems, problems
     assert outcomes["rendered"] > 0 and outcomes["one-line error"] > 0  # the mutants reach both ends
+
+
+def test_the_delegates_own_api_rejects_what_would_crash_it():
+    stage = Usd.Stage.CreateInMemory()
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 40))
+    UsdLux.SphereLight.Define(stage, "/World/key").AddTranslateOp().Set(Gf.Vec3d(0, 10, 30))
+    UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim().AddAppliedSchema("EyeAPI")
+    session = eyerender.RenderSession(stage, width=8, height=8)
+    import numpy as np
+
+    for bad in (np.full((4, 4), np.nan), np.zeros((4, 4)), np.diag([1.0, 1.0, 0.0, 1.0])):
+        for prim in ("/World/main_cam", "/World/key", "/World/Eye"):
+            with pytest.raises(ValueError, match="transform"):
+                session.store.set_transform(prim, bad)
+    eye = eyerender.eyes.read_eye_params(stage.GetPrimAtPath("/World/Eye"))
+    eye.sclera_mean_free_path = (1e20, 1.0, 1.0)
+    session.store.set_eye_params("/World/Eye", eye)
+    with pytest.raises(eyerender.EyeRenderError, match="sclera mean free path.r = 1e\\+20 mm"):
+        session.render(spp=1)
+
+
+def test_a_point_instancer_with_a_bad_instance_leaves_none_of_its_instances():
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.Camera.Define(stage, "/World/main_cam").AddTranslateOp().Set(Gf.Vec3d(0, 0, 40))
+    instancer = UsdGeom.PointInstancer.Define(stage, "/World/scatter")
+    tile = UsdGeom.Mesh.Define(stage, "/World/scatter/protos/tile")
+    tile.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    tile.CreateFaceVertexCountsAttr([3])
+    tile.CreateFaceVertexIndicesAttr([0, 1, 2])
+    instancer.CreatePrototypesRel().SetTargets([tile.GetPath()])
+    instancer.CreatePositionsAttr([(0, 0, 0), (3, 0, 0)])
+    instancer.CreateScalesAttr([(1, 1, 1), (0, 0, 0)])  # the second instance is squashed flat: singular
+    instancer.CreateProtoIndicesAttr([0, 0])
+    session = eyerender.RenderSession(stage, width=8, height=8)
+    assert not [i for i in session.index.rprim_ids() if i.startswith("/World/scatter")]
+    assert [w for w in session.scene.warnings if w.startswith("/World/scatter/instance_1/tile: ")], \
+        session.scene.warnings
