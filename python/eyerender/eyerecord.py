@@ -15,7 +15,6 @@ from .console import ProgressBar, describe_written, print_warnings, warn_non_fin
 from .errors import EyeRenderError, run_command
 from .job import (
     AOV_NAMES,
-    COLOR_CORRECTION_MODES,
     COMPLEXITY_REFINE_LEVELS,
     PURPOSES,
     check_output_extension,
@@ -26,7 +25,7 @@ from .job import (
     output_patterns,
     session_options,
 )
-from .output_files import partial_failure
+from .output_files import COLOR_CORRECTION_MODES, partial_failure
 
 RENDERERS = ("Eye", "hdeye")  # --renderer: the display name and the delegate's name; there is no other renderer
 

@@ -18,10 +18,6 @@ COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
 AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
 DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
 PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
-# usdrecord's --colorCorrectionMode values, for PNG outputs (EXRs always hold linear values): sRGB encodes the
-# colour with the sRGB transfer curve; disabled writes the linear values as they are (clamped to [0, 1]);
-# openColorIO has no OCIO configuration to read here and encodes sRGB, like OCIO's default sRGB display.
-COLOR_CORRECTION_MODES = ("disabled", "sRGB", "openColorIO")
 DEFAULT_TIME = float("nan")  # Usd.TimeCode.Default().GetValue(): usdrecord's --defaultTime
 OUTPUT_EXTENSIONS = (".exr", ".png")
 
@@ -253,7 +249,7 @@ def open_session(stage, options, time=None):
                          plan_overrides=plan_overrides(options.plan, stage, options.refine_level))
 
 
-__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES", "COLOR_CORRECTION_MODES",
+__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
            "render_settings_path", "read_render_settings", "image_options", "open_session"]

@@ -11,8 +11,7 @@ from . import cameras
 from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
 from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
-from .job import COLOR_CORRECTION_MODES
-from .output_files import remove_stale_temp_files
+from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .usd_scene_delegate import UsdSceneDelegate
 
 # AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
