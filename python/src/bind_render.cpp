@@ -25,6 +25,8 @@ void BindRender(nb::module_& m) {
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("dome_light_camera_visibility", &RenderSettings::domeLightCameraVisibility,
+              "camera rays see dome lights (eyerecord: --enableDomeLightVisibility)")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
