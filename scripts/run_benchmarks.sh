@@ -11,3 +11,4 @@ python3 bench/plot_mnee.py "$build/mnee_benchmark"
 "$build/bench/bench_deformed_eye"  # tables for docs/deformed_eyes.md
 "${PYTHON:-python3}" bench/bench_farm.py
 "${PYTHON:-python3}" bench/bench_skinning.py  # table in docs/usd_support.md
+"${PYTHON:-python3}" bench/bench_textures.py  # the table in docs/textures.md

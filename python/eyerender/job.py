@@ -35,7 +35,8 @@ class SessionOptions:
     (("mnee", False),)); () plans everything, None renders with no plan (the settings as given);
     render_pass_prim: a UsdRender.Pass whose renderSource names the settings prim (usdrecord's -rp); with neither,
     the stage's renderSettingsPrimPath metadata names it; camera_light: light a stage without lights from the
-    camera (usdrecord's default; --disableCameraLight).
+    camera (usdrecord's default; --disableCameraLight); strict: a texture that cannot be read is an EyeRenderError
+    (False: a warning, and its fallback renders).
     """
     width: Optional[int] = None
     height: Optional[int] = None
@@ -49,6 +50,7 @@ class SessionOptions:
     plan: Optional[tuple[tuple[str, object], ...]] = ()
     render_pass_prim: Optional[str] = None
     camera_light: bool = True
+    strict: bool = False
 
     def __post_init__(self):
         for name, value in self.normalised().items():
@@ -74,7 +76,7 @@ def session_options(args):
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
                   ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
-        plan=plan_options(args))
+        plan=plan_options(args), strict=args.strict)
 
 
 def parse_purposes(groups):
@@ -246,7 +248,8 @@ def open_session(stage, options, time=None):
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
                          camera_light=options.camera_light,
                          settings=dict(options.settings),
-                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level))
+                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level),
+                         strict=options.strict)
 
 
 __all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",

@@ -37,7 +37,7 @@ class RenderSession:
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
-                 camera_light=False):
+                 camera_light=False, strict=False):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
@@ -46,7 +46,8 @@ class RenderSession:
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
         sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given);
         camera_light: light a stage that has no light from the camera, as usdrecord does (eyerender.camera_light;
-        `self.camera_light` then says whether it was added)."""
+        `self.camera_light` then says whether it was added); strict: a texture that cannot be read is an
+        EyeRenderError (else a warning, and its fallback renders)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -58,7 +59,7 @@ class RenderSession:
         for name, value in (settings or {}).items():
             setattr(self.delegate.settings, name, value)
         self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
-                                      cornea_model=cornea_model)
+                                      cornea_model=cornea_model, strict=strict)
         self.scene.populate()
         self.camera_id = self._choose_camera(camera, purposes, width, height)
         self.width = int(width)

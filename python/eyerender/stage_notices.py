@@ -107,6 +107,8 @@ class StageFollowing:
                     with reading(path):
                         self._apply_property_change(path)
                 except EyeRenderError as e:  # a bad value where no prim owns it (a material): the edit only
+                    if self.strict:  # an unreadable texture it brought in (its warning is above)
+                        raise
                     self.warnings.append(f"{e} (edit ignored)")
         return self.last_changes
 

@@ -15,11 +15,13 @@ void SyncEyeParams(SceneDelegate* sceneDelegate, RenderParam* renderParam, const
   // The sclera walk would quietly return nothing for these: say so once, at sync.
   const std::string sclera = eyelib::ValidateSssArtistParams(params->scleraColor, params->scleraMeanFreePath);
   if (!sclera.empty()) throw std::runtime_error(kind + " " + id + ": sclera " + sclera);
-  try {
-    *irisTexture = params->irisTexture.empty() ? nullptr : renderParam->Textures().Get(params->irisTexture);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(kind + " " + id + ": iris texture: " + e.what());
+  if (params->irisTexture.empty()) {
+    *irisTexture = nullptr;
+    return;
   }
+  *irisTexture = renderParam->Textures().Get(params->irisTexture);
+  if (!(*irisTexture)->Valid())
+    renderParam->Warn(kind + " " + id + ": iris texture: " + (*irisTexture)->Error() + "; the iris is magenta");
 }
 
 }  // namespace hdeye

@@ -23,6 +23,12 @@ struct RenderSettings {
   /// Whether camera rays see dome lights (off: the dome lights the scene but the background is black, as
   /// usdrecord renders without --enableDomeLightVisibility).
   bool domeLightCameraVisibility = true;
+  /// Textures are filtered over each ray's footprint (the ray cone of rayCone.h: MIP-mapped, anisotropic).
+  /// Off: every lookup is at the finest level (point sampling, for A/B comparisons).
+  bool textureFiltering = true;
+  /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
+  /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
+  double textureFootprintScale = 0.5;
 };
 
 }  // namespace hdeye
