@@ -263,6 +263,13 @@ def test_the_delegates_own_api_rejects_what_would_crash_it():
         for prim in ("/World/main_cam", "/World/key", "/World/Eye"):
             with pytest.raises(ValueError, match="transform"):
                 session.store.set_transform(prim, bad)
+    rounded = np.eye(4)
+    rounded[3, 3] = 1.0000000000000002  # a composed look-at matrix's: affine, within rounding
+    session.store.set_transform("/World/main_cam", rounded)
+    projective = np.eye(4)
+    projective[0, 3] = 1e-6
+    with pytest.raises(ValueError, match="projective"):
+        session.store.set_transform("/World/main_cam", projective)
     eye = eyerender.eyes.read_eye_params(stage.GetPrimAtPath("/World/Eye"))
     eye.sclera_mean_free_path = (1e20, 1.0, 1.0)
     session.store.set_eye_params("/World/Eye", eye)

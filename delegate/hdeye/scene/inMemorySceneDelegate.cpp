@@ -17,7 +17,10 @@ void CheckTransform(const PrimId& id, const Matrix4d& m) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r)
       if (!std::isfinite(m[c][r])) throw std::invalid_argument("prim " + id + ": transform has NaN or Inf entries");
-  if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+  // A tolerance, as the Python front end's: a composed look-at matrix carries 1 + 2e-16 where 1 is meant.
+  constexpr double kAffineTolerance = 1e-9;
+  if (std::abs(m[0][3]) > kAffineTolerance || std::abs(m[1][3]) > kAffineTolerance ||
+      std::abs(m[2][3]) > kAffineTolerance || std::abs(m[3][3] - 1) > kAffineTolerance)
     throw std::invalid_argument("prim " + id + ": transform is projective");
   if (glm::determinant(glm::dmat3(m)) == 0) throw std::invalid_argument("prim " + id + ": transform is singular");
 }
