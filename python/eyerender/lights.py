@@ -12,6 +12,7 @@ from pxr import UsdLux
 from ._hdeye import LightParams
 from .errors import EyeRenderError
 from .textures import TextureWarning, resolve_texture
+from .validation import as_float, as_vector
 
 # Prim type to the delegate's sprim type.
 LIGHT_TYPES = {
@@ -38,9 +39,9 @@ def read_light(prim, world, time, warnings=None):
     api = UsdLux.LightAPI(prim)
     path = prim.GetPath()
     p = LightParams()
-    p.color = tuple(float(c) for c in api.GetColorAttr().Get(time))
-    p.intensity = float(api.GetIntensityAttr().Get(time))
-    p.exposure = float(api.GetExposureAttr().Get(time))
+    p.color = as_vector(path, "inputs:color", api.GetColorAttr().Get(time))
+    p.intensity = as_float(path, "inputs:intensity", api.GetIntensityAttr().Get(time))
+    p.exposure = as_float(path, "inputs:exposure", api.GetExposureAttr().Get(time))
     if not all(math.isfinite(v) for v in (*p.color, p.intensity, p.exposure)) or min(p.color) < 0 or p.intensity < 0:
         raise EyeRenderError(f"{path}: light color, intensity and exposure must be finite and non-negative")
     kind = prim.GetTypeName()
@@ -50,20 +51,21 @@ def read_light(prim, world, time, warnings=None):
         light = UsdLux.SphereLight(prim)
         # treatAsPoint is a hint renderers with area lights may disregard (UsdLux): the sphere keeps its radius,
         # and with it its power (UsdLux intensity is radiance: a zero-radius sphere would emit nothing).
-        p.radius = float(light.GetRadiusAttr().Get(time))
+        p.radius = as_float(path, "inputs:radius", light.GetRadiusAttr().Get(time))
         area = 4 * math.pi * (p.radius * scale) ** 2
     elif kind == "DiskLight":
-        p.radius = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
+        p.radius = as_float(path, "inputs:radius", UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
         area = math.pi * (p.radius * scale) ** 2
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
-        p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
+        p.width = as_float(path, "inputs:width", light.GetWidthAttr().Get(time))
+        p.height = as_float(path, "inputs:height", light.GetHeightAttr().Get(time))
         p.texture_file, problem = resolve_texture(light.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
         if problem and warnings is not None:
             warnings.append(TextureWarning(f"{problem}; the light emits magenta"))
         area = p.width * p.height * scale * scale
     elif kind == "DistantLight":
-        p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
+        p.angle = as_float(path, "inputs:angle", UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
         if not 0 <= p.angle < 180:
             raise EyeRenderError(f"{path}: inputs:angle = {p.angle:g} degrees must be in [0, 180)")
     elif kind == "DomeLight":

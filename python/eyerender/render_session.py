@@ -5,11 +5,13 @@ import os
 import time as clock
 
 import numpy as np
-from pxr import Usd
+from pxr import Usd, UsdGeom
 
 from . import cameras
 from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
+from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
+from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .usd_scene_delegate import UsdSceneDelegate
 
 # AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
@@ -24,6 +26,10 @@ AOV_CHANNELS = {
 }
 DEFAULT_CAMERA_ID = "/__eyerender_default_camera"
 DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
+# Image size bounds: an aperture ratio beyond MAX_ASPECT (e.g. a horizontalAperture of 0.0024 mm) would ask for
+# a 32 x 203877 image; MAX_PIXELS is 16k x 8k.
+MAX_ASPECT = 100.0
+MAX_PIXELS = 1 << 27
 
 
 class RenderSession:
@@ -31,7 +37,7 @@ class RenderSession:
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
-                 strict=False, flatten_instances=False):
+                 camera_light=False, strict=False, flatten_instances=False):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
@@ -39,7 +45,9 @@ class RenderSession:
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
         sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given);
-        strict: a texture that cannot be read is an EyeRenderError (else a warning, and its fallback renders).
+        camera_light: light a stage that has no light from the camera, as usdrecord does (eyerender.camera_light;
+        `self.camera_light` then says whether it was added); strict: a texture that cannot be read is an
+        EyeRenderError (else a warning, and its fallback renders).
         flatten_instances: every instance as its own prims, the reference for shared instancing (slow; tests)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
@@ -58,8 +66,10 @@ class RenderSession:
         self.camera_id = self._choose_camera(camera, purposes, width, height)
         self.width = int(width)
         self.height = int(height or self._height_from_camera(width))
-        if self.width < 1 or self.height < 1:
-            raise EyeRenderError(f"image size {self.width}x{self.height} must be positive")
+        check_image_size(self.width, self.height)
+        self.camera_light = camera_light and not self.scene.lights
+        if self.camera_light:
+            add_camera_light(self.store, self._camera_to_world())
         for aov in self.aovs:
             self.store.add_render_buffer(self._buffer_id(aov), self.width, self.height, len(AOV_CHANNELS[aov]))
         self.render_pass = RenderPass(self.index)
@@ -88,8 +98,17 @@ class RenderSession:
             return known[0]
         aspect = width / height if height else 1.0
         params, world = cameras.default_camera(self.stage, self.scene.time, self.scene.purposes, aspect)
-        self.store.add_camera(DEFAULT_CAMERA_ID, params, np.array(world, dtype=np.float64).reshape(4, 4))
+        self._default_camera_world = np.array(world, dtype=np.float64).reshape(4, 4)
+        self.store.add_camera(DEFAULT_CAMERA_ID, params, self._default_camera_world)
         return DEFAULT_CAMERA_ID
+
+    def _camera_to_world(self):
+        """The render camera's camera-to-world matrix at the scene's time (4x4 float64)."""
+        prim = self.stage.GetPrimAtPath(self.camera_id)
+        if not prim:  # the default camera, fixed
+            return self._default_camera_world
+        return np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(self.scene.time),
+                        dtype=np.float64).reshape(4, 4)
 
     def _height_from_camera(self, width):
         prim = self.stage.GetPrimAtPath(self.camera_id)
@@ -106,6 +125,8 @@ class RenderSession:
         self.scene.apply_stage_changes()  # edits made to the stage since the last frame (Usd.Notice.ObjectsChanged)
         if time is not None:
             self.scene.set_time(time)
+            if self.camera_light:
+                follow_camera(self.store, self._camera_to_world())
         for aov in self.aovs:
             self.index.clear_buffer(self._buffer_id(aov))
         settings = self.delegate.settings
@@ -156,19 +177,30 @@ class RenderSession:
         except RuntimeError as e:
             raise EyeRenderError(str(e)) from None
 
-    def write(self, path, exposure=0.0):
+    def write(self, path, exposure=0.0, color_correction="sRGB"):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
-        .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic."""
+        .png (the colour after `exposure` stops, encoded by `color_correction`, one of COLOR_CORRECTION_MODES).
+        Atomic."""
         from .plan import plan_json
 
         attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
-        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes)
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
+                     color_correction=color_correction)
 
 
-def write_images(path, images, exposure=0.0, attributes=None):
+def _srgb_to_linear(x):
+    """The inverse of the PNG writer's sRGB encoding, so that encoding its result gives x back (clamped)."""
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def write_images(path, images, exposure=0.0, attributes=None, color_correction="sRGB"):
     """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
     RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG)."""
+    if color_correction not in COLOR_CORRECTION_MODES:
+        raise EyeRenderError(f"color correction '{color_correction}' is not one of {', '.join(COLOR_CORRECTION_MODES)}")
     ext = os.path.splitext(path)[1].lower()
+    remove_stale_temp_files(path)
     try:
         if ext == ".exr":
             planes = []
@@ -176,7 +208,10 @@ def write_images(path, images, exposure=0.0, attributes=None):
                 planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
             write_exr(path, planes, list((attributes or {}).items()))
         elif ext == ".png":
-            write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
+            rgb = np.ascontiguousarray(images["color"][:, :, :3])
+            if color_correction == "disabled":  # the writer encodes sRGB: hand it values whose encoding is rgb
+                rgb, exposure = np.ascontiguousarray(_srgb_to_linear(rgb * np.float32(2.0 ** exposure))), 0.0
+            write_png_preview(path, rgb, exposure)
         else:
             raise EyeRenderError(f"output {path}: extension must be .exr or .png")
     except RuntimeError as e:
@@ -200,6 +235,15 @@ def resolve_states(states):
     return images
 
 
+def check_image_size(width, height):
+    """Raises EyeRenderError unless width x height pixels is a positive size within MAX_ASPECT and MAX_PIXELS."""
+    if width < 1 or height < 1:
+        raise EyeRenderError(f"image size {width}x{height} must be positive")
+    if max(width / height, height / width) > MAX_ASPECT or width * height > MAX_PIXELS:
+        raise EyeRenderError(f"image size {width}x{height} is beyond the bounds (aspect {MAX_ASPECT:g}:1, "
+                             f"{MAX_PIXELS >> 20} Mpixels): check the camera's apertures, or set --imageHeight")
+
+
 def check_writable(path):
     """Fails fast, before a long render, if `path` cannot be written."""
     directory = os.path.dirname(os.path.abspath(path))
@@ -211,4 +255,5 @@ def check_writable(path):
         raise EyeRenderError(f"output {path} is a directory")
 
 
-__all__ = ["RenderSession", "AOV_CHANNELS", "check_writable", "write_images", "resolve_states"]
+__all__ = ["RenderSession", "AOV_CHANNELS", "MAX_ASPECT", "MAX_PIXELS", "check_image_size", "check_writable",
+           "write_images", "resolve_states"]

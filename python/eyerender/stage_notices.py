@@ -10,8 +10,10 @@ import collections
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
 
 from . import cameras, eyes, lights, materials
+from .errors import EyeRenderError
 from .skinning import skel_root_of
 from .usd_values import to_float_array, to_matrix
+from .validation import reading
 
 # What a changed property updates; anything not listed re-populates its prim.
 TRANSFORM, VISIBILITY, POINTS, PRIMVAR, EYE, PARAMS, RESYNC = \
@@ -76,7 +78,8 @@ class StageFollowing:
     """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
     `_instance_sources` (prim path an instancer reads -> its owners' paths), `_point_counts` (mesh id -> points
-    sent), `_add_subtree`, `_world_of` and the eye and material readers."""
+    sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `warnings`, `_world_of` and the eye and
+    material readers."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -101,7 +104,13 @@ class StageFollowing:
                     done.append(root)
         for path in changed:
             if not any(path.HasPrefix(d) for d in done):
-                self._apply_property_change(path)
+                try:
+                    with reading(path):
+                        self._apply_property_change(path)
+                except EyeRenderError as e:  # a bad value where no prim owns it (a material): the edit only
+                    if self.strict:  # an unreadable texture it brought in (its warning is above)
+                        raise
+                    self.warnings.append(f"{e} (edit ignored)")
         return self.last_changes
 
     def _nearest_prim(self, path):
@@ -181,7 +190,7 @@ class StageFollowing:
             for prim_id in self._owned.pop(owner):
                 self.store.remove_prim(prim_id)
                 removed += 1
-                for ids in (self.eyes, self.cameras):
+                for ids in (self.eyes, self.cameras, self.lights):
                     if prim_id in ids:
                         ids.remove(prim_id)
         self._updaters = [u for u in self._updaters if not u[0].HasPrefix(path)]
@@ -192,6 +201,7 @@ class StageFollowing:
             else:
                 del self._instance_sources[source]
         self._skinning.remove_under(path)
+        self._skipped = {o for o in self._skipped if not o.HasPrefix(path)}
         before = sum(len(ids) for ids in self._owned.values())
         prim = self.stage.GetPrimAtPath(path)
         if prim and prim.IsActive() and not self._pruned_above(prim):
@@ -218,6 +228,9 @@ class StageFollowing:
         prim = self.stage.GetPrimAtPath(path.GetPrimPath())
         if not prim:
             return
+        # A skipped prim at, under or above the edit may render now: populated again (and skipped again if not).
+        for owner in [o for o in self._skipped if o.HasPrefix(prim.GetPath()) or prim.GetPath().HasPrefix(o)]:
+            self._resync(self._resync_root(owner))
         material = next((m for m in self._materials if path.HasPrefix(Sdf.Path(m))), None)
         kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
@@ -255,7 +268,13 @@ class StageFollowing:
         PointInstancer's copies, topology, primvar layout, a skinned mesh's inputs) re-populates the prim."""
         prim_id = prim.GetPath().pathString
         in_place = prim_id in self._owned.get(prim.GetPath(), []) and not prim.IsA(UsdGeom.PointInstancer)
-        if not (in_place and self._refresh_in_place(prim, prim_id, kind)):
+        try:
+            with reading(prim.GetPath()):
+                done = in_place and self._refresh_in_place(prim, prim_id, kind)
+        except EyeRenderError as e:  # the edit made the prim unrenderable: skipped, as populate would
+            self._skip(prim.GetPath(), e)
+            return
+        if not done:
             self._resync(prim.GetPath())
 
     def _refresh_in_place(self, prim, prim_id, kind):

@@ -35,6 +35,7 @@ from .textures import TextureWarning
 from .usd_values import to_float_array as _array
 from .usd_values import to_matrix as _matrix
 from .usd_values import varies as _varies
+from .validation import check_transform, reading
 
 PRIMVARS = ("displayColor", "normals", "rest")
 
@@ -65,6 +66,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.strict = strict
         self.cameras = []        # camera prim paths, in traversal order
         self.eyes = []           # eye prim paths (meshes and analytic)
+        self.lights = []         # light prim paths
         self.warnings = []       # one line each: what was skipped or ignored
         self.last_update = collections.Counter()
         self._xforms = UsdGeom.XformCache(self.time)
@@ -72,6 +74,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._owned = {}         # owner prim path -> delegate prim ids it added
         self._owner = None       # the prim _add_prim is adding
         self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
+        self._skipped = set()    # owner prim paths skipped (a later edit may fix them: stage_notices re-adds)
         self._point_counts = {}  # mesh id -> number of points its topology was built for
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
@@ -109,24 +112,50 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             if imageable and imageable.ComputePurpose() not in self.purposes:
                 it.PruneChildren()
                 continue
-            if prim.IsInstance() and not self._instancing.flatten:
-                self._instancing.add_native_instance(prim)
-                it.PruneChildren()
-            elif self._add_prim(prim):
+            try:
+                with reading(prim.GetPath()):
+                    if prim.IsInstance() and not self._instancing.flatten:
+                        self._instancing.add_native_instance(prim)
+                        handled = True
+                    else:
+                        handled = self._add_prim(prim)
+            except EyeRenderError as e:  # this prim cannot be rendered: the rest of the stage still can
+                self._skip(prim.GetPath(), e)
+                handled = True
+            if handled:
                 it.PruneChildren()
         self._instancing.finish()
         unreadable = [w for w in self.warnings[known:] if isinstance(w, TextureWarning)]
         if self.strict and unreadable:
             raise EyeRenderError(str(unreadable[0]).split("; ")[0])
 
+    def _skip(self, owner, error):
+        """Drops what prim `owner` added (it failed part-way through, or an edit made it unreadable) with one
+        warning ending '(skipped)'."""
+        self._forget(owner)
+        self._skipped.add(owner)
+        self.warnings.append(f"{error} (skipped)")
+
+    def _forget(self, owner):
+        """Removes every delegate prim owner prim `owner` added (its own id too, which the store may hold before
+        `_own` records it), its updaters, and its ids in the lists."""
+        for prim_id in dict.fromkeys(self._owned.pop(owner, []) + [owner.pathString]):
+            self.store.remove_prim(prim_id)
+            self._point_counts.pop(prim_id, None)
+            for known in (self.cameras, self.eyes, self.lights):
+                if prim_id in known:
+                    known.remove(prim_id)
+        self._updaters = [u for u in self._updaters if u[0] != owner]
+
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
-        for _, kind, update in self._updaters:
-            update(self.time)
-            self.last_update[kind] += 1
+        with reading(f"time {self.time.GetValue():g}"):
+            for _, kind, update in self._updaters:
+                update(self.time)
+                self.last_update[kind] += 1
         return self.last_update
 
     def _track(self, entry, owner=None):
@@ -219,12 +248,14 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
 
     def _world_of(self, prim):
-        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint."""
+        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint; raises
+        EyeRenderError for one no prim can use (validation.check_transform)."""
         try:
-            return self._skinning.world(prim, self._xforms, self.time)
+            world = self._skinning.world(prim, self._xforms, self.time)
         except SkinningError as e:
             self._skinning.drop(self._skinning.rigid_anchor(prim), e)
-            return self._xforms.GetLocalToWorldTransform(prim)
+            world = self._xforms.GetLocalToWorldTransform(prim)
+        return check_transform(prim.GetPath(), world)
 
     def _transform_varies(self, prim):
         """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
@@ -270,9 +301,11 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int32)
         indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int32)
         points = mesh.GetPointsAttr().Get(time)
-        if points is None or len(points) == 0 or len(counts) == 0:
+        if points is None or len(counts) == 0:
             raise EyeRenderError(f"{path}: mesh has no points or no faces")
         points = _array(points, 3, f"{path}: points")
+        if len(points) == 0:
+            raise EyeRenderError(f"{path}: mesh has no points")
         if counts.min() < 3:
             raise EyeRenderError(f"{path}: faceVertexCounts holds a face with fewer than 3 vertices")
         if int(counts.sum()) != len(indices):
@@ -285,12 +318,13 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _add_mesh(self, prim, prim_id, world, instancer_id="", binding=None):
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
+        check_transform(prim_id, world)  # an instance's transform composes the instancer's
         counts, indices, points = self._topology(prim, mesh, self.time)
         skinned = self._skinned_points_of(prim, prim_id)
         if skinned is not None:
             points = self._skinned_points(skinned, self.time, points)
             if self._skinning.get(prim) is None and skinned.moves_frame:  # dropped: its bind frame, unskinned
-                world = self._xforms.GetLocalToWorldTransform(prim)
+                world = check_transform(prim_id, self._xforms.GetLocalToWorldTransform(prim))
         subdivision = mesh_topology.Subdivision(mesh, counts, indices, len(points), self.time)
         self._warn_once(subdivision.warnings)
         level = self.refine_level if subdivision.refines else 0
@@ -491,11 +525,14 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             values, interpolation = mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation()
         else:
             return
-        if values is None or len(values) == 0:
+        if values is None or (hasattr(values, "__len__") and len(values) == 0):
             return
-        components = {"st": 2}.get(name, 3)
-        self.store.set_primvar(prim_id, name, str(interpolation),
-                               _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
+        try:
+            values = _array(values, {"st": 2}.get(name, 3), f"{prim.GetPath()}: primvars:{source}")
+        except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
+            self.warnings.append(f"{e}: ignored")
+            return
+        self.store.set_primvar(prim_id, name, str(interpolation), values)
 
     def _add_gprim(self, prim, prim_id=None, world=None, instancer_id="", binding=None):
         tessellated = tessellate_gprim(prim, self.time)
@@ -517,15 +554,12 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return True
 
     def _add_curves_or_points(self, prim):
-        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data skips the prim with a warning."""
+        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data raises EyeRenderError (the prim
+        is skipped)."""
         prim_id = prim.GetPath().pathString
         material_id, _ = self._bind_material(prim)
         add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
-        try:
-            animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
-        except EyeRenderError as e:
-            self.warnings.append(f"{e}; not rendered")
-            return
+        animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
         self._own(prim_id)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
@@ -549,6 +583,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         params = lights.read_light(prim, self._world_of(prim), self.time, self.warnings)
         self.store.add_light(prim_id, lights.light_type(prim), params, _matrix(self._world_of(prim)))
         self._own(prim_id)
+        self.lights.append(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):

@@ -25,6 +25,8 @@ void BindRender(nb::module_& m) {
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("dome_light_camera_visibility", &RenderSettings::domeLightCameraVisibility,
+              "camera rays see dome lights (eyerecord: --enableDomeLightVisibility)")
       .def_rw("texture_filtering", &RenderSettings::textureFiltering,
               "filter textures over each ray's footprint (off: finest level, point sampled)")
       .def_rw("texture_footprint_scale", &RenderSettings::textureFootprintScale,

@@ -1,6 +1,7 @@
 #include "hdeye/prims/eyeParamsSync.h"
 
 #include <eyelib/anterior_chamber.h>
+#include <eyelib/random_walk_sss.h>
 
 #include <stdexcept>
 
@@ -11,6 +12,9 @@ void SyncEyeParams(SceneDelegate* sceneDelegate, RenderParam* renderParam, const
   *params = sceneDelegate->GetEyeParams(id);
   const std::string problem = eyelib::ValidateChamberParams(params->chamber);
   if (!problem.empty()) throw std::runtime_error(kind + " " + id + ": " + problem);
+  // The sclera walk would quietly return nothing for these: say so once, at sync.
+  const std::string sclera = eyelib::ValidateSssArtistParams(params->scleraColor, params->scleraMeanFreePath);
+  if (!sclera.empty()) throw std::runtime_error(kind + " " + id + ": sclera " + sclera);
   if (params->irisTexture.empty()) {
     *irisTexture = nullptr;
     return;

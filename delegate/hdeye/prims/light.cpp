@@ -8,7 +8,13 @@
 namespace hdeye {
 
 void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
-  if (*dirtyBits & dirty::DirtyTransform) transform_ = sceneDelegate->GetTransform(Id());
+  if (*dirtyBits & dirty::DirtyTransform) {
+    transform_ = sceneDelegate->GetTransform(Id());
+    // A NaN position would make the light silently dark; say so instead.
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(transform_[c][0] + transform_[c][1] + transform_[c][2] + transform_[c][3]))
+        throw std::runtime_error("light " + Id() + ": transform is not finite");
+  }
   if (*dirtyBits & dirty::DirtyParams) {
     LightParams p = sceneDelegate->GetLightParams(Id());
     p.type = type_;

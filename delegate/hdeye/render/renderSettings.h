@@ -20,6 +20,9 @@ struct RenderSettings {
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
   bool scleraScattering = true;
+  /// Whether camera rays see dome lights (off: the dome lights the scene but the background is black, as
+  /// usdrecord renders without --enableDomeLightVisibility).
+  bool domeLightCameraVisibility = true;
   /// Textures are filtered over each ray's footprint (the ray cone of rayCone.h: MIP-mapped, anisotropic).
   /// Off: every lookup is at the finest level (point sampling, for A/B comparisons).
   bool textureFiltering = true;

@@ -198,7 +198,8 @@ class Tracer {
         sample.hitAny = hitGeometry;
         if (hitGeometry) sample.first = hit;
       }
-      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
+      const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
       if (!hitGeometry) break;
       SurfaceShading shading;
       if (!EyeOf(*hit.context)) {
@@ -394,12 +395,14 @@ class Tracer {
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
   /// minDistance: lights nearer than this were met before (a ray continued past a thin wall starts there).
+  /// skipDomes: dome lights are passed over (camera rays, when RenderSettings::domeLightCameraVisibility is off).
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
-                double* pdf, const EyeLighting* skipMneeOf = nullptr) const {
+                double* pdf, const EyeLighting* skipMneeOf = nullptr, bool skipDomes = false) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
+      if (skipDomes && lights_[k].type == LightType::Dome) continue;
       const RenderLight& l = lights_[k];
       glm::dvec3 le(0);
       double lpdf = 0, dist = kInf;
@@ -412,12 +415,12 @@ class Tracer {
   }
 
   /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
-  /// ray was chosen (PathState's flags).
-  glm::dvec3 LightsMet(const PathState& path, double maxDistance) const {
+  /// ray was chosen (PathState's flags); hideDomes: dome lights are not met.
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool hideDomes) const {
     glm::dvec3 le(0);
     double lpdf = 0;
     if (path.skipLights || !HitLight(path.o, path.d, path.tNear, maxDistance, &le, &lpdf,
-                                     path.skipMnee ? &path.skipMneeOf : nullptr))
+                                     path.skipMnee ? &path.skipMneeOf : nullptr, hideDomes))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
