@@ -230,7 +230,8 @@ class StageFollowing:
             return
         # A skipped prim at, under or above the edit may render now: populated again (and skipped again if not).
         for owner in [o for o in self._skipped if o.HasPrefix(prim.GetPath()) or prim.GetPath().HasPrefix(o)]:
-            self._resync(self._resync_root(owner))
+            for root in self._resync_roots(owner):
+                self._resync(root)
         material = next((m for m in self._materials if path.HasPrefix(Sdf.Path(m))), None)
         kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
