@@ -46,6 +46,9 @@ pip_missing=()
 # The eyerender package's build backend, installed here so `pip install --no-build-isolation .` needs no download.
 "$PYTHON" -c "import nanobind" 2>/dev/null || pip_missing+=("nanobind>=2.0")
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")
+# bench/bench_iris.py: reads EXR renders and draws its plot.
+"$PYTHON" -c "import OpenEXR" 2>/dev/null || pip_missing+=(openexr)
+"$PYTHON" -c "import matplotlib" 2>/dev/null || pip_missing+=(matplotlib)
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"
