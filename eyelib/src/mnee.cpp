@@ -229,6 +229,14 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     return converged ? first.status : second.status;
   };
   const Vec2<double> seed = StraightLineSeed(chamber, x, light);
+  if (!seeds.allSolutions && !seeds.fallback) {  // Cycles' way: one solve on the piecewise surface
+    const MneeSolution sol = SolveRefractionPath(chamber, x, light, seed.x, seed.y, options);
+    result.solves = 1;
+    result.failures = sol.status != MneeStatus::Converged;
+    result.iterations = result.maxIterations = sol.iterations;
+    if (sol.status == MneeStatus::Converged) result.solutions.push_back(sol), result.transfer = sol.transfer;
+    return result;
+  }
   const MneeStatus first = trySeed(seed.x, seed.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
   // One solution wanted: stop at the first, but if the straight line failed (it often misses the

@@ -86,8 +86,9 @@ struct SeedStrategy {
   /// false: one solution: the straight-line seed, then (if it fails and `fallback` is on) the
   /// meridian seeds until one converges; true: every seed below, keeping all distinct solutions.
   bool allSolutions = false;
-  /// With allSolutions off: retry a failed straight-line seed from the meridian seeds. Off gives the
-  /// straight-line seed alone, as Cycles' MNEE does (kept for comparison).
+  /// With allSolutions off: retry a failed straight-line seed from the meridian seeds. Off gives what
+  /// Cycles' MNEE does, kept for comparison: one Newton solve from the straight-line seed on the piecewise
+  /// surface (which stalls at the junction's kink where the path crosses it).
   bool fallback = true;
   /// Seeds along the light's azimuth through x (where a fold's second solution lies), spread
   /// across the cap. 0 turns them off.
