@@ -20,6 +20,12 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
+/// World offset off an eye mesh's float triangles along unit world direction v: 1e-5 of the eye's
+/// centimetre (its size, so it scales with the scene's units) plus 1e-5 of |p| (float precision).
+glm::dvec3 MeshOffset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& v) {
+  return p + v * (1e-5 * (10 * eye.worldPerMm + glm::length(p)));
+}
+
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
@@ -47,6 +53,11 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     end.distant = true;
     end.direction = eye.DirToCanonical(ls.dir);
     weight = 1 / ls.pdf;  // E_perp = L dw
+  } else if (ls.pointLimit) {
+    // A sphere too small to sample over its surface: its centre, of intensity radiance x pi r^2.
+    y = light.position;
+    end.position = eye.ToCanonical(y);
+    weight = kPi * (light.radius / eye.worldPerMm) * (light.radius / eye.worldPerMm);
   } else {
     y = apex + ls.dir * ls.distance;
     emitterNormal = light.type == LightType::Sphere ? glm::normalize(y - light.position) : light.direction;
@@ -70,7 +81,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
       const glm::dvec3 d = y - p;
       tFar = glm::length(d);
       toLight = d / tFar;
-      cosEmit = std::max(0.0, -glm::dot(emitterNormal, toLight));
+      cosEmit = ls.pointLimit ? 1.0 : std::max(0.0, -glm::dot(emitterNormal, toLight));
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
@@ -98,7 +109,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     ev.kind = EyeEvent::Continue;
     ev.passThrough = true;
     ev.dir = worldDir;
-    ev.origin = hit.worldPoint + worldDir * (1e-5 * (1 + glm::length(hit.worldPoint)));
+    ev.origin = MeshOffset(eye, hit.worldPoint, worldDir);
     return ev;
   }
   // Past the outer limbus edge (a projection that does not cover the hit included), and anywhere below
@@ -123,7 +134,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     EyeMeshHit leaving = hit;
     if (!hit.reprojected) leaving.worldToLocal = glm::dmat3(1.0);  // the direction is already the world one
     ev.dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(ev.dir) : ev.dir);
-    ev.origin = hit.worldPoint + hit.worldNormal * (1e-5 * (1 + glm::length(hit.worldPoint)));
+    ev.origin = MeshOffset(eye, hit.worldPoint, hit.worldNormal);
   }
   return ev;
 }

@@ -43,7 +43,12 @@ class SampleStream {
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
 };
 
-double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+/// a^2 / (a^2 + b^2), as a ratio so that pdfs past 1e154 (a tiny light far away) do not overflow.
+double PowerHeuristic(double a, double b) {
+  if (!(a > 0)) return 0;
+  const double q = b / a;
+  return std::isfinite(q) ? 1 / (1 + q * q) : 0;
+}
 
 /// The UsdPreviewSurface BSDF of a non-eye hit: the bound material's parameters, with its diffuse
 /// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set.
@@ -155,7 +160,8 @@ class Tracer {
     // geometric one (the walk's boundary is the triangles themselves).
     const glm::dvec3 wo = -d;
     const double cosO = std::max(0.0, glm::dot(wo, hit.n));
-    const double offset = 1e-5 * (1 + glm::length(hit.p));
+    // Off the float triangles: 1e-5 of the eye's centimetre (so it scales with the scene's units) and of |p|.
+    const double offset = 1e-5 * (10 * eye.worldPerMm + glm::length(hit.p));
     if (random() < eyelib::FresnelDielectric(cosO, ior)) {
       step.kind = ScleraStep::Reflected;
       step.dir = eyelib::Reflect(wo, hit.n);
@@ -356,8 +362,10 @@ class Tracer {
           eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(*hit.context, hit.albedo, hit.st);
       if (depth == 0 && !eyeSurface) first->albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 wo = -d;
-      // Offset off the surface by more than Embree's float hit error (a few ulps of |p|).
-      const double offset = 1e-5 * (1 + glm::length(hit.p));
+      // Offset off the surface by more than Embree's float hit error (a few ulps of |p|); on an eye, the
+      // absolute part is 1e-5 of the eye's centimetre, so that eyes render alike in any scene units.
+      const EyeGeometry* surfaceEye = hit.context->eye ? hit.context->eye : hit.context->meshEye;
+      const double offset = 1e-5 * ((surfaceEye ? 10 * surfaceEye->worldPerMm : 1.0) + glm::length(hit.p));
       const glm::dvec3 origin = hit.p + hit.n * offset;
 
       // Next event estimation: one light chosen uniformly; not for mirrors and glass (delta lobes).
