@@ -52,18 +52,19 @@ def compare(scene_dir, a, b):
     return {k: float(v) for k, v in values.items()}
 
 
-def measure(scene_dir, budgets, builds, floor_spp=0):
+def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None):
     """One row per build and time budget, then (floor_spp > 0) one per build of floor_spp samples per pixel, its time
     the mean of the two seeds'. builds: (label, python) pairs, rendered in turn at every budget and seed so that the
     machine's changing load falls on all of them alike."""
     rows = []
     runs = [(seconds, 0) for seconds in budgets] + ([(0, floor_spp)] if floor_spp else [])
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as scratch:
+        tmp = keep_dir or scratch
         for seconds, spp in runs:
             done = {}
             for seed in (1, 2):
                 for k, (label, python) in enumerate(builds):
-                    out = os.path.join(tmp, f"build{k}_seed{seed}.exr")
+                    out = os.path.join(tmp, f"build{k}_{f'{spp}spp' if spp else f'{seconds:g}s'}_seed{seed}.exr")
                     done[k, seed] = (out, *render(python, scene_dir, seconds, seed, out, spp))
             for k, (label, _) in enumerate(builds):
                 (a, spp1, s1), (b, spp2, s2) = done[k, 1], done[k, 2]
@@ -121,6 +122,7 @@ def main():
     ap.add_argument("--floor-spp", type=int, default=0,
                     help="also render both seeds at this many samples per pixel, for the bias floor (0: none)")
     ap.add_argument("--csv", help="write the rows to this CSV")
+    ap.add_argument("--keep-dir", help="keep the renders in this folder (default: a temporary one)")
     ap.add_argument("--from-csv", help="comma-separated CSVs to read instead of rendering")
     ap.add_argument("--plot", help="write the figure to this PNG")
     args = ap.parse_args()
@@ -136,7 +138,9 @@ def main():
         builds = [tuple(b.split("=", 1)) for b in args.build or [f"this build={sys.executable}"]]
         if not all(len(b) == 2 and b[1] for b in builds):
             sys.exit("bench_iris: --build takes LABEL=PYTHON")
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp)
+        if args.keep_dir:
+            os.makedirs(args.keep_dir, exist_ok=True)
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir)
     print(table(rows))
     if args.csv:
         with open(args.csv, "w", newline="") as f:

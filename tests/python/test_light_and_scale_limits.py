@@ -38,13 +38,18 @@ def eye_stage(unit=1.0, kind="sphere", radius=1.0, intensity=1000.0, scale=1.0, 
         mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
         mesh.CreateSubdivisionSchemeAttr("none")
     add_key(stage, unit, kind, radius, intensity, scale, exposure, distance, width, height)
+    add_camera(stage, unit, focal=50.0, distance=60.0)
+    return stage
+
+
+def add_camera(stage, unit, focal, distance):
+    """A camera on the gaze axis `distance` mm from the apex (24 mm film, focal length in mm)."""
     cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
-    cam.CreateFocalLengthAttr(50.0)
+    cam.CreateFocalLengthAttr(focal)
     cam.CreateHorizontalApertureAttr(24.0)
     cam.CreateVerticalApertureAttr(24.0)
     cam.CreateClippingRangeAttr(Gf.Vec2f(1 * unit, 1e6 * unit))
-    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 60 * unit))
-    return stage
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, distance * unit))
 
 
 def add_key(stage, unit, kind="sphere", radius=1.0, intensity=1000.0, scale=1.0, exposure=0.0, distance=100.0,
@@ -127,12 +132,7 @@ def mesh_eye_stage(unit):
     eye.AddScaleOp().Set(Gf.Vec3f(10 * unit))  # the asset's centimetres to this stage's units
     eye.AddTranslateOp().Set(Gf.Vec3d(0, 0, -1.303270723))  # its apex to the origin (in asset units)
     add_key(stage, unit, radius=3.0, intensity=300.0, distance=150.0)
-    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
-    cam.CreateFocalLengthAttr(100.0)
-    cam.CreateHorizontalApertureAttr(24.0)
-    cam.CreateVerticalApertureAttr(24.0)
-    cam.CreateClippingRangeAttr(Gf.Vec2f(1 * unit, 1e5 * unit))
-    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 70 * unit))
+    add_camera(stage, unit, focal=100.0, distance=70.0)
     return stage
 
 
