@@ -213,9 +213,9 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     return sol;
   };
   // One seed: a Newton solve on the smooth extension of the piece that owns the seed, kept only inside that
-  // piece; then one on the other piece where a path through it can be near: the first converged near the
-  // junction (the two pieces' caustics overlap there), beyond its own piece, or failed within a trust-region
-  // step of the junction (where the piecewise surface's solve would have crossed it).
+  // piece; then one on the other piece where a path through it is near: the first converged near the
+  // junction (the two pieces' caustics overlap there) or beyond its own piece. (A failed first solve is not
+  // retried there: on the light-tracing tests that finds no more light.)
   auto trySeed = [&](double u, double v) {
     const SurfacePiece own = surface.PieceAt(std::hypot(u, v)), other = surface.OtherPiece(own);
     const MneeSolution first = solveOn(own, u, v);
@@ -224,10 +224,9 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     const bool converged = first.status == MneeStatus::Converged;
     const double fromJunction = std::abs(std::hypot(first.p.x, first.p.y) - surface.JunctionRadius());
     if (converged && fromJunction >= seeds.junctionPairRadius) return first.status;
-    if (!converged && first.status != MneeStatus::OffPiece && !(fromJunction < options.maxStep)) return first.status;
+    if (!converged && first.status != MneeStatus::OffPiece) return first.status;
     // From where the first solve ended on its extension: the other piece's path is near it.
-    const bool landed = converged || first.status == MneeStatus::OffPiece;
-    const MneeSolution second = solveOn(other, landed ? first.p.x : u, landed ? first.p.y : v);
+    const MneeSolution second = solveOn(other, first.p.x, first.p.y);
     return converged ? first.status : second.status;
   };
   const Vec2<double> seed = StraightLineSeed(chamber, x, light);
