@@ -87,7 +87,7 @@ void PrintRow(const char* what, double deg, double az, const FluxComparison& c) 
 
 }  // namespace
 
-TEST_CASE("through the ellipsoid-cone junction band, one-path MNEE brings the light that light tracing does") {
+TEST_CASE("one-path MNEE brings the light that light tracing does through the ellipsoid-cone junction band") {
   const AnteriorChamber<double> chamber;
   const double J = chamber.Surface().JunctionRadius();
   const CorneaBand band{J - kBandHalfWidth, J + kBandHalfWidth};
@@ -104,7 +104,7 @@ TEST_CASE("through the ellipsoid-cone junction band, one-path MNEE brings the li
   }
 }
 
-TEST_CASE("over the whole cornea, one-path MNEE's flux onto the iris is within 0.3% of light tracing") {
+TEST_CASE("one-path MNEE's flux onto the iris over the whole cornea is within 0.3% of light tracing") {
   // The bound on the bias away from the junction (the fold's second paths at grazing light are the rest).
   const AnteriorChamber<double> chamber;
   std::printf("\n| light through | point light | light traced (W) | MNEE one path (W) | difference | sigma | z |\n");
@@ -118,7 +118,7 @@ TEST_CASE("over the whole cornea, one-path MNEE's flux onto the iris is within 0
   }
 }
 
-TEST_CASE("both paths of a junction pair lie near the junction, and the default search finds every pair") {
+TEST_CASE("both paths of a junction pair lie near the junction and the default search finds every pair") {
   // With the pairing radius widened to 4 mm every seed is solved on both pieces: the pairs found that way
   // bound how far from the junction a pair's paths lie, and the default radius must find the same light.
   const AnteriorChamber<double> chamber;
