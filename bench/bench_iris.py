@@ -25,7 +25,9 @@ import sys
 import tempfile
 
 DEFAULT_SCENE_DIR = os.environ.get("EYERENDER_SCENE_B", "/work/shared/bench/sceneB")
-FIELDS = ("label", "fixed_spp", "seconds", "relrmse", "relrmse_seed2", "noise", "floor", "bias", "spp", "err_sqrt_s")
+SCENE_B_PIXELS = 32879  # the iris pixels compare.py counts (its pixels=), for CSVs that do not record them
+FIELDS = ("label", "fixed_spp", "seconds", "relrmse", "relrmse_seed2", "noise", "floor", "bias", "spp", "err_sqrt_s",
+          "pixels")
 
 
 def render(python, scene_dir, seconds, seed, out, spp=0):
@@ -34,7 +36,7 @@ def render(python, scene_dir, seconds, seed, out, spp=0):
     budget = ["--spp", str(spp)] if spp else ["--time-limit", str(seconds)]
     cmd = [python, "-m", "eyerender.eyerecord", "--camera", "/World/main_cam", "--imageWidth", "256",
            *budget, "--threads", "2", "--seed", str(seed), "--quiet", os.path.join(scene_dir, "sceneB.usda"), out]
-    run = subprocess.run(cmd, capture_output=True, text=True)
+    run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode != 0:
         sys.exit(f"bench_iris: eyerecord failed ({run.returncode}): {run.stderr.strip()[-200:]}")
     summary = re.search(r"(\d+) spp, ([0-9.]+) s", run.stdout + run.stderr)
@@ -43,11 +45,11 @@ def render(python, scene_dir, seconds, seed, out, spp=0):
 
 def compare(scene_dir, a, b):
     """compare.py's numbers for two renders of different seeds, as a dict of floats."""
-    run = subprocess.run([sys.executable, os.path.join(scene_dir, "compare.py"), a, b], capture_output=True, text=True)
+    run = subprocess.run([sys.executable, os.path.join(scene_dir, "compare.py"), a, b], capture_output=True, text=True, check=False)
     values = dict(re.findall(r"(\w+)=([-+0-9.eE]+)", run.stdout))
     if "floor" not in values:
         sys.exit(f"bench_iris: compare.py gave no numbers: {(run.stdout + run.stderr).strip()[-200:]}")
-    second = subprocess.run([sys.executable, os.path.join(scene_dir, "compare.py"), b], capture_output=True, text=True)
+    second = subprocess.run([sys.executable, os.path.join(scene_dir, "compare.py"), b], capture_output=True, text=True, check=False)
     values["relRMSE2"] = re.search(r"relRMSE=([0-9.]+)", second.stdout).group(1)
     return {k: float(v) for k, v in values.items()}
 
@@ -71,9 +73,9 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None):
                 c = compare(scene_dir, a, b)
                 err = 0.5 * (c["relRMSE"] + c["relRMSE2"])
                 taken = seconds or 0.5 * (s1 + s2)
-                rows.append(dict(label=label, fixed_spp=spp, seconds=taken, relrmse=c["relRMSE"], relrmse_seed2=c["relRMSE2"],
-                                 noise=c["noise"], floor=c["floor"], bias=c["bias"], spp=0.5 * (spp1 + spp2),
-                                 err_sqrt_s=err * math.sqrt(taken)))
+                rows.append({"label": label, "fixed_spp": spp, "seconds": taken, "relrmse": c["relRMSE"],
+                             "relrmse_seed2": c["relRMSE2"], "noise": c["noise"], "floor": c["floor"], "bias": c["bias"],
+                             "spp": 0.5 * (spp1 + spp2), "err_sqrt_s": err * math.sqrt(taken), "pixels": c["pixels"]})
                 print(f"  {label}: {f'{spp} spp' if spp else f'{seconds:g} s'} done (relRMSE {err:.4f})", file=sys.stderr)
     return rows
 
@@ -95,16 +97,25 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6, 4))
     for label in dict.fromkeys(r["label"] for r in rows):
-        timed = [r for r in rows if r["label"] == label and not r.get("fixed_spp")]
+        timed = [r for r in rows if r["label"] == label and not r.get("fixed_spp")] or \
+            [r for r in rows if r["label"] == label]
         line, = ax.loglog([r["seconds"] for r in timed], [50 * (r["relrmse"] + r["relrmse_seed2"]) for r in timed], "o-",
                           label=f"{label}: rel RMSE")
-        # The floor where it is above the noise's reach (compare.py gives 0 when the seeds share no error).
-        floors = [r for r in rows if r["label"] == label and r["floor"] > 0]
-        if floors:
-            ax.loglog([r["seconds"] for r in floors], [100 * r["floor"] for r in floors], "s--", color=line.get_color(),
-                      label=f"{label}: two-seed floor")
+        # Floors from the fixed-sample pairs only (at a few seconds the noise makes them meaningless). A floor of 0
+        # (the seeds share no error) is drawn at what the pair resolves: 2 sigma of mean(e1 e2), noise^2 / sqrt(N).
+        for r in rows:
+            if r["label"] != label or not r.get("fixed_spp"):
+                continue
+            resolved = r["noise"] * math.sqrt(2) / (r.get("pixels") or SCENE_B_PIXELS) ** 0.25
+            if r["floor"] > 0:
+                ax.loglog([r["seconds"]], [100 * r["floor"]], "s", color=line.get_color(), markersize=9,
+                          label=f"{label}: floor at {r['fixed_spp']:.0f} spp")
+            else:
+                ax.loglog([r["seconds"]], [100 * resolved], "v", color=line.get_color(), markersize=9,
+                          label=f"{label}: floor at {r['fixed_spp']:.0f} spp below this")
     ax.set_xlabel("render time, s (2 threads)")
     ax.set_ylabel("% of the reference (iris pixels)")
+    ax.set_ylim(bottom=0.1)
     ax.set_title("Scene B iris: error against time")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)

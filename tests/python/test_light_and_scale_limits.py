@@ -9,12 +9,11 @@ degrees off the gaze."""
 import math
 import pathlib
 
+import eyerender  # noqa: F401  (registers the EyeAPI schema)
 import numpy as np
 import pytest
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux
-
-import eyerender  # noqa: F401  (registers the EyeAPI schema)
 from eyerender.render_session import RenderSession
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux
 
 ASSET = pathlib.Path(__file__).resolve().parents[2] / "usd_samples" / "assets" / "eye.usda"
 KEY_DEGREES = 50.0
@@ -96,10 +95,10 @@ def test_a_shrinking_sphere_light_of_constant_power_approaches_the_point_light_l
 
 @pytest.mark.parametrize("eye", [True, False], ids=["with an eye", "no eye"])
 @pytest.mark.parametrize("light", [
-    dict(kind="sphere", radius=0.0), dict(kind="sphere", scale=0.0), dict(kind="sphere", scale=1e-20),
-    dict(kind="sphere", distance=1e30), dict(kind="sphere", exposure=1e4), dict(kind="rect", width=0.0),
-    dict(kind="rect", height=0.0), dict(kind="rect", scale=1e-20), dict(kind="rect", distance=1e30),
-    dict(kind="disk", radius=0.0), dict(kind="disk", scale=0.0), dict(kind="disk", distance=1e30),
+    {"kind": "sphere", "radius": 0.0}, {"kind": "sphere", "scale": 0.0}, {"kind": "sphere", "scale": 1e-20},
+    {"kind": "sphere", "distance": 1e30}, {"kind": "sphere", "exposure": 1e4}, {"kind": "rect", "width": 0.0},
+    {"kind": "rect", "height": 0.0}, {"kind": "rect", "scale": 1e-20}, {"kind": "rect", "distance": 1e30},
+    {"kind": "disk", "radius": 0.0}, {"kind": "disk", "scale": 0.0}, {"kind": "disk", "distance": 1e30},
 ], ids=lambda d: ",".join(f"{k}={v:g}" if not isinstance(v, str) else v for k, v in d.items()))
 def test_degenerate_lights_give_no_non_finite_samples(light, eye):
     stats, color, iris = render(eye_stage(eye=eye, **light), size=16, spp=4)
