@@ -5,7 +5,8 @@
 set -euo pipefail
 
 apt_packages=(cmake ninja-build g++ ccache pkg-config clang-format
-              libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev libpng-dev catch2)
+              libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev catch2 libjpeg62-turbo-dev
+              libopenimageio-dev openimageio-tools)
 
 missing=()
 for p in "${apt_packages[@]}"; do

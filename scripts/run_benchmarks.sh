@@ -15,3 +15,4 @@ python3 bench/plot_mnee.py "$build/mnee_benchmark"
 if [[ -f "${EYERENDER_SCENE_B:-/work/shared/bench/sceneB}/sceneB.usda" ]]; then
   "${PYTHON:-python3}" bench/bench_iris.py
 fi
+"${PYTHON:-python3}" bench/bench_textures.py  # the table in docs/textures.md

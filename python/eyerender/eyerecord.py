@@ -60,6 +60,8 @@ def build_parser():
                    "rendered or written (docs/render_plan.md)")
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
                    "flags and the renderer's defaults say")
+    p.add_argument("--strict", action="store_true", help="a texture that cannot be read is an error (default: a "
+                   "warning, and its fallback renders)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     add_farm_options(p.add_argument_group("render farm (Dask; docs/farm.md)"))
     return p

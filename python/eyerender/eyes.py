@@ -7,10 +7,11 @@ is wrong; nothing is clamped. The fallbacks repeat the schema's, so a stage whos
 import math
 
 import numpy as np
-from pxr import Gf, Sdf, Usd
+from pxr import Gf, Usd
 
 from ._hdeye import CorneaModel, EyeParams
 from .errors import EyeRenderError
+from .textures import TextureWarning, resolve_texture
 
 EYE_API = "EyeAPI"
 IRIS_DIAMETER_MM = 15.08  # the ellipsoid-cone cornea's rim chord; ratios and the iris texture refer to it
@@ -69,8 +70,9 @@ def _matrix(prim, value):
     return flat
 
 
-def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=None):
-    """EyeParams from prim's eye:* attributes at `time`; raises EyeRenderError naming the attribute and prim."""
+def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=None, warnings=None):
+    """EyeParams from prim's eye:* attributes at `time`; raises EyeRenderError naming the attribute and prim. An
+    iris texture that cannot be read is a TextureWarning appended to `warnings` (a list, if given)."""
     path = prim.GetPath()
     model = cornea_model_override or str(_get(prim, "eye:corneaModel", time))
     if model not in CORNEA_MODELS:
@@ -109,12 +111,9 @@ def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=Non
     eye.sclera_mean_free_path = mfp
     model_transform = _matrix(prim, _get(prim, "eye:modelTransform", time))
     eye.model_transform = np.array(model_transform, dtype=np.float64).reshape(4, 4)
-    texture = prim.GetAttribute("eye:irisTexture")
-    asset = texture.Get(time) if texture else None
-    if isinstance(asset, Sdf.AssetPath) and asset.path:
-        if not asset.resolvedPath:
-            raise EyeRenderError(f"{path}: eye:irisTexture '{asset.path}' cannot be resolved")
-        eye.iris_texture = asset.resolvedPath
+    eye.iris_texture, problem = resolve_texture(prim.GetAttribute("eye:irisTexture"), time, f"{path}: eye:irisTexture")
+    if problem and warnings is not None:
+        warnings.append(TextureWarning(f"{problem}; the iris renders magenta"))
     problem = eye.validate()  # the C++ model's own check, the last word on what it can render
     if problem:
         raise EyeRenderError(f"{path}: {problem}")

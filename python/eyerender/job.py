@@ -30,7 +30,8 @@ class SessionOptions:
     what the options leave open; purposes: UsdGeom purposes besides "default"; refine_level: Catmull-Clark levels;
     cornea_model: "ellipsoidCone"/"paraboloid" for every eye (None: as authored); settings: RenderSettings
     overrides as (name, value) pairs; plan: what the render plan may not decide (plan_options: e.g.
-    (("mnee", False),)); () plans everything, None renders with no plan (the settings as given).
+    (("mnee", False),)); () plans everything, None renders with no plan (the settings as given); strict: a texture
+    that cannot be read is an EyeRenderError (False: a warning, and its fallback renders).
     """
     width: Optional[int] = None
     height: Optional[int] = None
@@ -42,6 +43,7 @@ class SessionOptions:
     cornea_model: Optional[str] = None
     settings: tuple[tuple[str, object], ...] = ()
     plan: Optional[tuple[tuple[str, object], ...]] = ()
+    strict: bool = False
 
     def __post_init__(self):
         for name, value in self.normalised().items():
@@ -65,7 +67,7 @@ def session_options(args):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions)),
-        plan=plan_options(args))
+        plan=plan_options(args), strict=args.strict)
 
 
 def parse_purposes(groups):
@@ -183,7 +185,8 @@ def open_session(stage, options, time=None):
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
                          settings=dict(options.settings),
-                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level))
+                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level),
+                         strict=options.strict)
 
 
 __all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "SessionOptions", "session_options",

@@ -1,15 +1,17 @@
 """UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, dome).
 
 Radiance = color * intensity * 2^exposure, as UsdLux defines it. With inputs:normalize the intensity is divided
-by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. colorTemperature and
-light textures other than the dome's are not rendered yet; the front end reports them.
+by the light's world-space area (sphere, disk, rect), so resizing a light keeps its power. Dome and rect light
+textures are read through eyerender.textures (any OpenImageIO format, .usdz); colorTemperature is not rendered yet
+and the front end reports it.
 """
 import math
 
-from pxr import Sdf, UsdLux
+from pxr import UsdLux
 
 from ._hdeye import LightParams
 from .errors import EyeRenderError
+from .textures import TextureWarning, resolve_texture
 
 # Prim type to the delegate's sprim type.
 LIGHT_TYPES = {
@@ -30,8 +32,9 @@ def _scale(world):
     return abs(world.GetDeterminant3()) ** (1.0 / 3.0)
 
 
-def read_light(prim, world, time):
-    """LightParams for a UsdLux light prim with local-to-world `world` (Gf.Matrix4d) at `time`."""
+def read_light(prim, world, time, warnings=None):
+    """LightParams for a UsdLux light prim with local-to-world `world` (Gf.Matrix4d) at `time`. A dome texture that
+    cannot be read is a TextureWarning appended to `warnings` (a list, if given)."""
     api = UsdLux.LightAPI(prim)
     path = prim.GetPath()
     p = LightParams()
@@ -55,6 +58,9 @@ def read_light(prim, world, time):
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
         p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
+        p.texture_file, problem = resolve_texture(light.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
+        if problem and warnings is not None:
+            warnings.append(TextureWarning(f"{problem}; the light emits magenta"))
         area = p.width * p.height * scale * scale
     elif kind == "DistantLight":
         p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
@@ -62,14 +68,13 @@ def read_light(prim, world, time):
             raise EyeRenderError(f"{path}: inputs:angle = {p.angle:g} degrees must be in [0, 180)")
     elif kind == "DomeLight":
         dome = UsdLux.DomeLight(prim)
-        asset = dome.GetTextureFileAttr().Get(time)
-        if isinstance(asset, Sdf.AssetPath) and asset.path:
-            if not asset.resolvedPath:
-                raise EyeRenderError(f"{path}: inputs:texture:file '{asset.path}' cannot be resolved")
+        p.texture_file, problem = resolve_texture(dome.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
+        if p.texture_file:
             fmt = dome.GetTextureFormatAttr().Get(time)
             if fmt not in ("automatic", "latlong"):
                 raise EyeRenderError(f"{path}: inputs:texture:format '{fmt}' is not supported (latlong only)")
-            p.texture_file = asset.resolvedPath
+        if problem and warnings is not None:
+            warnings.append(TextureWarning(f"{problem}; the dome renders magenta"))
     for name in ("radius", "width", "height"):
         if not (getattr(p, name) >= 0 and math.isfinite(getattr(p, name))):
             raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
@@ -91,7 +96,5 @@ def unsupported_light_features(prim, time):
     intensity, exposure = api.GetIntensityAttr().Get(time), api.GetExposureAttr().Get(time)
     if intensity and exposure and math.isfinite(exposure) and math.log2(abs(intensity)) + exposure > 1000:
         notes.append(f"{prim.GetPath()}: intensity x 2^exposure overflows: the light is off")
-    if prim.GetTypeName() == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
-        notes.append(f"{prim.GetPath()}: rect light texture is ignored")
     return notes
 

@@ -30,14 +30,16 @@ class RenderSession:
     """Renders one stage, frame after frame, into in-memory AOV buffers."""
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
-                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None):
+                 refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
+                 strict=False):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
         aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
-        sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given)."""
+        sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given);
+        strict: a texture that cannot be read is an EyeRenderError (else a warning, and its fallback renders)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -49,7 +51,7 @@ class RenderSession:
         for name, value in (settings or {}).items():
             setattr(self.delegate.settings, name, value)
         self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
-                                      cornea_model=cornea_model)
+                                      cornea_model=cornea_model, strict=strict)
         self.scene.populate()
         self.camera_id = self._choose_camera(camera, purposes, width, height)
         self.width = int(width)

@@ -29,6 +29,7 @@ from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology,
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 from .skinning import SkinningError, StageSkinning
+from .textures import TextureWarning
 from .usd_values import to_float_array as _array
 from .usd_values import to_matrix as _matrix
 from .usd_values import varies as _varies
@@ -40,15 +41,17 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
     def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
-                 cornea_model=None):
+                 cornea_model=None, strict=False):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
-        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders."""
+        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders; strict: a texture that cannot be read
+        fails populate() (EyeRenderError) instead of being a warning."""
         self.stage, self.store = stage, store
         self.time = Usd.TimeCode(time)
         self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
         self.refine_level = refine_level
         self.cornea_model = cornea_model
+        self.strict = strict
         self.cameras = []        # camera prim paths, in traversal order
         self.eyes = []           # eye prim paths (meshes and analytic)
         self.warnings = []       # one line each: what was skipped or ignored
@@ -83,6 +86,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return dict(self._rigs.shell_of) if self._rigs else {}
 
     def _add_subtree(self, root):
+        """Adds every prim under root; strict: a texture found unreadable under it is an EyeRenderError."""
+        known = len(self.warnings)
         it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
         for prim in it:
             if prim.IsPseudoRoot():
@@ -93,6 +98,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 continue
             if self._add_prim(prim):
                 it.PruneChildren()
+        unreadable = [w for w in self.warnings[known:] if isinstance(w, TextureWarning)]
+        if self.strict and unreadable:
+            raise EyeRenderError(str(unreadable[0]).split("; ")[0])
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
@@ -221,7 +229,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(prim)
         if eyes.is_eye(prim):
-            eye = self._eye_mesh_params(prim, self.time)
+            eye = self._eye_mesh_params(prim, self.time, self.warnings)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
             self._own_top_level(prim, prim_id)
@@ -359,9 +367,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                                  f"{0 if rest is None else len(rest)} points, the mesh has {count}")
         self.store.set_primvar(prim_id, "rest", "vertex", _array(rest, 3, f"{prim.GetPath()}: points at eye:restTime"))
 
-    def _eye_mesh_params(self, prim, time):
+    def _eye_mesh_params(self, prim, time, warnings=None):
         """An eye mesh's EyeParams at `time`, with its iris projection (eye:irisProjection) resolved."""
-        eye = eyes.read_eye_params(prim, time, self.cornea_model)
+        eye = eyes.read_eye_params(prim, time, self.cornea_model, warnings)
         projection = self._iris_projection(prim, time)
         if projection is not None:
             eye.iris_projection = projection
@@ -497,8 +505,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
-        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self._world_of(prim), self.time),
-                             _matrix(self._world_of(prim)))
+        params = lights.read_light(prim, self._world_of(prim), self.time, self.warnings)
+        self.store.add_light(prim_id, lights.light_type(prim), params, _matrix(self._world_of(prim)))
         self._own(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
@@ -524,7 +532,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _add_analytic_eye(self, prim):
         prim_id = prim.GetPath().pathString
-        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
+        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model, self.warnings),
                                     _matrix(self._world_of(prim)))
         self.eyes.append(prim_id)
         self._own(prim_id)

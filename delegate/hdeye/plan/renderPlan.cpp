@@ -373,7 +373,8 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
   std::vector<std::pair<PrimId, RenderLight>> lights;
   for (const auto& [id, entry] : index.Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.emplace_back(id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      lights.emplace_back(
+          id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
 
   for (const auto& [id, entry] : index.Rprims()) {
     if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;

@@ -11,11 +11,13 @@ void SyncEyeParams(SceneDelegate* sceneDelegate, RenderParam* renderParam, const
   *params = sceneDelegate->GetEyeParams(id);
   const std::string problem = eyelib::ValidateChamberParams(params->chamber);
   if (!problem.empty()) throw std::runtime_error(kind + " " + id + ": " + problem);
-  try {
-    *irisTexture = params->irisTexture.empty() ? nullptr : renderParam->Textures().Get(params->irisTexture);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(kind + " " + id + ": iris texture: " + e.what());
+  if (params->irisTexture.empty()) {
+    *irisTexture = nullptr;
+    return;
   }
+  *irisTexture = renderParam->Textures().Get(params->irisTexture);
+  if (!(*irisTexture)->Valid())
+    renderParam->Warn(kind + " " + id + ": iris texture: " + (*irisTexture)->Error() + "; the iris is magenta");
 }
 
 }  // namespace hdeye

@@ -3,20 +3,29 @@
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/render/eyeRenderOptions.h"
 #include "hdeye/render/params.h"
+#include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>
 
+#include <array>
+#include <memory>
 #include <vector>
 
 namespace hdeye {
 
 struct EyeGeometry;
-class Texture;
 
-/// A material as the renderer shades it: its parameters and its diffuse texture (owned by the Material sprim).
+/// A textured input as the renderer uses it: the opened texture (null: not textured) and its input.
+struct BoundTexture {
+  std::shared_ptr<const Texture> texture;
+  TextureInput input;
+};
+using MaterialTextures = std::array<BoundTexture, kMaterialInputCount>;
+
+/// A material as the renderer shades it: its parameters and its textured inputs (owned by the Material sprim).
 struct SurfaceMaterial {
   MaterialParams params;
-  const Texture* diffuseTexture = nullptr;
+  const MaterialTextures* textures = nullptr;
   /// False for the fallback material (no material sprim bound), which shows the displayColor primvar as Hydra's
   /// fallback surface does; a bound UsdPreviewSurface shows its own diffuseColor.
   bool bound = false;
@@ -46,8 +55,8 @@ struct GeometryContext {
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
-  /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
-  const Texture* diffuseTexture = nullptr;
+  /// The bound material's textured inputs (owned by the Material sprim), looked up at the hit's st; or null.
+  const MaterialTextures* textures = nullptr;
   /// Per-face materials (geomSubsets): per rendered triangle, an index into subsetMaterials, or -1 for the
   /// prim's own material above; null when the prim has no subsets.
   const std::vector<int>* triangleSubsets = nullptr;

@@ -64,6 +64,12 @@ glm::dvec2 DirectionToLatLong(const glm::dvec3& d, double* cosLat) {
 double UvToSolidAngle(double pdfUv, double cosLat) {
   return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0;
 }
+/// Radiance of a rect light at local point a axisU + b axisV (a, b in [-1, 1]; see RenderLight::rectImage).
+glm::dvec3 RectRadiance(const RenderLight& l, double a, double b) {
+  if (!l.rectImage) return l.radiance;
+  return l.radiance * glm::dvec3(l.rectImage->Lookup(glm::vec2(float((1 - a) / 2), float((1 + b) / 2))));
+}
+
 /// Radiance of the textured dome at (u, v): clamped at the poles (repeat would blend the two poles).
 glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
   const Texture& image = *l.dome->image;
@@ -75,10 +81,12 @@ glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
 
 std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
   if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
+  const std::vector<glm::vec3> texels = image->Texels();
+  if (texels.empty()) throw std::invalid_argument("DomeTexture::Build: " + (image->Valid() ? std::string("a UDIM set is no lat-long image") : image->Error()));
   const int w = image->Width(), h = image->Height();
   std::vector<double> luminance(std::size_t(w) * std::size_t(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(image->Texel(x, y)));
+    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
   // Distribution row r is image row h-1-r (v = 0 at the bottom).
   std::vector<double> weights(luminance.size());
   for (int r = 0; r < h; ++r) {
@@ -100,7 +108,8 @@ std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Text
   return dome;
 }
 
-RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome) {
+RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome,
+                                    std::shared_ptr<const Texture> rectImage) {
   RenderLight l;
   l.type = p.type;
   l.radiance = glm::dvec3(p.color) * double(p.intensity) * std::exp2(double(p.exposure));
@@ -124,6 +133,7 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
       l.direction = -glm::normalize(z);
       l.axisU = x * (p.width / 2.0);
       l.axisV = y * (p.height / 2.0);
+      l.rectImage = std::move(rectImage);
       break;
     case LightType::Disk:
       l.direction = -glm::normalize(z);
@@ -133,7 +143,12 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
       break;
     case LightType::Dome:
       if (!p.textureFile.empty()) {
-        l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
+        if (!dome) {
+          auto image = Texture::Open(TextureParams::Image(p.textureFile, TextureWrap::Clamp));
+          if (!image->Valid()) throw std::runtime_error(image->Error());
+          dome = DomeTexture::Build(std::move(image));
+        }
+        l.dome = std::move(dome);
         l.domeToWorld = RotationOf(m);
       }
       break;
@@ -196,8 +211,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     case LightType::Disk: {
       if (!(PlanarArea(l) > 0)) return s;  // a zero width, height or radius emits nothing
       glm::dvec3 q;
+      glm::dvec3 radiance = l.radiance;
       if (l.type == LightType::Rect) {
         q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
+        radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
       } else {
         const double r = l.radius * std::sqrt(u1), phi = 2 * kPi * u2;
         q = l.position + r * (std::cos(phi) * l.axisU + std::sin(phi) * l.axisV);
@@ -208,7 +225,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
       if (!std::isfinite(s.pdf)) return LightSample{};  // too small to sample from here: it overflows
-      if (s.pdf > 0) s.radiance = l.radiance;
+      if (s.pdf > 0) s.radiance = radiance;
       return s;
     }
   }
@@ -258,13 +275,14 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       const double t = glm::dot(l.position - p, l.direction) / glm::dot(dir, l.direction);
       if (!(t > 0) || t >= maxDistance) return false;
       const glm::dvec3 q = p + t * dir - l.position;
+      *radiance = l.radiance;
       if (l.type == LightType::Rect) {
         const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU), b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
         if (std::abs(a) > 1 || std::abs(b) > 1) return false;
+        *radiance = RectRadiance(l, a, b);
       } else if (glm::dot(q, q) > l.radius * l.radius) {
         return false;
       }
-      *radiance = l.radiance;
       *pdf = AreaToSolidAngle(1 / PlanarArea(l), t, cosL);
       *distance = t;
       return true;

@@ -44,14 +44,20 @@ struct RenderLight {
   /// null for a constant dome.
   std::shared_ptr<const DomeTexture> dome;
   glm::dmat3 domeToWorld{1.0};  ///< rotation of the dome's frame (see DomeTexture) into the world
+  /// Rect with a texture: radiance = `radiance` x texel. UsdLux puts the image's first texel (its top-left)
+  /// at local (+x, +y) and its last at (-x, -y), so a viewer facing the light sees the image upright:
+  /// st = ((1 - a) / 2, (1 + b) / 2) at local point a axisU + b axisV, a and b in [-1, 1].
+  std::shared_ptr<const Texture> rectImage;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
   /// disk emit along their local -z, a distant light shines along -z). A dome whose params name a
   /// texture uses `dome` if given (the Light sprim builds it once per texture), else loads the file
   /// and builds the distribution here (slow: for tests and one-off callers). Throws
-  /// std::runtime_error naming the file if it cannot be read.
+  /// std::runtime_error naming the file if it cannot be read. A rect light takes its texture from
+  /// `rectImage` (the Light sprim opens it; null: untextured, whatever params.textureFile says).
   static RenderLight FromParams(const LightParams& params, const glm::dmat4& transform,
-                                std::shared_ptr<const DomeTexture> dome = nullptr);
+                                std::shared_ptr<const DomeTexture> dome = nullptr,
+                                std::shared_ptr<const Texture> rectImage = nullptr);
 };
 
 /// A sampled direction towards a light from a shading point.

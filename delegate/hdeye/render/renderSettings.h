@@ -20,6 +20,12 @@ struct RenderSettings {
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
   bool scleraScattering = true;
+  /// Textures are filtered over each ray's footprint (the ray cone of rayCone.h: MIP-mapped, anisotropic).
+  /// Off: every lookup is at the finest level (point sampling, for A/B comparisons).
+  bool textureFiltering = true;
+  /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
+  /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
+  double textureFootprintScale = 0.5;
 };
 
 }  // namespace hdeye

@@ -1,7 +1,9 @@
 #include "hdeye/render/renderer.h"
 
 #include "hdeye/render/eyeShading.h"
+#include "hdeye/render/materialShading.h"
 #include "hdeye/render/previewSurface.h"
+#include "hdeye/render/rayCone.h"
 #include "hdeye/render/renderContext.h"
 #include "hdeye/render/scleraScattering.h"
 #include "hdeye/render/surfacePoint.h"
@@ -52,29 +54,17 @@ double PowerHeuristic(double a, double b) {
   return std::isfinite(q) ? 1 / (1 + q * q) : 0;
 }
 
+/// Surfaces (cut-outs, thin walls) one path or shadow ray passes through at most; past that the surface counts as
+/// there (a bound on the loop, far above any stack of cards a ray meets).
+constexpr int kMaxCutoutCrossings = 64;
+
 /// The material of triangle (or primitive) `part` of a geometry: its geomSubset's, else the prim's own.
 SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
   if (context.triangleSubsets && part < context.triangleSubsets->size()) {
     const int subset = (*context.triangleSubsets)[part];
     if (subset >= 0 && std::size_t(subset) < context.subsetMaterials.size()) return context.subsetMaterials[subset];
   }
-  return SurfaceMaterial{context.material, context.diffuseTexture, context.materialBound};
-}
-
-/// The UsdPreviewSurface BSDF of a non-eye hit: the hit's material's parameters, with its diffuse
-/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set; `thinWalled`:
-/// the geometry is an open sheet (its glass is a thin wall, thinWalls.h).
-PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& albedo, const glm::dvec2& st,
-                            bool thinWalled) {
-  const MaterialParams& m = material.params;
-  PreviewSurface s;
-  s.albedo = material.diffuseTexture ? glm::dvec3(material.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
-  s.roughness = m.roughness;
-  s.metallic = m.metallic;
-  s.opacity = m.opacity;
-  s.ior = m.ior;
-  s.thinWalled = thinWalled;
-  return s;
+  return SurfaceMaterial{context.material, context.textures, context.materialBound};
 }
 
 
@@ -89,6 +79,8 @@ struct SurfaceHit {
   double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
   glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
   SurfaceMaterial material;  // the material of the hit's face (geomSubsets), else the prim's
+  StFrame stFrame;      // dp/ds, dp/dt of the hit triangle (world), where st and points are known
+  bool normalMapped = false;  // n comes from a normal map (it may lean below the surface itself)
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -141,10 +133,13 @@ struct PathSample {
 
 /// What a path carries from one vertex to the next.
 struct PathState {
-  explicit PathState(const WorldRay& ray) : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar) {}
+  PathState(const WorldRay& ray, const RayCone& cameraCone)
+      : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar), cone(cameraCone) {}
 
   glm::dvec3 o, d;  ///< the next ray
   double tNear, tFar;
+  RayCone cone;     ///< the next ray's footprint (rayCone.h), for texture filtering
+  int cutoutCrossings = 0;  ///< cut-outs the path has passed through (bounded by kMaxCutoutCrossings)
   glm::dvec3 beta{1};
   // How the current ray was chosen, for weighting the lights it meets: after a specular event (the camera,
   // the cornea) a light counts in full; after a diffuse bounce, by MIS against light sampling (or not at all
@@ -171,6 +166,14 @@ struct PathState {
   void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
   /// After a delta event: lights the ray meets count in full.
   void SetSpecular() { specular = true, skipLights = false, skipMnee = false; }
+  /// The same ray goes on from just past a cut-out it met at distance t, point p: not a bounce.
+  void PassCutout(double t, const glm::dvec3& p) {
+    const double step = t + SpawnOffset(p);
+    o += d * step;
+    if (tFar < kInf) tFar -= step;
+    cone.width = cone.WidthAt(step);
+    tNear = 0;
+  }
 };
 
 /// What the integrator does with a hit after the eye shaded it.
@@ -183,15 +186,18 @@ class Tracer {
     std::int64_t rays = 0, walks = 0, teleportedWalks = 0, cappedWalks = 0, invalidWalks = 0;
   };
 
-  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
-      : scene_(scene), lights_(lights), settings_(settings) {}
+  /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
+      : scene_(scene), lights_(lights), settings_(settings), cutouts_(cutouts),
+        textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
-  PathSample Li(const WorldRay& ray, SampleStream& rng) const {
+  /// cone: the camera ray's footprint, carried along the path for texture filtering.
+  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng) const {
     PathSample sample;
     const std::function<double()> random = [&rng] { return rng.Next(); };
-    PathState path(ray);
+    PathState path(ray, cone);
     path.eyeLighting = EyeLighting{&lights_, [this](const glm::dvec3& po, const glm::dvec3& pd, double t) {
                                      return Transmittance(po, pd, t);
                                    }, settings_.mneeAllSolutions, settings_.mnee};
@@ -204,6 +210,17 @@ class Tracer {
       }
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf);
       if (!hitGeometry) break;
+      SurfaceShading shading;
+      if (!EyeOf(*hit.context)) {
+        shading = ShadeMaterialHit(&hit, path.d, path.cone);
+        if (!shading.present && path.cutoutCrossings++ < kMaxCutoutCrossings) {
+          // A cut-out: lights behind it were not yet tested; the next segment tests them, with this ray's weights.
+          path.PassCutout(hit.t, hit.p);
+          --depth;
+          continue;
+        }
+        if (depth == 0) sample.first.n = hit.n;  // the normal AOV shows the normal map
+      }
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
         const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
@@ -213,8 +230,7 @@ class Tracer {
       // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
       // UsdPreviewSurface.
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
-      const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(hit.material, hit.albedo, hit.st, hit.context->thinWalled);
+      const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
       sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
@@ -281,6 +297,7 @@ class Tracer {
              : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
                                                  : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
+    if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
     hit->material = MaterialAt(ctx, hit->part);
     // displayColor is the fallback surface's colour (Hydra's): a face with a bound material shows the material's.
     hit->albedo = ctx.displayColor && !hit->material.bound ? glm::dvec3(atCorners(*ctx.displayColor))
@@ -289,9 +306,42 @@ class Tracer {
     hit->primIndex = ctx.primIndex;
   }
 
+  /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`.
+  static StFrame TriangleStFrameAt(const GeometryContext& ctx, std::size_t firstCorner) {
+    const int* tri = &(*ctx.triangleVertices)[firstCorner];
+    const glm::dmat3 toWorld = glm::inverse(glm::transpose(ctx.normalToWorld));  // the instance's linear part
+    const auto& pts = *ctx.points;
+    const auto& st = *ctx.st;
+    return TriangleStFrame(toWorld * glm::dvec3(pts[tri[0]]), toWorld * glm::dvec3(pts[tri[1]]),
+                           toWorld * glm::dvec3(pts[tri[2]]), glm::dvec2(st[firstCorner]),
+                           glm::dvec2(st[firstCorner + 1]), glm::dvec2(st[firstCorner + 2]));
+  }
+
+  /// Where a non-eye hit's textures are looked up: its st, filtered over the cone's footprint there (unless
+  /// RenderSettings::textureFiltering is off).
+  TextureSite SiteOf(const SurfaceHit& hit, const glm::dvec3& d, const RayCone& cone) const {
+    TextureSite site;
+    site.st = hit.st;
+    site.frame = hit.stFrame;
+    if (settings_.textureFiltering) site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
+    site.thread = textureThread_;
+    return site;
+  }
+
+  /// The bound material at a non-eye hit (materialShading.h); the hit takes its emission and shading normal.
+  SurfaceShading ShadeMaterialHit(SurfaceHit* hit, const glm::dvec3& d, const RayCone& cone) const {
+    SurfaceShading shading = ShadeMaterial(hit->material, hit->albedo, -d, hit->n, SiteOf(*hit, d, cone));
+    shading.bsdf.thinWalled = hit->context->thinWalled;
+    hit->emission = shading.emission;
+    hit->n = shading.normal;
+    hit->normalMapped = shading.normalMapped;
+    return shading;
+  }
+
   /// The fraction of light that passes from o along unit d to tFar: 0 behind an opaque surface, else the product
-  /// of the thin walls crossed (thinWalls.h). One any-hit query that skips thin walls; only if it met one, the
-  /// walls are crossed in order by closest-hit queries (at most kMaxThinWalls; more count as opaque).
+  /// of the thin walls crossed (thinWalls.h); opacityThreshold cut-outs let it through where they are cut away.
+  /// One any-hit query that skips thin walls; only if it met one (or, in a scene with cut-outs, anything), the
+  /// surfaces are crossed in order by closest-hit queries (CrossSurfaces).
   double Transmittance(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -304,23 +354,37 @@ class Tracer {
     ThinWallsMet::Reset();
     rtcOccluded1(scene_, &context, &ray);
     ++counts_.rays;
-    if (ray.tfar < 0) return 0;
-    if (!ThinWallsMet::Any()) return 1;
-    constexpr int kMaxThinWalls = 16;
+    const bool blocked = ray.tfar < 0;
+    if (blocked && !cutouts_) return 0;
+    if (!blocked && !ThinWallsMet::Any()) return 1;
+    return CrossSurfaces(o, d, tFar);
+  }
+
+  /// Transmittance by walking the surfaces from o along d to tFar in order: thin walls attenuate, cut-away parts
+  /// of cut-outs pass, anything else blocks. At most kMaxCutoutCrossings surfaces; more count as opaque.
+  double CrossSurfaces(const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     double transmittance = 1, left = tFar;
     glm::dvec3 origin = o;
-    for (int crossed = 0; crossed < kMaxThinWalls; ++crossed) {
+    for (int crossed = 0; crossed < kMaxCutoutCrossings; ++crossed) {
       SurfaceHit hit;
       if (!Intersect(origin, d, 0, left, &hit)) return transmittance;
-      if (!IsThinWall(*hit.context)) return 0;  // an eye or a surface the any-hit query let pass in the last bit
-      transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
-      if (!(transmittance > 0)) return 0;
+      if (!CutAway(hit, d)) {
+        if (!IsThinWall(*hit.context)) return 0;  // an eye or an opaque surface
+        transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
+        if (!(transmittance > 0)) return 0;
+      }
       const glm::dvec3 next = SpawnOrigin(hit.p, -hit.ng);  // ng faces the ray: -ng is the far side
       left -= glm::length(next - origin);
       if (!(left > 0)) return transmittance;
       origin = next;
     }
     return 0;
+  }
+
+  /// Whether a ray along d passes a hit because its material is cut away there (opacityThreshold).
+  bool CutAway(const SurfaceHit& hit, const glm::dvec3& d) const {
+    return cutouts_ && !EyeOf(*hit.context) && hit.material.params.opacityThreshold > 0 &&
+           !ShadeMaterial(hit.material, hit.albedo, -d, hit.n, SiteOf(hit, d, RayCone{})).present;
   }
 
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
@@ -379,6 +443,7 @@ class Tracer {
     sample->irisMnee += path->beta * ev.radiance;
     if (ev.kind == EyeEvent::Continue) {
       path->beta *= ev.weight;
+      path->cone = path->cone.AfterBounce(hit->t, true);
       path->SetRay(ev.origin, ev.dir);
       if (!ev.passThrough) {
         path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
@@ -387,7 +452,7 @@ class Tracer {
       return EyeOutcome::Continue;
     }
     if (ev.kind == EyeEvent::Absorbed) return EyeOutcome::End;
-    ShadeScleraSurface(eye, ev, path->d, hit);
+    ShadeScleraSurface(eye, ev, path->d, path->cone, hit);
     if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
     // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
     // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
@@ -397,11 +462,13 @@ class Tracer {
   }
 
   /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
-  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st).
-  static void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, SurfaceHit* hit) {
+  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st,
+  /// filtered over the cone's footprint).
+  void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,
+                          SurfaceHit* hit) const {
     if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
     if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
-    else if (hit->material.diffuseTexture) hit->albedo = glm::dvec3(hit->material.diffuseTexture->Lookup(glm::vec2(hit->st)));
+    else hit->albedo = TexturedAlbedo(hit->material, hit->albedo, SiteOf(*hit, d, cone));
     hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
   }
 
@@ -412,6 +479,7 @@ class Tracer {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
     if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+      path->cone = path->cone.AfterBounce(hit->t, true);
       path->SetRay(step.origin, step.dir);
       path->SetSpecular();
       return EyeOutcome::Continue;
@@ -521,6 +589,8 @@ class Tracer {
     const LightSample ls = SampleLight(light, origin, u1, u2);
     const double cosS = glm::dot(ls.dir, hit.n);
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
+    // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
+    if (hit.normalMapped && glm::dot(ls.dir, hit.ng) <= 0) return glm::dvec3(0);
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
     const double transmittance = Transmittance(origin, ls.dir, ls.distance * (1 - 1e-6));
@@ -545,10 +615,14 @@ class Tracer {
       path->tNear = hit.t + SpawnOffset(hit.p, SpawnScaleOf(*hit.context));
       return RussianRoulette(depth, rng, path);
     }
+    // Under a normal map, a direction on the wrong side of the surface itself ends the path (the energy a
+    // shading normal cannot conserve); it would otherwise start inside the surface and hit it again.
+    if (hit.normalMapped && (glm::dot(bs.wi, hit.ng) > 0) == bs.transmitted) return false;
     if (bs.transmitted) path->insideGlass = !path->insideGlass;
     path->bsdfPdf = bs.pdf;
     path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
     path->beta *= bs.weight;
+    path->cone = path->cone.AfterBounce(hit.t, bs.delta);
     path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n, SpawnScaleOf(*hit.context)), bs.wi);
     return RussianRoulette(depth, rng, path);
   }
@@ -565,6 +639,8 @@ class Tracer {
   RTCScene scene_;
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
+  bool cutouts_ = false;
+  TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
 
@@ -614,14 +690,23 @@ struct SharedCounts {
   }
 };
 
+/// The cone of the camera ray through image point (x, y) (pixels): the ray one pixel over gives its width
+/// (orthographic) and spread (perspective), both scaled by RenderSettings::textureFootprintScale.
+RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, double y, int width, int height,
+                  double footprintScale) {
+  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, double(width) / height);
+  return {footprintScale * glm::length(next.origin - ray.origin),
+          footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
+}
+
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, const AovBuffers& aovs,
-                 SharedCounts* counts) {
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+                 const AovBuffers& aovs, SharedCounts* counts) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  Tracer tracer(scene, lights, settings);
+  Tracer tracer(scene, lights, settings, cutouts);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
@@ -629,7 +714,8 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
         SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
         const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
         const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect);
-        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
+        const RayCone cone = PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale);
+        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng))) ++counts->nonFinite;
       }
   }
   counts->Add(tracer.GetCounts());
@@ -654,7 +740,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts);
       });
     });
     ++stats.passes;
