@@ -68,7 +68,10 @@ def _matrix(prim, value):
     flat = [float(value[r][c]) for r in range(4) for c in range(4)]
     if not all(math.isfinite(v) for v in flat):
         raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform has non-finite entries")
-    if abs(Gf.Matrix4d(value).GetDeterminant3()) < 1e-18:
+    # Singular relative to its own scale (the volume its axes span against the product of their lengths), so that
+    # an eye in a kilometre scene (a 1e-6 scale, determinant 1e-18) is as valid as one in millimetres.
+    rows = [math.sqrt(sum(flat[4 * r + c] ** 2 for c in range(3))) for r in range(3)]
+    if not abs(Gf.Matrix4d(value).GetDeterminant3()) > 1e-12 * rows[0] * rows[1] * rows[2]:
         raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform is singular")
     return flat
 

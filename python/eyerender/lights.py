@@ -82,6 +82,8 @@ def read_light(prim, world, time, warnings=None):
             raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
     if api.GetNormalizeAttr().Get(time) and area:
         p.intensity /= area
+        if not math.isfinite(p.intensity):  # the delegate's intensity is a float
+            raise EyeRenderError(f"{path}: normalized intensity overflows: the light's area {area:g} is too small")
     return p
 
 
@@ -93,5 +95,8 @@ def unsupported_light_features(prim, time):
         notes.append(f"{prim.GetPath()}: colorTemperature is ignored")
     if prim.GetTypeName() in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time):
         notes.append(f"{prim.GetPath()}: radius 0 emits nothing (intensity is radiance)")
+    intensity, exposure = api.GetIntensityAttr().Get(time), api.GetExposureAttr().Get(time)
+    if intensity and exposure and math.isfinite(exposure) and math.log2(abs(intensity)) + exposure > 1000:
+        notes.append(f"{prim.GetPath()}: intensity x 2^exposure overflows: the light is off")
     return notes
 

@@ -13,8 +13,13 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+using eyelib::OneMinusCosFromSin2;
 using eyelib::SampleUniformCone;
 using eyelib::UniformConePdf;
+
+// sin^2 of a sphere's angular radius below which it is sampled as its centre (1e-5 rad: the point limit's
+// relative error, of order the angle, is then below the sampling noise of any render).
+constexpr double kPointLimitSin2 = 1e-10;
 
 /// Area pdf to solid angle pdf.
 double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
@@ -108,6 +113,9 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
   RenderLight l;
   l.type = p.type;
   l.radiance = glm::dvec3(p.color) * double(p.intensity) * std::exp2(double(p.exposure));
+  // An intensity x 2^exposure past double's range has no finite radiance to render: the light is off
+  // (the scene delegate reports such lights).
+  if (!std::isfinite(l.radiance.x + l.radiance.y + l.radiance.z)) l.radiance = glm::dvec3(0);
   l.position = glm::dvec3(m * glm::dvec4(0, 0, 0, 1));
   const glm::dvec3 x(m * glm::dvec4(1, 0, 0, 0)), y(m * glm::dvec4(0, 1, 0, 0)), z(m * glm::dvec4(0, 0, 1, 0));
   const double scale = std::max({glm::length(x), glm::length(y), glm::length(z)});
@@ -154,14 +162,22 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     case LightType::Sphere: {
       const glm::dvec3 toC = l.position - p;
       const double d = glm::length(toC);
-      if (!(d > l.radius)) return s;  // inside the light: not sampled
-      const double sinMax = l.radius / d, cosMax = std::sqrt(std::max(0.0, 1 - sinMax * sinMax));
-      s.dir = SampleUniformCone(toC / d, cosMax, u1, u2);
+      if (!(d > l.radius) || !std::isfinite(d)) return s;  // inside the light: not sampled
+      const double sin2 = (l.radius / d) * (l.radius / d), cone = OneMinusCosFromSin2(sin2);
+      // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
+      if (!(cone > 0) || !std::isfinite(1 / cone)) return s;
+      s.radiance = l.radiance;
+      s.pdf = 1 / (2 * kPi * cone);
+      if (sin2 < kPointLimitSin2) {
+        s.dir = toC / d;
+        s.distance = d;
+        s.pointLimit = true;
+        return s;
+      }
+      s.dir = SampleUniformCone(toC / d, 1 - cone, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
-      s.radiance = l.radiance;
-      s.pdf = UniformConePdf(cosMax);
       return s;
     }
     case LightType::Distant:
@@ -193,6 +209,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     }
     case LightType::Rect:
     case LightType::Disk: {
+      if (!(PlanarArea(l) > 0)) return s;  // a zero width, height or radius emits nothing
       glm::dvec3 q;
       glm::dvec3 radiance = l.radiance;
       if (l.type == LightType::Rect) {
@@ -204,9 +221,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
-      if (!(s.distance > 0)) return s;
+      if (!(s.distance > 0) || !std::isfinite(s.distance)) return s;
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
+      if (!std::isfinite(s.pdf)) return LightSample{};  // too small to sample from here: it overflows
       if (s.pdf > 0) s.radiance = radiance;
       return s;
     }
@@ -225,9 +243,8 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       if (disc < 0) return false;
       const double t = b - std::sqrt(disc);
       if (!(t > 0) || t >= maxDistance) return false;
-      const double sinMax2 = l.radius * l.radius / d2;
       *radiance = l.radiance;
-      *pdf = UniformConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
+      *pdf = 1 / (2 * kPi * OneMinusCosFromSin2(l.radius * l.radius / d2));
       *distance = t;
       return true;
     }
@@ -254,7 +271,7 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
     case LightType::Rect:
     case LightType::Disk: {
       const double cosL = glm::dot(-dir, l.direction);
-      if (!(cosL > 0)) return false;  // one-sided
+      if (!(cosL > 0) || !(PlanarArea(l) > 0)) return false;  // one-sided; a zero-area light is never hit
       const double t = glm::dot(l.position - p, l.direction) / glm::dot(dir, l.direction);
       if (!(t > 0) || t >= maxDistance) return false;
       const glm::dvec3 q = p + t * dir - l.position;

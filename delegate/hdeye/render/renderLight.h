@@ -66,6 +66,10 @@ struct LightSample {
   double distance = 0;       ///< to the sampled point (infinity for distant and dome)
   glm::dvec3 radiance{0};
   double pdf = 0;            ///< solid angle; 0 if the light cannot be sampled from here
+  /// A sphere so small seen from p (angular radius below 1e-5 rad) that it is sampled in its point-light
+  /// limit: `dir` is exactly towards its centre, `distance` the centre's, and radiance / pdf its intensity
+  /// over distance^2 (radiance x pi radius^2 / distance^2, to 1e-10).
+  bool pointLimit = false;
 };
 
 /// Samples a direction towards the light from point p, from two uniform numbers.

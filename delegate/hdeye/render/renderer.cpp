@@ -47,7 +47,12 @@ class SampleStream {
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
 };
 
-double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+/// a^2 / (a^2 + b^2), as a ratio so that pdfs past 1e154 (a tiny light far away) do not overflow.
+double PowerHeuristic(double a, double b) {
+  if (!(a > 0)) return 0;
+  const double q = b / a;
+  return std::isfinite(q) ? 1 / (1 + q * q) : 0;
+}
 
 /// Surfaces (cut-outs, thin walls) one path or shadow ray passes through at most; past that the surface counts as
 /// there (a bound on the loop, far above any stack of cards a ray meets).
@@ -82,6 +87,13 @@ struct SurfaceHit {
 
 /// The eye a hit belongs to (analytic or mesh), or null.
 const EyeGeometry* EyeOf(const GeometryContext& context) { return context.eye ? context.eye : context.meshEye; }
+
+/// The absolute part of the spawn offsets off a geometry (SpawnOffset): an eye's own (EyeGeometry::SpawnScale),
+/// so that eyes render alike in any scene units; 1 world unit for everything else.
+double SpawnScaleOf(const GeometryContext& context) {
+  const EyeGeometry* eye = EyeOf(context);
+  return eye ? eye->SpawnScale() : 1.0;
+}
 
 /// An object-space shading normal carried to world space (not normalised), with its length. Degenerate (zero
 /// or not finite) ones are not Valid: the caller keeps its geometric normal there.
@@ -223,7 +235,7 @@ class Tracer {
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
       const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
-      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
+      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
       sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
       if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
     }
@@ -534,7 +546,7 @@ class Tracer {
       // A shading normal can tilt the mirror direction under the triangle: lift it just above.
       const double cosG = glm::dot(step.dir, hit.ng);
       if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
-      step.origin = SpawnOrigin(hit.p, hit.ng);
+      step.origin = SpawnOrigin(hit.p, hit.ng, eye.SpawnScale());
       return step;
     }
     glm::dvec3 inward;
@@ -617,7 +629,7 @@ class Tracer {
       // the previous vertex's, so a light met beyond is weighted (and its pdf taken) as from there, as next
       // event estimation saw it through the wall's transmittance.
       path->beta *= bs.weight;
-      path->tNear = hit.t + SpawnOffset(hit.p);
+      path->tNear = hit.t + SpawnOffset(hit.p, SpawnScaleOf(*hit.context));
       return RussianRoulette(depth, rng, path);
     }
     // Under a normal map, a direction on the wrong side of the surface itself ends the path (the energy a
@@ -628,7 +640,7 @@ class Tracer {
     path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
     path->beta *= bs.weight;
     path->cone = path->cone.AfterBounce(hit.t, bs.delta);
-    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n), bs.wi);
+    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n, SpawnScaleOf(*hit.context)), bs.wi);
     return RussianRoulette(depth, rng, path);
   }
 
