@@ -5,7 +5,8 @@
 set -euo pipefail
 
 apt_packages=(cmake ninja-build g++ ccache pkg-config clang-format
-              libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev libpng-dev catch2)
+              libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev catch2 libjpeg62-turbo-dev
+              libopenimageio-dev openimageio-tools)
 
 missing=()
 for p in "${apt_packages[@]}"; do
@@ -42,6 +43,7 @@ pip_missing=()
 "$PYTHON" -c "import pytest" 2>/dev/null || pip_missing+=(pytest)
 "$PYTHON" -c "import jinja2" 2>/dev/null || pip_missing+=(jinja2)  # usdGenSchema, for the schema consistency test
 "$PYTHON" -c "import numpy" 2>/dev/null || pip_missing+=(numpy)
+"$PYTHON" -c "import matplotlib" 2>/dev/null || pip_missing+=("matplotlib>=3.5")  # eyestudy's plot
 # The farm extra (eyerender[farm]: eyerecord --scheduler/--workers), so tests/python/test_farm.py runs.
 "$PYTHON" -c "import dask, distributed" 2>/dev/null || pip_missing+=("dask[distributed]>=2024.1")
 # eyerecord --denoise: Intel Open Image Denoise with its CPU device, bundled in the wheel.
@@ -51,6 +53,9 @@ pip_missing=()
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")
 # The linter `make lint` and `make test` run; its rules change between minor versions, so the minor is pinned.
 "$PYTHON" -m ruff --version 2>/dev/null | grep -q "^ruff 0\.17\." || pip_missing+=("ruff>=0.17,<0.18")
+# bench/bench_iris.py: reads EXR renders and draws its plot.
+"$PYTHON" -c "import OpenEXR" 2>/dev/null || pip_missing+=(openexr)
+"$PYTHON" -c "import matplotlib" 2>/dev/null || pip_missing+=(matplotlib)
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"

@@ -55,7 +55,7 @@ bool CellOnIris(const AnteriorChamber<double>& chamber, const IrisGrid& grid, in
 }
 
 IrradianceMap LightTraceIris(const AnteriorChamber<double>& chamber, const EyeLight& light, const IrisGrid& grid,
-                             std::int64_t rays, std::uint64_t seed) {
+                             std::int64_t rays, std::uint64_t seed, const CorneaBand& band) {
   IrradianceMap map;
   map.grid = grid;
   map.rays = rays;
@@ -68,7 +68,7 @@ IrradianceMap LightTraceIris(const AnteriorChamber<double>& chamber, const EyeLi
     const EmittedRay ray = Emit(light, zRim, u);
     if (!(ray.flux > 0)) continue;
     const auto entry = surface.Intersect({ray.origin, ray.dir});
-    if (!entry || !entry->fromOutside) continue;
+    if (!entry || !entry->fromOutside || !band.Contains(std::hypot(entry->point.x, entry->point.y))) continue;
     const Vec3d wi = -ray.dir;  // towards the light, on the normal's side
     Vec3d wt;
     if (!Refract(wi, entry->normal, eta, &wt)) continue;

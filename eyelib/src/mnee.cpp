@@ -19,6 +19,7 @@ const char* ToString(MneeStatus status) {
     case MneeStatus::BeyondRim: return "beyond rim";
     case MneeStatus::WrongSide: return "wrong side";
     case MneeStatus::Occluded: return "occluded";
+    case MneeStatus::OffPiece: return "off piece";
   }
   return "?";
 }
@@ -45,10 +46,11 @@ struct PathState {
   double Residual() const { return std::max(std::abs(C[0]), std::abs(C[1])); }
 };
 
-PathState Evaluate(const AnteriorSurface<double>& surface, double eta, const Vec3d& x, const LightEnd& light,
-                   double u, double v) {
+/// On `piece`'s analytic extension if set, else on the piecewise surface.
+PathState Evaluate(const AnteriorSurface<double>& surface, const std::optional<SurfacePiece>& piece, double eta,
+                   const Vec3d& x, const LightEnd& light, double u, double v) {
   PathState s;
-  const HeightDerivatives<double> h = surface.Height(u, v);
+  const HeightDerivatives<double> h = piece ? surface.HeightOnPiece(*piece, u, v) : surface.Height(u, v);
   s.p = {u, v, h.h};
   s.J1 = {1, 0, h.hx};
   s.J2 = {0, 1, h.hy};
@@ -111,7 +113,7 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
   }
 
   double u = u0, v = v0;
-  PathState s = Evaluate(surface, eta, x, light, u, v);
+  PathState s = Evaluate(surface, options.piece, eta, x, light, u, v);
   double merit = s.C[0] * s.C[0] + s.C[1] * s.C[1];
   out.status = MneeStatus::NoConvergence;
   int it = 0;
@@ -134,7 +136,7 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
     double alpha = 1;
     bool accepted = false;
     for (int k = 0; k < kMaxHalvings; ++k, alpha /= 2) {
-      const PathState trial = Evaluate(surface, eta, x, light, u + alpha * du, v + alpha * dv);
+      const PathState trial = Evaluate(surface, options.piece, eta, x, light, u + alpha * du, v + alpha * dv);
       const double m = trial.C[0] * trial.C[0] + trial.C[1] * trial.C[1];
       if (std::isfinite(m) && m < merit * (1 - 1e-4 * alpha)) {
         u += alpha * du, v += alpha * dv;
@@ -152,13 +154,19 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
   out.iterations = it;
   out.residual = s.Residual();
   out.p = s.p;
-  out.normal = surface.Normal(s.p.x, s.p.y);
+  // The normal of the surface the solve used (the piece's own where it is set).
+  out.normal = glm::normalize(glm::cross(s.J1, s.J2));
+  out.piece = surface.PieceAt(std::sqrt(RadiusSquared(s.p)));
   if (!(out.residual <= options.tolerance)) {
     if (out.status != MneeStatus::Stalled) out.status = MneeStatus::NoConvergence;
     return out;
   }
   if (RadiusSquared(s.p) > surface.RimRadius() * surface.RimRadius()) {
     out.status = MneeStatus::BeyondRim;
+    return out;
+  }
+  if (options.piece && out.piece != *options.piece) {
+    out.status = MneeStatus::OffPiece;
     return out;
   }
   // A stationary point of L is a refraction only if the light is in front of the surface and x behind
@@ -186,22 +194,50 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
                                const SeedStrategy& seeds, const MneeOptions& options) {
   MneeResult result;
-  auto trySeed = [&](double u, double v) {
+  const AnteriorSurface<double>& surface = chamber.Surface();
+  auto solveOn = [&](SurfacePiece piece, double u, double v) {
     ++result.solves;
-    const MneeSolution sol = SolveRefractionPath(chamber, x, light, u, v, options);
+    MneeOptions pieceOptions = options;
+    pieceOptions.piece = piece;
+    const MneeSolution sol = SolveRefractionPath(chamber, x, light, u, v, pieceOptions);
     result.iterations += sol.iterations;
     result.maxIterations = std::max(result.maxIterations, sol.iterations);
     if (sol.status != MneeStatus::Converged) {
       ++result.failures;
-      return sol.status;
+      return sol;
     }
     for (const MneeSolution& known : result.solutions)
-      if (glm::length(known.p - sol.p) < seeds.uniqueDistance) return sol.status;
+      if (known.piece == sol.piece && glm::length(known.p - sol.p) < seeds.uniqueDistance) return sol;
     result.solutions.push_back(sol);
     result.transfer += sol.transfer;
-    return sol.status;
+    return sol;
+  };
+  // One seed: a Newton solve on the smooth extension of the piece that owns the seed, kept only inside that
+  // piece; then one on the other piece where a path through it is near: the first converged near the
+  // junction (the two pieces' caustics overlap there) or beyond its own piece. (A failed first solve is not
+  // retried there: on the light-tracing tests that finds no more light.)
+  auto trySeed = [&](double u, double v) {
+    const SurfacePiece own = surface.PieceAt(std::hypot(u, v)), other = surface.OtherPiece(own);
+    const MneeSolution first = solveOn(own, u, v);
+    if (other == own || first.status == MneeStatus::Occluded || first.status == MneeStatus::InvalidInput)
+      return first.status;
+    const bool converged = first.status == MneeStatus::Converged;
+    const double fromJunction = std::abs(std::hypot(first.p.x, first.p.y) - surface.JunctionRadius());
+    if (converged && fromJunction >= seeds.junctionPairRadius) return first.status;
+    if (!converged && first.status != MneeStatus::OffPiece) return first.status;
+    // From where the first solve ended on its extension: the other piece's path is near it.
+    const MneeSolution second = solveOn(other, first.p.x, first.p.y);
+    return converged ? first.status : second.status;
   };
   const Vec2<double> seed = StraightLineSeed(chamber, x, light);
+  if (!seeds.allSolutions && !seeds.fallback) {  // Cycles' way: one solve on the piecewise surface
+    const MneeSolution sol = SolveRefractionPath(chamber, x, light, seed.x, seed.y, options);
+    result.solves = 1;
+    result.failures = sol.status != MneeStatus::Converged;
+    result.iterations = result.maxIterations = sol.iterations;
+    if (sol.status == MneeStatus::Converged) result.solutions.push_back(sol), result.transfer = sol.transfer;
+    return result;
+  }
   const MneeStatus first = trySeed(seed.x, seed.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
   // One solution wanted: stop at the first, but if the straight line failed (it often misses the

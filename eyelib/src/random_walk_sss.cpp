@@ -113,8 +113,9 @@ std::string ValidateSssArtistParams(const V3& surfaceAlbedo, const V3& meanFreeP
       msg << "surface albedo." << kChannel[c] << " = " << surfaceAlbedo[c] << " is not in [0, 1]";
       return msg.str();
     }
-    if (!std::isfinite(meanFreePath[c]) || !(meanFreePath[c] > 0)) {
-      msg << "mean free path." << kChannel[c] << " = " << meanFreePath[c] << " mm is not finite and > 0";
+    if (!std::isfinite(meanFreePath[c]) || !(meanFreePath[c] > 0) || meanFreePath[c] > kMaxMeanFreePathMm) {
+      msg << "mean free path." << kChannel[c] << " = " << meanFreePath[c] << " mm is not in (0, " << kMaxMeanFreePathMm
+          << "] mm";
       return msg.str();
     }
   }

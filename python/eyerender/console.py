@@ -47,9 +47,12 @@ class FarmProgressBar(StatusLine):
 
 
 def print_warnings(warnings, tool="eyerecord"):
-    """Prints each distinct warning once, in order, on stderr."""
+    """Prints each distinct warning once, in order, on stderr, each one line of under 200 characters."""
+    from .usd_diagnostics import one_line
+
+    prefix = f"{tool}: warning: "
     for warning in dict.fromkeys(warnings):
-        print(f"{tool}: warning: {warning}", file=sys.stderr)
+        print(prefix + one_line(warning, 199 - len(prefix)), file=sys.stderr)
 
 
 def warn_non_finite(count, tool="eyerecord"):

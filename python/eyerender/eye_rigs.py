@@ -15,6 +15,8 @@ warning naming it and the eye, so a lighter learns why the iris looks doubly ref
 from pxr import Sdf, Usd, UsdGeom, UsdShade
 
 from . import eyes
+from .errors import EyeRenderError
+from .validation import reading
 
 # A shell is clear glass; occlusion shells and tear lines are partly opaque (and a dark occlusion shell over the
 # cornea must not be mistaken for one).
@@ -58,7 +60,11 @@ class EyeRigs:
         for prim in Usd.PrimRange(stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
             if eyes.is_eye(prim):
                 self.eye_paths.append(prim.GetPath())
-                self._add_shells(prim)
+                try:
+                    with reading(prim.GetPath()):
+                        self._add_shells(prim)
+                except EyeRenderError as e:  # the eye still renders (its shell then refracts twice)
+                    self.warnings.append(f"{e}: eye:corneaShell ignored")
 
     def _add_shells(self, eye):
         for target in _forwarded_targets(eye, "eye:corneaShell"):
@@ -87,10 +93,14 @@ class EyeRigs:
         apexes = []
         for path in self.eye_paths:
             eye = self.stage.GetPrimAtPath(path)
-            model = eye.GetAttribute("eye:modelTransform").Get(self.time) if eye.HasAttribute(
-                "eye:modelTransform") else None
-            model = model if model is not None else eyes.FALLBACKS["eye:modelTransform"]
-            apexes.append((path, (model * xforms.GetLocalToWorldTransform(eye)).Transform((0.0, 0.0, 0.0))))
+            try:  # an unreadable eye is the scene delegate's to report (and skip): no look-alike of it
+                with reading(path):
+                    model = eye.GetAttribute("eye:modelTransform").Get(self.time) if eye.HasAttribute(
+                        "eye:modelTransform") else None
+                    model = model if model is not None else eyes.FALLBACKS["eye:modelTransform"]
+                    apexes.append((path, (model * xforms.GetLocalToWorldTransform(eye)).Transform((0.0, 0.0, 0.0))))
+            except EyeRenderError:
+                continue
         eye_set = set(self.eye_paths)
         for path in mesh_paths:
             path = Sdf.Path(path)

@@ -3,8 +3,10 @@
     eyerecord [options] usdFilePath outputImagePath
 
 .exr outputs hold linear float AOVs (color in R, G, B, A; others as named channels); .png outputs are the colour,
-tone-mapped to sRGB. Bad input ends with a one-line error and exit status 1 (2 for bad command-line syntax);
-outputs are written atomically, so a failed or interrupted render never leaves a half-written image.
+encoded by --colorCorrectionMode (sRGB by default). The flags usdrecord has mean what they mean to usdrecord
+(docs/eyerecord.md compares them). Bad input ends with a one-line error and exit status 1 (2 for bad command-line
+syntax); a prim that cannot be rendered is skipped with one warning; outputs are written atomically, so a failed
+or interrupted render never leaves a half-written image, and a render failing part-way names the files it wrote.
 """
 import argparse
 import dataclasses
@@ -16,6 +18,7 @@ from .errors import EyeRenderError, run_command
 from .job import (
     AOV_NAMES,
     COMPLEXITY_REFINE_LEVELS,
+    PURPOSES,
     check_output_extension,
     frame_outputs,
     frames_to_render,
@@ -24,25 +27,47 @@ from .job import (
     output_patterns,
     session_options,
 )
+from .output_files import COLOR_CORRECTION_MODES, partial_failure
+
+RENDERERS = ("Eye", "hdeye")  # --renderer: the display name and the delegate's name; there is no other renderer
 
 
 def build_parser():
-    p = argparse.ArgumentParser(prog="eyerecord", description=__doc__.split("\n\n")[0],
+    # No abbreviations: usdrecord's -r must never be taken as a prefix of another flag.
+    p = argparse.ArgumentParser(prog="eyerecord", description=__doc__.split("\n\n")[0], allow_abbrev=False,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("usdFilePath", help="the USD file to render")
     p.add_argument("outputImagePath", help="image to write (.exr or .png); '#' placeholders take the frame number")
     p.add_argument("--camera", "-cam", help="camera prim path or name (default: main_cam, else the first camera, "
                    "else a 50 mm camera framing the stage)")
-    p.add_argument("--frames", "-f", help="frames to render: F, start:end, start:endxstride, comma-separated")
+    time = p.add_mutually_exclusive_group()
+    time.add_argument("--frames", "-f", help="frames to render: F, start:end, start:endxstride, comma-separated "
+                      "(default: the stage's start time code)")
+    time.add_argument("--defaultTime", "-d", action="store_true", help="render at the default time code")
+    p.add_argument("--sessionLayer", metavar="SESSIONLAYER", help="open the stage with this layer as its session "
+                   "layer (e.g. to pick a variant)")
+    p.add_argument("--mask", metavar="PRIMPATH[,PRIMPATH...]", help="populate only these prims, their ancestors "
+                   "and descendants (paths separated by commas and/or spaces)")
     p.add_argument("--imageWidth", "-w", type=int, help="width in pixels (default: the render settings', else 960)")
     p.add_argument("--imageHeight", type=int, help="height in pixels (default: from the camera's aperture ratio)")
-    p.add_argument("--complexity", "-c", choices=COMPLEXITY_REFINE_LEVELS, default="high",
-                   help="subdivision refinement: low 0, medium 1, high 2, veryhigh 3 levels (default high)")
-    p.add_argument("--purposes", action="append", default=None,
-                   help="extra UsdGeom purposes to render besides 'default' (comma-separated or repeated; "
-                   "default: proxy)")
+    # usdrecord's default: UsdAppUtils.complexityArgs adds --complexity with RefinementComplexities.LOW.
+    p.add_argument("--complexity", "-c", choices=COMPLEXITY_REFINE_LEVELS, default="low",
+                   help="subdivision refinement ceiling: low 0, medium 1, high 2, veryhigh 3 levels (default low, as "
+                        "usdrecord); the render plan lowers it per mesh by size on screen")
+    p.add_argument("--purposes", action="append", default=None, metavar="PURPOSE[,PURPOSE...]",
+                   help=f"extra UsdGeom purposes to render besides 'default' ({', '.join(PURPOSES[1:])}; separated "
+                   "by commas and/or spaces; default: proxy)")
     p.add_argument("--renderSettingsPrimPath", "-rs", help="a UsdRender.Settings prim: its resolution, camera and "
-                   "the AOVs its first product names")
+                   "the AOVs its first product names (default: the stage's renderSettingsPrimPath metadata)")
+    p.add_argument("--renderPassPrimPath", "-rp", help="a UsdRender.Pass prim: the settings prim its renderSource "
+                   "names")
+    p.add_argument("--renderer", "-r", choices=RENDERERS, default="Eye", help="the Hydra renderer (only Eye)")
+    p.add_argument("--disableCameraLight", action="store_true",
+                   help="no camera light for a stage without lights (by default one is added, with a note)")
+    p.add_argument("--enableDomeLightVisibility", action="store_true",
+                   help="show dome lights in the background (by default they light the scene unseen, as usdrecord)")
+    p.add_argument("--colorCorrectionMode", "-color", choices=COLOR_CORRECTION_MODES, default="sRGB",
+                   help="PNG encoding: sRGB, disabled (linear values), openColorIO (sRGB: no OCIO config is read)")
     p.add_argument("--spp", type=int, help="samples per pixel (default 32; with --time-limit alone: until time is up)")
     p.add_argument("--time-limit", type=float, default=0.0, metavar="SECONDS",
                    help="stop each frame's progressive render once this many seconds are spent")
@@ -56,8 +81,6 @@ def build_parser():
     p.add_argument("--denoise", action="store_true", help="also write the beauty denoised by Intel Open Image "
                    "Denoise (albedo and normal AOVs as guides): EXR channels denoised.R/G/B, PNG <name>.denoised.png; "
                    "the raw beauty is kept (docs/denoise.md)")
-    p.add_argument("--enableDomeLightVisibility", action="store_true",
-                   help="camera rays see dome lights (usdrecord's flag; default: domes light the scene unseen)")
     p.add_argument("--cornea-model", choices=("ellipsoidCone", "paraboloid"), help="A/B: override every eye's model")
     p.add_argument("--no-mnee", action="store_true",
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
@@ -67,6 +90,8 @@ def build_parser():
                    "rendered or written (docs/render_plan.md)")
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
                    "flags and the renderer's defaults say")
+    p.add_argument("--strict", action="store_true", help="a texture that cannot be read is an error (default: a "
+                   "warning, and its fallback renders)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     add_farm_options(p.add_argument_group("render farm (Dask; docs/farm.md)"))
     return p
@@ -103,15 +128,21 @@ def samples_per_pixel(args):
     alone: as many as the time allows)."""
     if args.spp is not None and args.spp < 1:
         raise EyeRenderError("--spp must be at least 1")
-    if args.time_limit < 0 or (args.imageWidth or 1) < 1 or args.threads < 0 or args.max_depth < 1:
-        raise EyeRenderError("--time-limit, --imageWidth, --threads and --max-depth must be positive")
+    if args.time_limit < 0 or args.threads < 0 or args.max_depth < 1:
+        raise EyeRenderError("--time-limit, --threads and --max-depth must be positive")
+    for name in ("imageWidth", "imageHeight"):
+        if getattr(args, name) is not None and getattr(args, name) < 1:
+            raise EyeRenderError(f"--{name} {getattr(args, name)}: must be at least 1 pixel")
     return args.spp or (1 << 20 if args.time_limit else 32)
 
 
 def render_locally(args, spp):
     """Renders (or with --plan, plans) the frames on this machine; returns the exit status."""
-    stage = open_stage(args.usdFilePath)
-    frames = frames_to_render(args.frames, args.outputImagePath)
+    from .usd_diagnostics import UsdDiagnostics
+
+    diagnostics = UsdDiagnostics()  # USD's warnings become one line each, printed with the scene's
+    frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)
+    stage = open_stage(args.usdFilePath, args.sessionLayer, args.mask)
     outputs = output_patterns(args.outputImagePath, args.png)
     if not args.plan:  # --plan writes nothing
         check_outputs(outputs)
@@ -124,8 +155,9 @@ def render_locally(args, spp):
 
         print(plan_json(session.plan()))
         return 0
-    report_plan_and_warnings(session, planned=not args.no_auto_plan)
+    report_plan_and_warnings(session, planned=not args.no_auto_plan, usd_warnings=diagnostics.take_warnings())
     render_frames(session, frames, outputs, spp, args)
+    print_warnings(diagnostics.take_warnings())
     return 0
 
 
@@ -138,30 +170,41 @@ def check_outputs(outputs):
         check_writable(out)
 
 
-def report_plan_and_warnings(session, planned):
-    """Prints the render plan's summary (when the session plans) and the scene's warnings, each once."""
+def report_plan_and_warnings(session, planned, usd_warnings=()):
+    """Prints the camera light's note, the render plan's summary (when the session plans) and the scene's and
+    USD's warnings, each once."""
+    from .camera_light import NOTE
+
+    if session.camera_light:
+        print(f"eyerecord: {NOTE}")
     if planned:
         for line in session.plan().summary_lines():
             print(f"eyerecord: {line}")
-    print_warnings(session.scene.warnings)
+    print_warnings(list(usd_warnings) + session.scene.warnings)
 
 
 def render_frames(session, frames, outputs, spp, args):
-    """Renders each frame and writes its outputs, then prints the summary line."""
+    """Renders each frame and writes its outputs, then prints the summary line. A failure part-way keeps the files
+    already written (each is complete) and its error line names them."""
     bar = ProgressBar(not args.quiet)
     total_seconds, total_rays, written = 0.0, 0, []
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
-        # The session was opened at the first frame's time.
-        stats = session.render(None if frame is None or n == 0 else frame, spp=spp, time_limit=args.time_limit,
-                               progress=bar)
-        bar.finish()
-        warn_non_finite(stats["non_finite_samples"])
-        for path in frame_outputs(outputs, frame):
-            session.write(path, args.exposure, denoise=args.denoise)
-            written.append(path)
-            if args.denoise and path.lower().endswith(".png"):
-                written.append(denoised_png_path(path))
+        try:
+            # The session was opened at the first frame's time.
+            stats = session.render(None if frame is None or n == 0 else frame, spp=spp,
+                                   time_limit=args.time_limit, progress=bar)
+            bar.finish()
+            warn_non_finite(stats["non_finite_samples"])
+            for path in frame_outputs(outputs, frame):
+                session.write(path, args.exposure, args.colorCorrectionMode, denoise=args.denoise)
+                written.append(path)
+                if args.denoise and path.lower().endswith(".png"):
+                    written.append(denoised_png_path(path))
+        except EyeRenderError as e:
+            bar.finish()
+            where = f"frame {frame:g}: " if frame is not None and len(frames) > 1 else ""
+            raise EyeRenderError(partial_failure(f"{where}{e}", written)) from None
         total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp, "

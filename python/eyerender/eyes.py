@@ -7,10 +7,12 @@ is wrong; nothing is clamped. The fallbacks repeat the schema's, so a stage whos
 import math
 
 import numpy as np
-from pxr import Gf, Sdf, Usd
+from pxr import Gf, Usd
 
 from ._hdeye import CorneaModel, EyeParams
 from .errors import EyeRenderError
+from .textures import TextureWarning, resolve_texture
+from .validation import as_float, as_vector
 
 EYE_API = "EyeAPI"
 IRIS_DIAMETER_MM = 15.08  # the ellipsoid-cone cornea's rim chord; ratios and the iris texture refer to it
@@ -28,6 +30,8 @@ FALLBACKS = {
     "eye:limbalArc": True,
     "eye:scleraMeanFreePath": (1.0, 0.8, 0.6),  # mm per RGB channel
 }
+# mm. Beyond a metre the sclera is transparent for any purpose, and the walk's steps would leave the scene.
+MAX_MEAN_FREE_PATH_MM = 1000.0
 CORNEA_MODELS = {"ellipsoidCone": CorneaModel.ellipsoidCone, "paraboloid": CorneaModel.paraboloid}
 
 
@@ -50,33 +54,38 @@ def eye_attributes_vary(prim):
     return any(prim.GetAttribute(n).ValueMightBeTimeVarying() for n in FALLBACKS if prim.GetAttribute(n))
 
 
-def _finite(prim, name, value):
-    values = value if isinstance(value, (tuple, list, Gf.Vec3f, Gf.Vec3d)) else [value]
-    if not all(math.isfinite(float(v)) for v in values):
-        raise EyeRenderError(f"{prim.GetPath()}: {name} = {value} is not finite")
-    return value
+def _number(prim, name, time):
+    return as_float(prim.GetPath(), name, _get(prim, name, time))
+
+
+def _vector(prim, name, time):
+    return as_vector(prim.GetPath(), name, _get(prim, name, time))
 
 
 def _matrix(prim, value):
+    if not isinstance(value, (Gf.Matrix4d, Gf.Matrix4f)):
+        raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform is a {type(value).__name__}, not a matrix4d")
     flat = [float(value[r][c]) for r in range(4) for c in range(4)]
     if not all(math.isfinite(v) for v in flat):
         raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform has non-finite entries")
-    if abs(Gf.Matrix4d(value).GetDeterminant3()) < 1e-18:
+    # Singular relative to its own scale (the volume its axes span against the product of their lengths), so that
+    # an eye in a kilometre scene (a 1e-6 scale, determinant 1e-18) is as valid as one in millimetres.
+    rows = [math.sqrt(sum(flat[4 * r + c] ** 2 for c in range(3))) for r in range(3)]
+    if not abs(Gf.Matrix4d(value).GetDeterminant3()) > 1e-12 * rows[0] * rows[1] * rows[2]:
         raise EyeRenderError(f"{prim.GetPath()}: eye:modelTransform is singular")
     return flat
 
 
-def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=None):
-    """EyeParams from prim's eye:* attributes at `time`; raises EyeRenderError naming the attribute and prim."""
+def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=None, warnings=None):
+    """EyeParams from prim's eye:* attributes at `time`; raises EyeRenderError naming the attribute and prim. An
+    iris texture that cannot be read is a TextureWarning appended to `warnings` (a list, if given)."""
     path = prim.GetPath()
     model = cornea_model_override or str(_get(prim, "eye:corneaModel", time))
     if model not in CORNEA_MODELS:
         raise EyeRenderError(f"{path}: eye:corneaModel = '{model}' is not one of {', '.join(CORNEA_MODELS)}")
-    ior = float(_finite(prim, "eye:corneaIor", _get(prim, "eye:corneaIor", time)))
-    depth = float(_finite(prim, "eye:irisDepth", _get(prim, "eye:irisDepth", time)))
-    inner = float(_finite(prim, "eye:limbusInnerRatio", _get(prim, "eye:limbusInnerRatio", time)))
-    outer = float(_finite(prim, "eye:limbusOuterRatio", _get(prim, "eye:limbusOuterRatio", time)))
-    pupil = float(_finite(prim, "eye:pupilDiameter", _get(prim, "eye:pupilDiameter", time)))
+    ior, depth = _number(prim, "eye:corneaIor", time), _number(prim, "eye:irisDepth", time)
+    inner, outer = _number(prim, "eye:limbusInnerRatio", time), _number(prim, "eye:limbusOuterRatio", time)
+    pupil = _number(prim, "eye:pupilDiameter", time)
     if ior < 1:
         raise EyeRenderError(f"{path}: eye:corneaIor = {ior:g} must be at least 1")
     if depth <= 0:
@@ -95,23 +104,24 @@ def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=Non
     eye.cornea_ior, eye.iris_depth, eye.pupil_diameter = ior, depth, pupil
     eye.limbus_inner_ratio, eye.limbus_outer_ratio = inner, outer
     for name, setter in (("eye:irisColor", "iris_color"), ("eye:scleraColor", "sclera_color")):
-        color = tuple(float(c) for c in _finite(prim, name, _get(prim, name, time)))
+        color = _vector(prim, name, time)
         if min(color) < 0 or max(color) > 1:
             raise EyeRenderError(f"{path}: {name} = {color} must be an albedo in [0, 1]")
         setattr(eye, setter, color)
-    eye.limbal_arc = bool(_get(prim, "eye:limbalArc", time))
-    mfp = tuple(float(c) for c in _finite(prim, "eye:scleraMeanFreePath", _get(prim, "eye:scleraMeanFreePath", time)))
-    if len(mfp) != 3 or min(mfp) <= 0:
-        raise EyeRenderError(f"{path}: eye:scleraMeanFreePath = {mfp} mm must be positive in every channel")
+    limbal_arc = _get(prim, "eye:limbalArc", time)
+    if not isinstance(limbal_arc, bool):
+        raise EyeRenderError(f"{path}: eye:limbalArc is a {type(limbal_arc).__name__}, not a bool")
+    eye.limbal_arc = limbal_arc
+    mfp = _vector(prim, "eye:scleraMeanFreePath", time)
+    if min(mfp) <= 0 or max(mfp) > MAX_MEAN_FREE_PATH_MM:
+        raise EyeRenderError(f"{path}: eye:scleraMeanFreePath = {mfp} mm must be in (0, {MAX_MEAN_FREE_PATH_MM:g}] "
+                             "in every channel")
     eye.sclera_mean_free_path = mfp
     model_transform = _matrix(prim, _get(prim, "eye:modelTransform", time))
     eye.model_transform = np.array(model_transform, dtype=np.float64).reshape(4, 4)
-    texture = prim.GetAttribute("eye:irisTexture")
-    asset = texture.Get(time) if texture else None
-    if isinstance(asset, Sdf.AssetPath) and asset.path:
-        if not asset.resolvedPath:
-            raise EyeRenderError(f"{path}: eye:irisTexture '{asset.path}' cannot be resolved")
-        eye.iris_texture = asset.resolvedPath
+    eye.iris_texture, problem = resolve_texture(prim.GetAttribute("eye:irisTexture"), time, f"{path}: eye:irisTexture")
+    if problem and warnings is not None:
+        warnings.append(TextureWarning(f"{problem}; the iris renders magenta"))
     problem = eye.validate()  # the C++ model's own check, the last word on what it can render
     if problem:
         raise EyeRenderError(f"{path}: {problem}")

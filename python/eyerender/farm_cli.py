@@ -15,7 +15,11 @@ from .job import frames_to_render, output_patterns, session_options
 
 def run_farm(args, spp):
     """eyerecord's run() for --scheduler/--workers, `spp` samples per pixel; returns the exit status."""
-    frames = frames_to_render(args.frames, args.outputImagePath)  # the same rules as the local path
+    frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)  # the local path's rules
+    for flag, value in (("--sessionLayer", args.sessionLayer), ("--mask", args.mask),
+                        ("--colorCorrectionMode", None if args.colorCorrectionMode == "sRGB" else 1)):
+        if value is not None:  # a farm job carries the stage's path alone, and writes sRGB PNGs
+            raise EyeRenderError(f"{flag} is not supported with a farm render (--scheduler/--workers)")
     split = farm_split(args)
     job = RenderJob.from_options(args.usdFilePath, output_patterns(args.outputImagePath, args.png),
                                  session_options(args), spp=spp, exposure=args.exposure, time_limit=args.time_limit)

@@ -11,12 +11,14 @@ import os
 from typing import Optional
 
 from .errors import EyeRenderError
-from .frames import has_placeholder, output_path, parse_frames
+from .frames import check_placeholder_precision, has_placeholder, output_path, parse_frames
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
 AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
 DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
+PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
+DEFAULT_TIME = float("nan")  # Usd.TimeCode.Default().GetValue(): usdrecord's --defaultTime
 OUTPUT_EXTENSIONS = (".exr", ".png")
 
 
@@ -30,7 +32,11 @@ class SessionOptions:
     what the options leave open; purposes: UsdGeom purposes besides "default"; refine_level: Catmull-Clark levels;
     cornea_model: "ellipsoidCone"/"paraboloid" for every eye (None: as authored); settings: RenderSettings
     overrides as (name, value) pairs; plan: what the render plan may not decide (plan_options: e.g.
-    (("mnee", False),)); () plans everything, None renders with no plan (the settings as given).
+    (("mnee", False),)); () plans everything, None renders with no plan (the settings as given);
+    render_pass_prim: a UsdRender.Pass whose renderSource names the settings prim (usdrecord's -rp); with neither,
+    the stage's renderSettingsPrimPath metadata names it; camera_light: light a stage without lights from the
+    camera (usdrecord's default; --disableCameraLight); strict: a texture that cannot be read is an EyeRenderError
+    (False: a warning, and its fallback renders).
     """
     width: Optional[int] = None
     height: Optional[int] = None
@@ -42,6 +48,9 @@ class SessionOptions:
     cornea_model: Optional[str] = None
     settings: tuple[tuple[str, object], ...] = ()
     plan: Optional[tuple[tuple[str, object], ...]] = ()
+    render_pass_prim: Optional[str] = None
+    camera_light: bool = True
+    strict: bool = False
 
     def __post_init__(self):
         for name, value in self.normalised().items():
@@ -61,17 +70,23 @@ def session_options(args):
     """SessionOptions from eyerecord's parsed command line."""
     return SessionOptions(
         width=args.imageWidth, height=args.imageHeight, camera=args.camera, aovs=tuple(args.aov or ()),
-        render_settings_prim=args.renderSettingsPrimPath, purposes=parse_purposes(args.purposes),
+        render_settings_prim=args.renderSettingsPrimPath, render_pass_prim=args.renderPassPrimPath,
+        camera_light=not args.disableCameraLight, purposes=parse_purposes(args.purposes),
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
-                  ("dome_light_visible", args.enableDomeLightVisibility)),
-        plan=plan_options(args))
+                  ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
+        plan=plan_options(args), strict=args.strict)
 
 
 def parse_purposes(groups):
-    """--purposes values (each comma-separated; None: the default, proxy) as one tuple of purpose names."""
-    return tuple(p for group in (groups or ["proxy"]) for p in group.split(",") if p)
+    """--purposes values (each a list separated by commas and/or spaces, as usdrecord splits it; None: the
+    default, proxy) as one tuple of purpose names; an unknown purpose is an EyeRenderError."""
+    purposes = tuple(p for group in (groups or ["proxy"]) for p in group.replace(",", " ").split())
+    unknown = [p for p in purposes if p not in PURPOSES]
+    if unknown:
+        raise EyeRenderError(f"--purposes: '{unknown[0]}' is not a UsdGeom purpose ({', '.join(PURPOSES)})")
+    return purposes
 
 
 def output_patterns(image_path, png):
@@ -93,12 +108,21 @@ def check_output_extension(path):
         raise EyeRenderError(f"output {path}: extension must be .exr or .png")
 
 
-def frames_to_render(spec, image_path):
-    """The frames of a --frames spec (None: [None], the single unanimated render); several frames need a '#'
-    placeholder in the output name."""
-    frames = parse_frames(spec) if spec else [None]
-    if len(frames) > 1 and not has_placeholder(image_path):
-        raise EyeRenderError(f"{len(frames)} frames need a '#' placeholder in the output name ({image_path})")
+def frames_to_render(spec, image_path, default_time=False):
+    """The frames of a --frames spec, with usdrecord's rules: with --frames the output name needs a '#'
+    placeholder whose decimals can tell the frames apart (1:2x0.5 needs '#.#'); without, it must have none, and
+    the single render is at the stage's start time code ([None]; open_session resolves it) or, with
+    `default_time`, at the default time ([DEFAULT_TIME])."""
+    if not spec:
+        if has_placeholder(image_path):
+            raise EyeRenderError(f"output {image_path}: a '#' frame placeholder needs --frames")
+        return [DEFAULT_TIME] if default_time else [None]
+    if default_time:
+        raise EyeRenderError("--defaultTime and --frames contradict each other")
+    frames = parse_frames(spec)
+    if not has_placeholder(image_path):
+        raise EyeRenderError(f"--frames needs a '#' frame placeholder in the output name ({image_path})")
+    check_placeholder_precision(image_path, spec)
     return frames
 
 
@@ -125,27 +149,64 @@ def plan_overrides(options, stage, refine_level):
     return make_overrides(**dict(options), refine_level_ceiling=refine_level, authored=authored_eye_values(stage))
 
 
-def open_stage(path):
-    """The USD stage at `path`; a missing or unreadable file is an EyeRenderError naming it."""
-    from pxr import Tf, Usd
+def open_stage(path, session_layer=None, mask=None):
+    """The USD stage at `path` as usdrecord opens it: with the layer at `session_layer` as its session layer (else
+    an anonymous one), a resolver context for the asset, and with `mask` (prim paths separated by commas and/or
+    spaces) only those prims, their ancestors and descendants. A missing or unreadable file is an EyeRenderError
+    naming it, with USD's own reason summarised."""
+    from pxr import Ar, Sdf, Tf, Usd
 
-    if not os.path.isfile(path):
-        raise EyeRenderError(f"{path}: no such file")
+    from .usd_diagnostics import summarise_tf_error
+
+    for what, file in (("", path), ("--sessionLayer ", session_layer)):
+        if file is not None and not os.path.isfile(file):
+            raise EyeRenderError(f"{what}{file}: no such file")
     try:
-        stage = Usd.Stage.Open(path)
+        root = Sdf.Layer.FindOrOpen(path)
+        session = Sdf.Layer.FindOrOpen(session_layer) if session_layer else Sdf.Layer.CreateAnonymous()
+        if not root or not session:
+            raise EyeRenderError(f"{path if not root else session_layer}: cannot open layer")
+        context = Ar.GetResolver().CreateDefaultContextForAsset(path)
+        if mask:
+            population = Usd.StagePopulationMask()
+            for prim_path in mask.replace(",", " ").split():
+                if not Sdf.Path.IsValidPathString(prim_path):
+                    raise EyeRenderError(f"--mask: '{prim_path}' is not a prim path")
+                population.Add(Sdf.Path(prim_path))
+            stage = Usd.Stage.OpenMasked(root, session, context, population)
+        else:
+            stage = Usd.Stage.Open(root, session, context)
     except Tf.ErrorException as e:
-        first = next((line.strip() for line in str(e).splitlines() if line.strip()), "unreadable")
-        raise EyeRenderError(f"{path}: cannot open stage: {first}") from None
+        raise EyeRenderError(f"{path}: cannot open stage: {summarise_tf_error(e)}") from None
     if not stage:
         raise EyeRenderError(f"{path}: cannot open stage")
     return stage
+
+
+def render_settings_path(stage, options):
+    """The UsdRender.Settings prim path a render reads, by usdrecord's precedence: the options' settings prim, else
+    the renderSource of their render pass prim, else the stage's renderSettingsPrimPath metadata; None for none."""
+    from pxr import UsdRender
+
+    if options.render_settings_prim and options.render_pass_prim:
+        raise EyeRenderError("--renderSettingsPrimPath and --renderPassPrimPath contradict each other")
+    if options.render_pass_prim:
+        render_pass = UsdRender.Pass(stage.GetPrimAtPath(options.render_pass_prim)) \
+            if stage.GetPrimAtPath(options.render_pass_prim) else None
+        if not render_pass:
+            raise EyeRenderError(f"--renderPassPrimPath {options.render_pass_prim}: no RenderPass prim there")
+        targets = render_pass.GetRenderSourceRel().GetTargets()
+        if not targets:
+            raise EyeRenderError(f"--renderPassPrimPath {options.render_pass_prim}: renderSource is not authored")
+        return str(targets[0])
+    return options.render_settings_prim or stage.GetMetadata("renderSettingsPrimPath") or None
 
 
 def read_render_settings(stage, path):
     """(width, height, camera path or None, AOV names) from the UsdRender.Settings prim at `path`."""
     from pxr import UsdRender
 
-    settings = UsdRender.Settings(stage.GetPrimAtPath(path))
+    settings = UsdRender.Settings(stage.GetPrimAtPath(path)) if stage.GetPrimAtPath(path) else None
     if not settings:
         raise EyeRenderError(f"--renderSettingsPrimPath {path}: no RenderSettings prim there")
     resolution = settings.GetResolutionAttr().Get()
@@ -165,8 +226,9 @@ def image_options(stage, options):
     """(width, height, camera, AOV names) of `options`, the render settings prim's where they leave them open.
     Like usdrecord, an explicit width wins over the prim's resolution (and the height then follows the camera)."""
     width, height, camera, aovs = options.width or DEFAULT_WIDTH, options.height, options.camera, list(options.aovs)
-    if options.render_settings_prim:
-        rs_width, rs_height, rs_camera, rs_aovs = read_render_settings(stage, options.render_settings_prim)
+    settings_path = render_settings_path(stage, options)
+    if settings_path:
+        rs_width, rs_height, rs_camera, rs_aovs = read_render_settings(stage, settings_path)
         if not options.width:
             width, height = rs_width, height or rs_height
         camera, aovs = camera or rs_camera, aovs or rs_aovs
@@ -174,7 +236,8 @@ def image_options(stage, options):
 
 
 def open_session(stage, options, time=None):
-    """A RenderSession of `stage` made from SessionOptions, at frame `time` (None: the stage's earliest time)."""
+    """A RenderSession of `stage` made from SessionOptions, at frame `time` (None: the stage's start time code,
+    usdrecord's time without --frames; DEFAULT_TIME: the default time)."""
     from pxr import Usd
 
     from .render_session import RenderSession
@@ -182,11 +245,14 @@ def open_session(stage, options, time=None):
     width, height, camera, aovs = image_options(stage, options)
     return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=options.purposes,
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
-                         time=Usd.TimeCode(time) if time is not None else Usd.TimeCode.EarliestTime(),
+                         time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
+                         camera_light=options.camera_light,
                          settings=dict(options.settings),
-                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level))
+                         plan_overrides=plan_overrides(options.plan, stage, options.refine_level),
+                         strict=options.strict)
 
 
-__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "SessionOptions", "session_options",
-           "parse_purposes", "output_patterns", "frame_outputs", "check_output_extension", "frames_to_render",
-           "plan_options", "plan_overrides", "open_stage", "read_render_settings", "image_options", "open_session"]
+__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
+           "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
+           "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
+           "render_settings_path", "read_render_settings", "image_options", "open_session"]

@@ -3,16 +3,19 @@
 The attributes go to the delegate as authored; the delegate applies UsdLux's formulas (RenderLight::FromParams:
 radiance = color x blackbody(colorTemperature) x intensity x 2^exposure / sizeFactor with normalize, a distant
 light's intensity the radiance of its disc, treatAsPoint, ShapingAPI's cone and focus, the dome's poleAxis).
+Dome and rect light textures are read through eyerender.textures (any OpenImageIO format, .usdz).
 Light and shadow linking: the collections' membership over the rendered prims, handed over as the rprim ids each
 light does not light / is not shadowed by (link_excludes). What the renderer does not do (CylinderLight, IES
-profiles, rect light textures) is reported once per prim (docs/lights.md).
+profiles) is reported once per prim (docs/lights.md).
 """
 import math
 
-from pxr import Sdf, Usd, UsdGeom, UsdLux
+from pxr import Usd, UsdGeom, UsdLux
 
 from ._hdeye import LightParams
 from .errors import EyeRenderError
+from .textures import TextureWarning, resolve_texture
+from .validation import as_float, as_vector
 
 # Prim type to the delegate's sprim type.
 LIGHT_TYPES = {
@@ -71,15 +74,16 @@ def _dome_pole_z(prim):
     return axis == "Z" or (axis == "scene" and UsdGeom.GetStageUpAxis(prim.GetStage()) == UsdGeom.Tokens.z)
 
 
-def read_light(prim, time):
+def read_light(prim, time, warnings=None):
     """LightParams for a UsdLux light prim at `time` (its size in the world comes from its transform, in the
-    delegate)."""
+    delegate). A dome or rect texture that cannot be read is a TextureWarning appended to `warnings` (a list, if
+    given)."""
     api = UsdLux.LightAPI(prim)
     path = prim.GetPath()
     p = LightParams()
-    p.color = tuple(float(c) for c in api.GetColorAttr().Get(time))
-    p.intensity = float(api.GetIntensityAttr().Get(time))
-    p.exposure = float(api.GetExposureAttr().Get(time))
+    p.color = as_vector(path, "inputs:color", api.GetColorAttr().Get(time))
+    p.intensity = as_float(path, "inputs:intensity", api.GetIntensityAttr().Get(time))
+    p.exposure = as_float(path, "inputs:exposure", api.GetExposureAttr().Get(time))
     if not all(math.isfinite(v) for v in (*p.color, p.intensity, p.exposure)) or min(p.color) < 0 or p.intensity < 0:
         raise EyeRenderError(f"{path}: light color, intensity and exposure must be finite and non-negative")
     p.normalize = bool(api.GetNormalizeAttr().Get(time))
@@ -92,28 +96,31 @@ def read_light(prim, time):
     _read_shaping(prim, time, p)
     if kind == "SphereLight":
         light = UsdLux.SphereLight(prim)
-        p.radius = float(light.GetRadiusAttr().Get(time))
+        p.radius = as_float(path, "inputs:radius", light.GetRadiusAttr().Get(time))
         p.treat_as_point = bool(light.GetTreatAsPointAttr().Get(time))
     elif kind == "DiskLight":
-        p.radius = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
+        p.radius = as_float(path, "inputs:radius", UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
-        p.width, p.height = float(light.GetWidthAttr().Get(time)), float(light.GetHeightAttr().Get(time))
+        p.width = as_float(path, "inputs:width", light.GetWidthAttr().Get(time))
+        p.height = as_float(path, "inputs:height", light.GetHeightAttr().Get(time))
+        p.texture_file, problem = resolve_texture(light.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
+        if problem and warnings is not None:
+            warnings.append(TextureWarning(f"{problem}; the light emits magenta"))
     elif kind == "DistantLight":
-        p.angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
+        p.angle = as_float(path, "inputs:angle", UsdLux.DistantLight(prim).GetAngleAttr().Get(time))
         if not 0 <= p.angle < 180:
             raise EyeRenderError(f"{path}: inputs:angle = {p.angle:g} degrees must be in [0, 180)")
     elif kind in ("DomeLight", "DomeLight_1"):
         p.dome_pole_z = _dome_pole_z(prim)
         dome = UsdLux.DomeLight(prim) if kind == "DomeLight" else UsdLux.DomeLight_1(prim)
-        asset = dome.GetTextureFileAttr().Get(time)
-        if isinstance(asset, Sdf.AssetPath) and asset.path:
-            if not asset.resolvedPath:
-                raise EyeRenderError(f"{path}: inputs:texture:file '{asset.path}' cannot be resolved")
+        p.texture_file, problem = resolve_texture(dome.GetTextureFileAttr(), time, f"{path}: inputs:texture:file")
+        if p.texture_file:
             fmt = dome.GetTextureFormatAttr().Get(time)
             if fmt not in ("automatic", "latlong"):
                 raise EyeRenderError(f"{path}: inputs:texture:format '{fmt}' is not supported (latlong only)")
-            p.texture_file = asset.resolvedPath
+        if problem and warnings is not None:
+            warnings.append(TextureWarning(f"{problem}; the dome renders magenta"))
     for name in ("radius", "width", "height"):
         if not (getattr(p, name) >= 0 and math.isfinite(getattr(p, name))):
             raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
@@ -130,12 +137,13 @@ def unsupported_light_features(prim, time):
     if kind in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time) and \
             not (point and api.GetNormalizeAttr().Get(time)):
         notes.append(f"{path}: radius 0 emits nothing (intensity is radiance)")
-    if kind == "RectLight" and UsdLux.RectLight(prim).GetTextureFileAttr().Get(time):
-        notes.append(f"{path}: inputs:texture:file is ignored (rect light textures are not rendered)")
     if prim.HasAPI(UsdLux.ShapingAPI) and UsdLux.ShapingAPI(prim).GetShapingIesFileAttr().Get(time):
         notes.append(f"{path}: inputs:shaping:ies:file is ignored (IES profiles are not rendered)")
     if prim.HasAPI(UsdLux.ShapingAPI) and kind in ("DistantLight", "DomeLight", "DomeLight_1"):
         notes.append(f"{path}: ShapingAPI is ignored on a {kind}")
+    intensity, exposure = api.GetIntensityAttr().Get(time), api.GetExposureAttr().Get(time)
+    if intensity and exposure and math.isfinite(exposure) and math.log2(abs(intensity)) + exposure > 1000:
+        notes.append(f"{path}: intensity x 2^exposure overflows: the light is off")
     return notes
 
 

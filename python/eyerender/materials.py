@@ -1,16 +1,24 @@
-"""UsdShade materials to the delegate's MaterialParams: the UsdPreviewSurface subset it renders.
+"""UsdShade materials to the delegate's MaterialParams: UsdPreviewSurface and its UsdUVTexture networks.
 
 Inputs are followed through connections (material interface inputs, node graphs) to the attribute that
-produces their value. diffuseColor may come from a UsdUVTexture (its file, looked up by the st primvar the
-texture's UsdPrimvarReader_float2 names); other texture connections fall back to the input's own value, or the
-UsdPreviewSurface default, and are listed in `ignored` so the front end can say so once.
+produces their value. diffuseColor, emissiveColor, roughness, metallic, opacity, ior, specularColor (with
+useSpecularWorkflow), clearcoat, clearcoatRoughness and normal (a tangent-space normal map) may come from a
+UsdUVTexture output (rgb, r, g, b or a), with its file, wrapS/wrapT, scale, bias,
+fallback and sourceColorSpace; its st from a UsdPrimvarReader_float2 (the primvar its varname names), optionally
+through a UsdTransform2d (rotation, scale, translation). opacityThreshold makes opacity a cut-out mask.
+
+What is not rendered is listed once in `ignored`: inputs fed by other nodes, displacement. occlusion is not used,
+as the specification expects of path tracers (the renderer computes occlusion itself). A material whose universal
+surface is not a UsdPreviewSurface (MaterialX, or another shader network) renders its UsdPreviewSurface output for
+another render context if it has one, else the defaults, with one warning.
 """
 import math
 
-from pxr import Sdf, UsdShade
+from pxr import UsdShade
 
-from ._hdeye import MaterialParams
+from ._hdeye import MaterialParams, TextureColorSpace, TextureInput, TextureWrap
 from .errors import EyeRenderError
+from .textures import TextureWarning, resolve_texture
 
 # UsdPreviewSurface's defaults (its specification), for inputs with no authored value.
 DEFAULTS = {
@@ -19,9 +27,23 @@ DEFAULTS = {
     "roughness": 0.5,
     "metallic": 0.0,
     "opacity": 1.0,
+    "opacityThreshold": 0.0,
     "ior": 1.5,
+    "specularColor": (0.0, 0.0, 0.0),
+    "clearcoat": 0.0,
+    "clearcoatRoughness": 0.01,
 }
-RANGES = {"roughness": (0, 1), "metallic": (0, 1), "opacity": (0, 1), "ior": (1, math.inf)}
+RANGES = {"roughness": (0, 1), "metallic": (0, 1), "opacity": (0, 1), "opacityThreshold": (0, 1), "ior": (1, math.inf),
+          "clearcoat": (0, 1), "clearcoatRoughness": (0, 1)}
+TEXTURED = ("diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal", "specularColor",
+            "clearcoat", "clearcoatRoughness")
+COLOR_INPUTS = ("diffuseColor", "emissiveColor", "normal", "specularColor")
+# Inputs the renderer does not model, with the value at which ignoring them changes nothing.
+NOT_RENDERED = {"displacement": 0.0}
+CHANNELS = {"rgb": -1, "rgba": -1, "r": 0, "g": 1, "b": 2, "a": 3}
+WRAPS = {"useMetadata": TextureWrap.useMetadata, "black": TextureWrap.black, "clamp": TextureWrap.clamp,
+         "repeat": TextureWrap.repeat, "mirror": TextureWrap.mirror}
+COLOR_SPACES = {"auto": TextureColorSpace.auto, "raw": TextureColorSpace.raw, "sRGB": TextureColorSpace.sRGB}
 
 
 def _shader_id(shader):
@@ -30,69 +52,154 @@ def _shader_id(shader):
 
 def _producer(shader_input):
     """The attribute that produces an input's value: a shader output, or an attribute holding a value."""
-    attrs = shader_input.GetValueProducingAttributes()
+    attrs = shader_input.GetValueProducingAttributes() if shader_input else []
     return attrs[0] if attrs else None
 
 
-def _texture_of(attr):
-    """(file path, st primvar name) if attr is a UsdUVTexture output, else None."""
-    if UsdShade.Utils.GetType(attr.GetName()) != UsdShade.AttributeType.Output:
+def _is_output(attr):
+    return attr is not None and UsdShade.Utils.GetType(attr.GetName()) == UsdShade.AttributeType.Output
+
+
+def _value(shader, name, time, default=None):
+    """An input's value, followed through connections to the attribute that holds it."""
+    attr = _producer(shader.GetInput(name))
+    value = attr.Get(time) if attr is not None and not _is_output(attr) else None
+    return default if value is None else value
+
+
+def _st_source(shader, time, texture_input):
+    """The st primvar name of a UsdUVTexture's st input, with any UsdTransform2d on the way (into texture_input)."""
+    attr = _producer(shader.GetInput("st"))
+    if not _is_output(attr):
+        return "st"
+    source = UsdShade.Shader(attr.GetPrim())
+    if _shader_id(source) == "UsdTransform2d":
+        texture_input.scale = tuple(float(c) for c in _value(source, "scale", time, (1.0, 1.0)))
+        texture_input.rotation = float(_value(source, "rotation", time, 0.0))
+        texture_input.translation = tuple(float(c) for c in _value(source, "translation", time, (0.0, 0.0)))
+        transform = (*texture_input.scale, texture_input.rotation, *texture_input.translation)
+        if not all(math.isfinite(c) for c in transform):
+            raise EyeRenderError(f"{source.GetPath()}: rotation, scale and translation must be finite")
+        attr = _producer(source.GetInput("in"))
+        if not _is_output(attr):
+            return "st"
+        source = UsdShade.Shader(attr.GetPrim())
+    if _shader_id(source) and _shader_id(source).startswith("UsdPrimvarReader"):
+        return str(_value(source, "varname", time, "st")) or "st"
+    return "st"
+
+
+def read_uv_texture(attr, time):
+    """(TextureInput, st primvar name, TextureWarning or None) if attr is a UsdUVTexture output, else None."""
+    if not _is_output(attr):
         return None
     shader = UsdShade.Shader(attr.GetPrim())
     if _shader_id(shader) != "UsdUVTexture":
         return None
-    file_input = shader.GetInput("file")
-    asset = file_input.Get() if file_input else None
-    if not isinstance(asset, Sdf.AssetPath) or not asset.path:
-        return None
-    if not asset.resolvedPath:
-        raise EyeRenderError(f"{shader.GetPath()}: inputs:file '{asset.path}' cannot be resolved")
-    st_name = "st"
-    st_input = shader.GetInput("st")
-    reader_attr = _producer(st_input) if st_input else None
-    if reader_attr is not None and UsdShade.Utils.GetType(reader_attr.GetName()) == UsdShade.AttributeType.Output:
-        reader = UsdShade.Shader(reader_attr.GetPrim())
-        varname = reader.GetInput("varname")
-        if varname and varname.Get():
-            st_name = str(varname.Get())
-    return asset.resolvedPath, st_name
+    texture_input = TextureInput()
+    texture_input.channel = CHANNELS.get(UsdShade.Utils.GetBaseNameAndType(attr.GetName())[0], 0)
+    params = texture_input.texture
+    file_attr = _producer(shader.GetInput("file"))
+    params.file, problem = resolve_texture(file_attr, time, f"{shader.GetPath()}: inputs:file")
+    if not params.file and problem is None:
+        return None  # no file authored: the input keeps its constant value
+    for name in ("wrapS", "wrapT"):
+        token = str(_value(shader, name, time, "useMetadata"))
+        if token not in WRAPS:
+            raise EyeRenderError(f"{shader.GetPath()}: inputs:{name} = '{token}' is not one of {', '.join(WRAPS)}")
+        setattr(params, "wrap_s" if name == "wrapS" else "wrap_t", WRAPS[token])
+    space = str(_value(shader, "sourceColorSpace", time, "auto"))
+    if space not in COLOR_SPACES:
+        raise EyeRenderError(f"{shader.GetPath()}: inputs:sourceColorSpace = '{space}' is not one of "
+                             f"{', '.join(COLOR_SPACES)}")
+    params.color_space = COLOR_SPACES[space]
+    for name in ("scale", "bias", "fallback"):
+        value = _value(shader, name, time)
+        if value is None:
+            continue  # scale 1, bias 0; fallback: the delegate's visible magenta
+        value = tuple(float(c) for c in value)
+        if len(value) != 4 or not all(math.isfinite(c) for c in value):
+            raise EyeRenderError(f"{shader.GetPath()}: inputs:{name} = {value} must be 4 finite numbers")
+        setattr(params, name, value)
+    st_name = _st_source(shader, time, texture_input)
+    if problem:
+        problem = TextureWarning(f"{problem}; its fallback {tuple(round(c, 3) for c in params.fallback)} is rendered")
+    return texture_input, st_name, problem
+
+
+def _surface_shader(material, ignored):
+    """The UsdPreviewSurface the material renders with: its universal surface, else the first render context's
+    surface that is one (warned about), else None (warned about)."""
+    universal = material.ComputeSurfaceSource()[0]
+    if _shader_id(universal) == "UsdPreviewSurface":
+        return universal
+    others = []
+    for output in material.GetSurfaceOutputs():
+        source = output.GetConnectedSources()[0] if output.HasConnectedSource() else []
+        shader = UsdShade.Shader(source[0].source.GetPrim()) if source else None
+        others.append((output.GetBaseName(), _shader_id(shader)))
+        if _shader_id(shader) == "UsdPreviewSurface":
+            ignored.append(f"{material.GetPath()}: renders its UsdPreviewSurface ({output.GetAttr().GetName()}); "
+                           f"the other surface networks are not run")
+            return shader
+    what = ", ".join(f"{name} -> {sid or 'nothing'}" for name, sid in others) or "no surface output"
+    ignored.append(f"{material.GetPath()}: no UsdPreviewSurface ({what}); renders with the UsdPreviewSurface defaults")
+    return None
 
 
 def read_material(material, time):
-    """(MaterialParams, st primvar name, ignored connections) for a UsdShade.Material.
+    """(MaterialParams, st primvar name, ignored) for a UsdShade.Material; `ignored` holds one line per thing not
+    rendered (TextureWarning for textures that cannot be read).
 
-    Raises EyeRenderError (naming the shader and input) for out-of-range values; a material whose surface is not
-    a UsdPreviewSurface renders with the defaults and is reported through `ignored`.
+    Raises EyeRenderError (naming the shader and input) for out-of-range values.
     """
-    params, st_name, ignored = MaterialParams(), "st", []
-    shader = material.ComputeSurfaceSource()[0]
-    if _shader_id(shader) != "UsdPreviewSurface":
-        ignored.append(f"{material.GetPath()}: surface is not a UsdPreviewSurface")
-        return params, st_name, ignored
-    for name, default in DEFAULTS.items():
-        value = default
-        shader_input = shader.GetInput(name)
-        attr = _producer(shader_input) if shader_input else None
-        if attr is not None:
-            texture = _texture_of(attr)
-            if texture and name == "diffuseColor":
-                params.diffuse_texture, st_name = texture
-            elif UsdShade.Utils.GetType(attr.GetName()) == UsdShade.AttributeType.Output:
+    params, st_name, ignored = MaterialParams(), None, []
+    shader = _surface_shader(material, ignored)
+    if shader is None:
+        return params, "st", ignored
+    for name in TEXTURED + ("opacityThreshold",):
+        attr = _producer(shader.GetInput(name))
+        if attr is None:
+            continue
+        if _is_output(attr):
+            texture = read_uv_texture(attr, time) if name in TEXTURED else None
+            if texture is None:
                 ignored.append(f"{shader.GetPath()}: inputs:{name} comes from a node this renderer does not run")
-            elif attr.Get(time) is not None:
-                value = attr.Get(time)
-        if isinstance(default, tuple):
-            value = tuple(float(c) for c in value)
-            bad = not all(math.isfinite(c) and c >= 0 for c in value)
-        else:
-            value = float(value)
-            lo, hi = RANGES[name]
-            bad = not (math.isfinite(value) and lo <= value <= hi) if hi != math.inf else \
-                not (value >= lo and math.isfinite(value))
-        if bad:
-            raise EyeRenderError(f"{shader.GetPath()}: inputs:{name} = {value} is out of range")
-        setattr(params, _snake(name), value)
-    return params, st_name, ignored
+                continue
+            texture_input, texture_st, problem = texture
+            if name not in COLOR_INPUTS and texture_input.channel == -1:
+                texture_input.channel = 0  # a float input fed by rgb takes r
+            params.set_texture(name, texture_input)
+            if problem:
+                ignored.append(problem)
+            if st_name is not None and texture_st != st_name:
+                ignored.append(f"{shader.GetPath()}: inputs:{name} reads primvar '{texture_st}'; the material's "
+                               f"textures all use '{st_name}'")
+            st_name = st_name or texture_st
+        elif name in DEFAULTS and attr.Get(time) is not None:
+            setattr(params, _snake(name), _checked(shader, name, attr.Get(time)))
+    workflow = _value(shader, "useSpecularWorkflow", time, 0)
+    if workflow not in (0, 1):
+        raise EyeRenderError(f"{shader.GetPath()}: inputs:useSpecularWorkflow = {workflow} must be 0 or 1")
+    params.use_specular_workflow = workflow == 1
+    for name, neutral in NOT_RENDERED.items():
+        if _value(shader, name, time, neutral) != neutral or _is_output(_producer(shader.GetInput(name))):
+            ignored.append(f"{shader.GetPath()}: inputs:{name} is not rendered")
+    return params, st_name or "st", ignored
+
+
+def _checked(shader, name, value):
+    default = DEFAULTS[name]
+    if isinstance(default, tuple):
+        value = tuple(float(c) for c in value)
+        bad = not all(math.isfinite(c) and c >= 0 for c in value)
+    else:
+        value = float(value)
+        lo, hi = RANGES[name]
+        bad = not (math.isfinite(value) and lo <= value <= hi)
+    if bad:
+        raise EyeRenderError(f"{shader.GetPath()}: inputs:{name} = {value} is out of range")
+    return value
 
 
 def _snake(name):

@@ -98,6 +98,12 @@ def _eye_json(eye):
                     ("why", _reasons(eye.why))))
 
 
+def _mesh_json(mesh):
+    return _object((("prim", json.dumps(mesh.prim)), ("pixels", _num(mesh.pixels, 6)),
+                    ("instances", str(mesh.instances)), ("sceneLevel", str(mesh.scene_level)),
+                    ("refineLevel", str(mesh.refine_level)), ("why", json.dumps(mesh.why, ensure_ascii=False))))
+
+
 def plan_json(plan):
     """The plan as the JSON object `eyerecord --plan` prints and EXRs carry (docs/render_plan.md). "application"
     is always "perEye": ApplyRenderPlan with the render index gives each eye its own decisions."""
@@ -105,7 +111,8 @@ def plan_json(plan):
                        ("scleraScattering", _bool(plan.sclera_scattering))))
     return _object((("version", "1"), ("camera", json.dumps(plan.camera)), ("width", str(plan.width)),
                     ("height", str(plan.height)), ("application", '"perEye"'), ("applied", applied),
-                    ("why", _reasons(plan.why)), ("eyes", "[" + ", ".join(_eye_json(e) for e in plan.eyes) + "]")))
+                    ("why", _reasons(plan.why)), ("eyes", "[" + ", ".join(_eye_json(e) for e in plan.eyes) + "]"),
+                    ("meshes", "[" + ", ".join(_mesh_json(m) for m in plan.meshes) + "]")))
 
 
 def plan_dict(plan):

@@ -5,11 +5,13 @@ import os
 import time as clock
 
 import numpy as np
-from pxr import Usd
+from pxr import Usd, UsdGeom
 
 from . import cameras
 from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
+from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
+from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .usd_scene_delegate import UsdSceneDelegate
 
 # AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
@@ -24,6 +26,10 @@ AOV_CHANNELS = {
 }
 DEFAULT_CAMERA_ID = "/__eyerender_default_camera"
 DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
+# Image size bounds: an aperture ratio beyond MAX_ASPECT (e.g. a horizontalAperture of 0.0024 mm) would ask for
+# a 32 x 203877 image; MAX_PIXELS is 16k x 8k.
+MAX_ASPECT = 100.0
+MAX_PIXELS = 1 << 27
 
 
 class RenderSession:
@@ -31,7 +37,7 @@ class RenderSession:
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
-                 dome_light_visible=False):
+                 camera_light=False, strict=False, flatten_instances=False, dome_light_visible=False):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
@@ -39,8 +45,12 @@ class RenderSession:
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
         sets the settings from it, and write() stores it in the EXR header (None: no plan, the settings as given);
-        dome_light_visible: camera rays see dome lights (usdrecord's --enableDomeLightVisibility; off, domes light
-        the scene behind a black background)."""
+        camera_light: light a stage that has no light from the camera, as usdrecord does (eyerender.camera_light;
+        `self.camera_light` then says whether it was added); strict: a texture that cannot be read is an
+        EyeRenderError (else a warning, and its fallback renders).
+        flatten_instances: every instance as its own prims, the reference for shared instancing (slow; tests).
+        dome_light_visible: camera rays see dome lights (RenderSettings.dome_light_camera_visibility, usdrecord's
+        --enableDomeLightVisibility; off, domes light the scene behind a black background)."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -49,17 +59,20 @@ class RenderSession:
         self.delegate = RenderDelegate()
         self.index = RenderIndex(self.delegate)
         self.store = SceneStore(self.index)
-        self.delegate.settings.dome_light_visible = bool(dome_light_visible)
+        self.delegate.settings.dome_light_camera_visibility = bool(dome_light_visible)
         for name, value in (settings or {}).items():
             setattr(self.delegate.settings, name, value)
         self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
-                                      cornea_model=cornea_model)
+                                      cornea_model=cornea_model, strict=strict,
+                                      flatten_instances=flatten_instances)
         self.scene.populate()
         self.camera_id = self._choose_camera(camera, purposes, width, height)
         self.width = int(width)
         self.height = int(height or self._height_from_camera(width))
-        if self.width < 1 or self.height < 1:
-            raise EyeRenderError(f"image size {self.width}x{self.height} must be positive")
+        check_image_size(self.width, self.height)
+        self.camera_light = camera_light and not self.scene.lights
+        if self.camera_light:
+            add_camera_light(self.store, self._camera_to_world())
         for aov in self.aovs:
             self.store.add_render_buffer(self._buffer_id(aov), self.width, self.height, len(AOV_CHANNELS[aov]))
         self.render_pass = RenderPass(self.index)
@@ -88,8 +101,17 @@ class RenderSession:
             return known[0]
         aspect = width / height if height else 1.0
         params, world = cameras.default_camera(self.stage, self.scene.time, self.scene.purposes, aspect)
-        self.store.add_camera(DEFAULT_CAMERA_ID, params, np.array(world, dtype=np.float64).reshape(4, 4))
+        self._default_camera_world = np.array(world, dtype=np.float64).reshape(4, 4)
+        self.store.add_camera(DEFAULT_CAMERA_ID, params, self._default_camera_world)
         return DEFAULT_CAMERA_ID
+
+    def _camera_to_world(self):
+        """The render camera's camera-to-world matrix at the scene's time (4x4 float64)."""
+        prim = self.stage.GetPrimAtPath(self.camera_id)
+        if not prim:  # the default camera, fixed
+            return self._default_camera_world
+        return np.array(UsdGeom.Xformable(prim).ComputeLocalToWorldTransform(self.scene.time),
+                        dtype=np.float64).reshape(4, 4)
 
     def _height_from_camera(self, width):
         prim = self.stage.GetPrimAtPath(self.camera_id)
@@ -106,6 +128,8 @@ class RenderSession:
         self.scene.apply_stage_changes()  # edits made to the stage since the last frame (Usd.Notice.ObjectsChanged)
         if time is not None:
             self.scene.set_time(time)
+            if self.camera_light:
+                follow_camera(self.store, self._camera_to_world())
         for aov in self.aovs:
             self.index.clear_buffer(self._buffer_id(aov))
         settings = self.delegate.settings
@@ -156,27 +180,44 @@ class RenderSession:
         except RuntimeError as e:
             raise EyeRenderError(str(e)) from None
 
-    def write(self, path, exposure=0.0, denoise=False):
+    def write(self, path, exposure=0.0, color_correction="sRGB", denoise=False):
         """Writes the AOVs to `path` by its extension: .exr (every rendered AOV, linear float, named channels) or
-        .png (the colour, tone-mapped sRGB after `exposure` stops). Atomic. denoise: also the OIDN-denoised
-        beauty (eyerender.denoise; the session must render the albedo and normal AOVs)."""
+        .png (the colour after `exposure` stops, encoded by `color_correction`, one of COLOR_CORRECTION_MODES).
+        Atomic. denoise: also the OIDN-denoised beauty (eyerender.denoise; the session must render the albedo and
+        normal AOVs)."""
         from .plan import plan_json
 
         attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
         write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
-                     denoise=denoise)
+                     color_correction=color_correction, denoise=denoise)
 
 
-def write_images(path, images, exposure=0.0, attributes=None, denoise=False):
+def _srgb_to_linear(x):
+    """The inverse of the PNG writer's sRGB encoding, so that encoding its result gives x back (clamped)."""
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def _write_png(path, rgb, exposure, color_correction):
+    rgb = np.ascontiguousarray(rgb[:, :, :3])
+    if color_correction == "disabled":  # the writer encodes sRGB: hand it values whose encoding is rgb
+        rgb, exposure = np.ascontiguousarray(_srgb_to_linear(rgb * np.float32(2.0 ** exposure))), 0.0
+    write_png_preview(path, rgb, exposure)
+
+
+def write_images(path, images, exposure=0.0, attributes=None, color_correction="sRGB", denoise=False):
     """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
     RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG).
     denoise: the beauty denoised with the albedo and normal images as guides goes beside the raw one, never over
     it: channels denoised.R/G/B in an .exr, `<name>.denoised.png` beside a .png."""
     from .denoise import DENOISED_CHANNELS, GUIDE_AOVS, denoise_beauty, denoised_png_path
 
+    if color_correction not in COLOR_CORRECTION_MODES:
+        raise EyeRenderError(f"color correction '{color_correction}' is not one of {', '.join(COLOR_CORRECTION_MODES)}")
     ext = os.path.splitext(path)[1].lower()
     if ext not in (".exr", ".png"):
         raise EyeRenderError(f"output {path}: extension must be .exr or .png")
+    remove_stale_temp_files(path)
     denoised = None
     if denoise:
         missing = [aov for aov in GUIDE_AOVS if aov not in images]
@@ -192,9 +233,9 @@ def write_images(path, images, exposure=0.0, attributes=None, denoise=False):
                 planes += [(name, np.ascontiguousarray(denoised[:, :, c])) for c, name in enumerate(DENOISED_CHANNELS)]
             write_exr(path, planes, list((attributes or {}).items()))
         else:
-            write_png_preview(path, np.ascontiguousarray(images["color"][:, :, :3]), exposure)
+            _write_png(path, images["color"], exposure, color_correction)
             if denoised is not None:
-                write_png_preview(denoised_png_path(path), denoised, exposure)
+                _write_png(denoised_png_path(path), denoised, exposure, color_correction)
     except RuntimeError as e:
         raise EyeRenderError(str(e)) from None
 
@@ -216,6 +257,15 @@ def resolve_states(states):
     return images
 
 
+def check_image_size(width, height):
+    """Raises EyeRenderError unless width x height pixels is a positive size within MAX_ASPECT and MAX_PIXELS."""
+    if width < 1 or height < 1:
+        raise EyeRenderError(f"image size {width}x{height} must be positive")
+    if max(width / height, height / width) > MAX_ASPECT or width * height > MAX_PIXELS:
+        raise EyeRenderError(f"image size {width}x{height} is beyond the bounds (aspect {MAX_ASPECT:g}:1, "
+                             f"{MAX_PIXELS >> 20} Mpixels): check the camera's apertures, or set --imageHeight")
+
+
 def check_writable(path):
     """Fails fast, before a long render, if `path` cannot be written."""
     directory = os.path.dirname(os.path.abspath(path))
@@ -227,4 +277,5 @@ def check_writable(path):
         raise EyeRenderError(f"output {path} is a directory")
 
 
-__all__ = ["RenderSession", "AOV_CHANNELS", "check_writable", "write_images", "resolve_states"]
+__all__ = ["RenderSession", "AOV_CHANNELS", "MAX_ASPECT", "MAX_PIXELS", "check_image_size", "check_writable",
+           "write_images", "resolve_states"]

@@ -10,8 +10,10 @@ import collections
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
 
 from . import cameras, eyes, lights, materials
+from .errors import EyeRenderError
 from .skinning import skel_root_of
 from .usd_values import to_float_array, to_matrix
+from .validation import reading
 
 # What a changed property updates; anything not listed re-populates its prim.
 TRANSFORM, VISIBILITY, POINTS, PRIMVAR, EYE, PARAMS, RESYNC = \
@@ -75,8 +77,9 @@ class StageChangeQueue:
 class StageFollowing:
     """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
-    `_point_counts` (mesh id -> points sent), `_add_subtree`, `_forget`, `_world_of`, `_link_light`, `_light_params`
-    and the eye and material readers."""
+    `_instance_sources` (prim path an instancer reads -> its owners' paths), `_point_counts` (mesh id -> points
+    sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `_forget_id`, `warnings`, `_world_of`,
+    `_link_light`, `_light_params` and the eye and material readers."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -95,13 +98,19 @@ class StageFollowing:
         changed = [p for p in changed if not skel_root_of(self._nearest_prim(p))]
         done = []
         for path in sorted(set(resynced)):
-            path = self._resync_root(path)
-            if not any(path.HasPrefix(d) for d in done):
-                self._resync(path)
-                done.append(path)
+            for root in self._resync_roots(path):
+                if not any(root.HasPrefix(d) for d in done):
+                    self._resync(root)
+                    done.append(root)
         for path in changed:
             if not any(path.HasPrefix(d) for d in done):
-                self._apply_property_change(path)
+                try:
+                    with reading(path):
+                        self._apply_property_change(path)
+                except EyeRenderError as e:  # a bad value where no prim owns it (a material): the edit only
+                    if self.strict:  # an unreadable texture it brought in (its warning is above)
+                        raise
+                    self.warnings.append(f"{e} (edit ignored)")
         return self.last_changes
 
     def _nearest_prim(self, path):
@@ -111,9 +120,48 @@ class StageFollowing:
             path = path.GetParentPath()
         return self.stage.GetPrimAtPath(path)
 
-    def _resync_root(self, path):
-        """The path to re-populate for a resync of `path`: its nearest PointInstancer ancestor (which owns its
-        prototypes), else itself."""
+    def _resync_roots(self, *paths):
+        """The paths to re-populate for a resync of `paths` (none under another): each one's nearest PointInstancer
+        ancestor (which owns its prototypes), else itself; and, until none is left, the owner of every instancer
+        that reads a prim at, above or under one of them (a prototype root elsewhere, a native instance) or the
+        prototype of a native instance under one (so that a new instance joins its prototype's group)."""
+        roots = []
+        for path in paths:
+            root = self._point_instancer_root(path)
+            if not any(root.HasPrefix(r) for r in roots):
+                roots = [r for r in roots if not r.HasPrefix(root)] + [root]
+        prototypes = {}  # root -> the prototypes of the native instances under it
+        grown = True
+        while grown:
+            grown = False
+            for r in roots:
+                if r not in prototypes:
+                    prototypes[r] = self._prototypes_under(r)
+            met = set().union(*(prototypes[r] for r in roots))
+            for source, owners in self._instance_sources.items():
+                if source not in met and not any(source.HasPrefix(r) or r.HasPrefix(source) for r in roots):
+                    continue
+                for owner in owners:
+                    if not any(owner.HasPrefix(r) for r in roots):
+                        roots = [r for r in roots if not r.HasPrefix(owner)] + [owner]
+                        grown = True
+        return sorted(roots)
+
+    def _prototypes_under(self, path):
+        """The prototype paths of the native instances at or under `path` (none when instances are flattened)."""
+        prim = self.stage.GetPrimAtPath(path)
+        if not prim or self._instancing.flatten:
+            return set()
+        found = set()
+        it = iter(Usd.PrimRange(prim))
+        for p in it:
+            if p.IsInstance():
+                found.add(p.GetPrototype().GetPath())
+                it.PruneChildren()
+        return found
+
+    def _point_instancer_root(self, path):
+        """path's nearest PointInstancer ancestor, else path."""
         prim = self.stage.GetPrimAtPath(path)
         p = prim if prim else None
         while p and not p.IsPseudoRoot():
@@ -122,6 +170,19 @@ class StageFollowing:
             p = p.GetParent()
         return path
 
+    def _instanced_roots(self, path, inherited):
+        """The paths to re-populate when a property of the prim at `path` changes because instancers read it: the
+        owners of those that read it or an ancestor (a prototype, a native instance) and, for an inherited property
+        (`inherited`: transform, visibility), those reading a prim under it that are not themselves under it (the
+        ones under it re-populate as its other owners do); none when no instancer reads it."""
+        owners = set()
+        for source, source_owners in self._instance_sources.items():
+            if path.HasPrefix(source):
+                owners |= source_owners
+            elif inherited and source.HasPrefix(path):
+                owners |= {o for o in source_owners if not o.HasPrefix(path)}
+        return self._resync_roots(*sorted(owners)) if owners else []
+
     def _resync(self, path):
         """Removes every delegate prim added for prims at or under `path`, then re-adds what the stage holds there."""
         removed = 0
@@ -129,9 +190,16 @@ class StageFollowing:
             for prim_id in self._owned.pop(owner):
                 self.store.remove_prim(prim_id)
                 removed += 1
-                self._forget(prim_id)
+                self._forget_id(prim_id)
         self._updaters = [u for u in self._updaters if not u[0].HasPrefix(path)]
+        for source in list(self._instance_sources):
+            owners = {o for o in self._instance_sources[source] if not o.HasPrefix(path)}
+            if owners:
+                self._instance_sources[source] = owners
+            else:
+                del self._instance_sources[source]
         self._skinning.remove_under(path)
+        self._skipped = {o for o in self._skipped if not o.HasPrefix(path)}
         before = sum(len(ids) for ids in self._owned.values())
         prim = self.stage.GetPrimAtPath(path)
         if prim and prim.IsActive() and not self._pruned_above(prim):
@@ -158,15 +226,27 @@ class StageFollowing:
         prim = self.stage.GetPrimAtPath(path.GetPrimPath())
         if not prim:
             return
+        # A skipped prim at, under or above the edit may render now: populated again (and skipped again if not).
+        for owner in [o for o in self._skipped if o.HasPrefix(prim.GetPath()) or prim.GetPath().HasPrefix(o)]:
+            for root in self._resync_roots(owner):
+                self._resync(root)
         material = next((m for m in self._materials if path.HasPrefix(Sdf.Path(m))), None)
         kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
             return
+        instanced = [] if material else self._instanced_roots(prim.GetPath(), inherited=kind in (TRANSFORM, VISIBILITY))
+        if instanced:  # instancers read it (a prototype's prim, a native instance): their instances are read again
+            for root in instanced:
+                self._resync(root)
+            self.last_changes["instancer"] += 1
+            if kind not in (TRANSFORM, VISIBILITY) or any(prim.GetPath().HasPrefix(r) for r in instanced):
+                return
         attr = prim.GetAttribute(path.name)
         if attr and attr.ValueMightBeTimeVarying() and material is None:
             # Now animated: what set_time re-reads was decided at populate, so the prim (and what inherits from
             # it) is populated again, with its updaters.
-            self._resync(self._resync_root(prim.GetPath()))
+            for root in self._resync_roots(prim.GetPath()):
+                self._resync(root)
             return
         if material is not None:
             self.store.set_material_params(material, materials.read_material(
@@ -187,7 +267,13 @@ class StageFollowing:
         PointInstancer's copies, topology, primvar layout, a skinned mesh's inputs) re-populates the prim."""
         prim_id = prim.GetPath().pathString
         in_place = prim_id in self._owned.get(prim.GetPath(), []) and not prim.IsA(UsdGeom.PointInstancer)
-        if not (in_place and self._refresh_in_place(prim, prim_id, kind)):
+        try:
+            with reading(prim.GetPath()):
+                done = in_place and self._refresh_in_place(prim, prim_id, kind)
+        except EyeRenderError as e:  # the edit made the prim unrenderable: skipped, as populate would
+            self._skip(prim.GetPath(), e)
+            return
+        if not done:
             self._resync(prim.GetPath())
 
     def _refresh_in_place(self, prim, prim_id, kind):

@@ -6,11 +6,13 @@ Renders the stage at one frame at a few time budgets twice -- with the automatic
 feature on (MNEE for every light, the all-solutions search, sclera scattering) -- and compares each image with a
 long reference rendered with every feature on. Writes, next to the output:
   <stem>.reference.exr  the reference (reused by later runs when stage, frame, camera, size and spp match)
-  <stem>.study.csv      budget, mode, samples, seconds, relative RMSE over the eyes' pixels and over the frame
-  <stem>.study.png      the table as a plot (when matplotlib is installed)
-and the automatic plan's image at the largest budget as outputImagePath. Relative RMSE = sqrt(mean((img - ref)^2))
-/ mean(ref), over RGB; the eyes' pixels are those whose first hit (primId AOV) is an eye prim. A trimmed version
-drops the worst 0.1% of pixels (one firefly in the reference otherwise decides the number); both are in the table.
+  <stem>.study.csv      mode, budget, samples, seconds, relative RMSE, noise and bias over the eyes' pixels and
+                        over the frame
+  <stem>.study.png      the table as a plot (unless --no-plot)
+and the automatic plan's image at the largest budget as outputImagePath. Each budget is rendered with two seeds;
+the relative error per pixel is (img - ref) / sqrt(ref^2 + 0.01 mean(ref)^2) over RGB, so black pixels do not
+divide by zero, and the two seeds split its RMSE into noise and bias (eyerender.image_error). The eyes' pixels are
+those whose first hit (primId AOV) is an eye prim.
 """
 import argparse
 import csv
@@ -23,6 +25,7 @@ import numpy as np
 
 from .console import ProgressBar
 from .errors import EyeRenderError, run_command
+from .image_error import error_noise_bias
 from .job import COMPLEXITY_REFINE_LEVELS, open_stage
 
 STUDY_ATTRIBUTE = "eyerender:study"  # the reference EXR's key: what it was rendered from
@@ -43,34 +46,9 @@ def build_parser():
     p.add_argument("--reference-spp", type=int, default=1024, help="reference samples per pixel (default 1024)")
     p.add_argument("--threads", type=int, default=0)
     p.add_argument("--new-reference", action="store_true", help="re-render the reference even if one matches")
+    p.add_argument("--no-plot", action="store_true", help="do not write <stem>.study.png")
     p.add_argument("--quiet", "-q", action="store_true")
     return p
-
-
-def rel_rmse(img, ref, mask=None):
-    """sqrt(mean over pixels (and RGB) of (img - ref)^2) / mean(ref), over `mask` (bool (h, w)) or the frame."""
-    a, b = img[:, :, :3], ref[:, :, :3]
-    if mask is not None:
-        if not mask.any():
-            return float("nan")
-        a, b = a[mask], b[mask]
-    mean = float(b.mean())
-    return float(np.sqrt(((a - b) ** 2).mean()) / mean) if mean > 0 else float("nan")
-
-
-def trimmed_rel_rmse(img, ref, mask=None, keep=0.999):
-    """rel_rmse without the worst (1 - keep) of the pixels by squared difference: a single firefly (in the image or
-    the reference) otherwise decides the whole number."""
-    a, b = img[:, :, :3], ref[:, :, :3]
-    if mask is not None:
-        if not mask.any():
-            return float("nan")
-        a, b = a[mask], b[mask]
-    a, b = a.reshape(-1, 3), b.reshape(-1, 3)
-    d2 = ((a - b) ** 2).mean(axis=1)
-    kept = d2 <= np.quantile(d2, keep)
-    mean = float(b[kept].mean())
-    return float(np.sqrt(d2[kept].mean()) / mean) if mean > 0 else float("nan")
 
 
 def eye_mask(session, prim_ids, eye_prims):
@@ -139,7 +117,8 @@ def run(argv=None):
     stem = os.path.splitext(args.outputImagePath)[0]
     _write_table(rows, stem + ".study.csv")
     print(f"eyestudy: {int(mask.sum())} eye pixels; reference {ref_path}; table {stem}.study.csv")
-    _plot(rows, stem + ".study.png", progress)
+    if not args.no_plot:
+        _plot(rows, stem + ".study.png")
     return 0
 
 
@@ -172,24 +151,33 @@ def _progress(quiet, msg):
         print(f"eyestudy: {msg}", file=sys.stderr)
 
 
+SEEDS = (0, 1)  # two independent renders per budget: their difference is noise, what they share is bias
+
+
 def _measure(args, budgets, make_session, overrides, ref, mask):
-    """One table row per mode and budget: samples, seconds and errors against the reference `ref` (over the eyes'
-    pixels `mask` and the frame). Writes the plan's image at the largest budget as the output."""
+    """One table row per mode and budget: samples, seconds, and relative RMSE, noise and bias against the reference
+    `ref` (over the eyes' pixels `mask` and over the frame) from one render per seed. Writes the plan's image
+    (first seed) at the largest budget as the output."""
     rows = []
     for mode, settings, ov in (("plan", {}, overrides), ("every feature", EVERY_FEATURE, None)):
-        session = make_session(settings, ov)
+        sessions = [make_session(settings, ov, seed=seed) for seed in SEEDS]
         for budget in budgets:
-            bar = _bar(args, f"{mode} {budget:g} s")
-            stats = session.render(spp=1 << 20, time_limit=budget, progress=bar)
-            bar.finish()
-            img = session.image("color")
-            rows.append({"mode": mode, "budget_s": budget, "spp": stats["samples_per_pixel"],
-                         "seconds": stats["seconds"], "eye_rel_rmse": rel_rmse(img, ref, mask),
-                         "frame_rel_rmse": rel_rmse(img, ref),
-                         "eye_trimmed": trimmed_rel_rmse(img, ref, mask), "frame_trimmed": trimmed_rel_rmse(img, ref),
-                         "eye_pixels": int(mask.sum())})
+            imgs, spp, seconds = [], [], []
+            for seed, session in zip(SEEDS, sessions):
+                bar = _bar(args, f"{mode} {budget:g} s seed {seed}")
+                stats = session.render(spp=1 << 20, time_limit=budget, progress=bar)
+                bar.finish()
+                imgs.append(session.image("color"))
+                spp.append(stats["samples_per_pixel"])
+                seconds.append(stats["seconds"])
+            row = {"mode": mode, "budget_s": budget, "spp": min(spp), "seconds": sum(seconds) / len(seconds)}
+            for region, m in (("eye", mask), ("frame", None)):
+                rmse, noise, bias = error_noise_bias(imgs[0], imgs[1], ref, m)
+                row.update({f"{region}_rel_rmse": rmse, f"{region}_noise": noise, f"{region}_bias": bias})
+            row["eye_pixels"] = int(mask.sum())
+            rows.append(row)
             if mode == "plan" and budget == budgets[-1]:
-                session.write(args.outputImagePath)
+                sessions[0].write(args.outputImagePath)
     return rows
 
 
@@ -199,34 +187,37 @@ def _write_table(rows, csv_path):
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    print("| mode | budget s | spp | seconds | eye rel RMSE | frame rel RMSE | eye (trimmed 0.1%) | frame (trimmed) |\n"
-          "|---|--:|--:|--:|--:|--:|--:|--:|")
+    print("| mode | budget s | spp | seconds | eye rel RMSE | eye noise | eye bias | frame rel RMSE | frame noise | "
+          "frame bias |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
     for r in rows:
         print(f"| {r['mode']} | {r['budget_s']:g} | {r['spp']} | {r['seconds']:.1f} | {r['eye_rel_rmse']:.4f} | "
-              f"{r['frame_rel_rmse']:.4f} | {r['eye_trimmed']:.4f} | {r['frame_trimmed']:.4f} |")
+              f"{r['eye_noise']:.4f} | {r['eye_bias']:.4f} | {r['frame_rel_rmse']:.4f} | {r['frame_noise']:.4f} | "
+              f"{r['frame_bias']:.4f} |")
 
 
-def _plot(rows, path, progress):
-    try:
-        import matplotlib
+def _plot(rows, path):
+    """Relative RMSE (solid) and bias (dotted) against seconds per mode, eyes and frame side by side."""
+    import matplotlib
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        progress("matplotlib is not installed: no plot")
-        return
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, 2, figsize=(8, 3.4))
-    for ax, key, title in ((axes[0], "eye_trimmed", "eyes' pixels (trimmed 0.1%)"),
-                           (axes[1], "frame_trimmed", "frame (trimmed 0.1%)")):
-        for mode, style in (("plan", "o-"), ("every feature", "s--")):
+    for ax, region, title in ((axes[0], "eye", "eyes' pixels"), (axes[1], "frame", "frame")):
+        for mode, marker, color in (("plan", "o", "C0"), ("every feature", "s", "C1")):
             sel = [r for r in rows if r["mode"] == mode]
-            ax.loglog([r["seconds"] for r in sel], [r[key] for r in sel], style, label=mode)
+            t = [r["seconds"] for r in sel]
+            ax.loglog(t, [r[f"{region}_rel_rmse"] for r in sel], marker + "-", color=color, label=f"{mode} RMSE")
+            ax.loglog(t, [r[f"{region}_bias"] for r in sel], marker + ":", color=color, label=f"{mode} bias")
         ax.set_xlabel("render seconds")
-        ax.set_ylabel("relative RMSE")
+        ax.set_ylabel("relative error")
         ax.set_title(title)
-        ax.legend()
+        ax.legend(fontsize="small")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    os.replace(tmp, path)
     print(f"eyestudy: plot {path}")
 
 

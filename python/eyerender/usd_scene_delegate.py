@@ -1,8 +1,8 @@
 """The USD scene delegate (UsdImagingDelegate's role): populates the hdeye render index from a Usd.Stage and keeps
 it current as time moves.
 
-Every supported prim becomes one delegate prim with the same path (instance proxies and point-instanced copies
-get their own paths: instancing is flattened into separate prims that share nothing yet). `populate` reads the
+Every supported prim becomes one delegate prim with the same path; instances (PointInstancers, instanceable prims)
+become hdeye instancers over prototype prims added once (instancing.py). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
 matching dirty bits. What each `set_time` pushed is counted in `last_update`. Edits made to the stage after
@@ -21,6 +21,7 @@ references and PointInstancers, UsdSkel (skinned points, blend shapes, rigid bin
 and listed once in `warnings`.
 """
 import collections
+import contextlib
 
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade, UsdSkel
@@ -28,35 +29,52 @@ from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
+from .instancing import Instancing
 from .skinning import SkinningError, StageSkinning
+from .textures import TextureWarning
 from .usd_values import to_float_array as _array
 from .usd_values import to_matrix as _matrix
 from .usd_values import varies as _varies
+from .validation import check_transform, reading
 
 PRIMVARS = ("displayColor", "normals", "rest")
+
+
+def _has_skel_binding(prim):
+    """Whether prim has joint influences or blend shapes authored (UsdSkel.BindingAPI)."""
+    if not prim.HasAPI(UsdSkel.BindingAPI):
+        return False
+    api = UsdSkel.BindingAPI(prim)
+    return api.GetJointIndicesPrimvar().HasAuthoredValue() or bool(api.GetBlendShapeTargetsRel().GetTargets())
 
 
 class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
     def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
-                 cornea_model=None):
+                 cornea_model=None, strict=False, flatten_instances=False):
         """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
-        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders."""
+        eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders; strict: a texture that cannot be read
+        fails populate() (EyeRenderError) instead of being a warning; flatten_instances: every instance as its
+        own prims (the reference instancing is compared with) instead of shared instancers."""
         self.stage, self.store = stage, store
         self.time = Usd.TimeCode(time)
         self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
         self.refine_level = refine_level
         self.cornea_model = cornea_model
+        self.strict = strict
         self.cameras = []        # camera prim paths, in traversal order
         self.eyes = []           # eye prim paths (meshes and analytic)
+        self.lights = []         # light prim paths
         self.warnings = []       # one line each: what was skipped or ignored
         self.last_update = collections.Counter()
         self._xforms = UsdGeom.XformCache(self.time)
         self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
         self._owned = {}         # owner prim path -> delegate prim ids it added
         self._owner = None       # the prim _add_prim is adding
+        self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
+        self._skipped = set()    # owner prim paths skipped (a later edit may fix them: stage_notices re-adds)
         self._point_counts = {}  # mesh id -> number of points its topology was built for
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
@@ -68,6 +86,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._lights = {}        # light prim path -> its prim
         self._link_excludes = {}  # light prim path -> (not lit, not shadowing) rprim ids, where linked
         self._populated = False
+        self._instancing = Instancing(self, flatten=flatten_instances)
 
     # -- public ------------------------------------------------------------------------------------------------
 
@@ -86,6 +105,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return dict(self._rigs.shell_of) if self._rigs else {}
 
     def _add_subtree(self, root):
+        """Adds every prim under root; strict: a texture found unreadable under it is an EyeRenderError."""
+        known = len(self.warnings)
         it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
         for prim in it:
             if prim.IsPseudoRoot():
@@ -94,9 +115,38 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             if imageable and imageable.ComputePurpose() not in self.purposes:
                 it.PruneChildren()
                 continue
-            if self._add_prim(prim):
+            try:
+                with reading(prim.GetPath()):
+                    if prim.IsInstance() and not self._instancing.flatten:
+                        self._instancing.add_native_instance(prim)
+                        handled = True
+                    else:
+                        handled = self._add_prim(prim)
+            except EyeRenderError as e:  # this prim cannot be rendered: the rest of the stage still can
+                self._skip(prim.GetPath(), e)
+                handled = True
+            if handled:
                 it.PruneChildren()
+        self._instancing.finish()
+        unreadable = [w for w in self.warnings[known:] if isinstance(w, TextureWarning)]
+        if self.strict and unreadable:
+            raise EyeRenderError(str(unreadable[0]).split("; ")[0])
         self._link_lights()
+
+    def _skip(self, owner, error):
+        """Drops what prim `owner` added (it failed part-way through, or an edit made it unreadable) with one
+        warning ending '(skipped)'."""
+        self._forget(owner)
+        self._skipped.add(owner)
+        self.warnings.append(f"{error} (skipped)")
+
+    def _forget(self, owner):
+        """Removes every delegate prim owner prim `owner` added (its own id too, which the store may hold before
+        `_own` records it), its updaters, and its ids in the lists and light-linking tables."""
+        for prim_id in dict.fromkeys(self._owned.pop(owner, []) + [owner.pathString]):
+            self.store.remove_prim(prim_id)
+            self._forget_id(prim_id)
+        self._updaters = [u for u in self._updaters if u[0] != owner]
 
     def _link_lights(self):
         """Resolves each light's light and shadow link collections over the rprims, once every rprim is known (after
@@ -113,18 +163,21 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._link_excludes[prim_id] = excludes
         return self._link_excludes.get(prim_id) != before
 
-    def _light_params(self, prim, time):
-        """A light's LightParams at `time` with the rprims its link collections leave out."""
-        return lights.with_links(lights.read_light(prim, time), self._link_excludes.get(prim.GetPath().pathString))
+    def _light_params(self, prim, time, warnings=None):
+        """A light's LightParams at `time` with the rprims its link collections leave out (texture warnings go to
+        `warnings`, a list, if given)."""
+        return lights.with_links(lights.read_light(prim, time, warnings),
+                                 self._link_excludes.get(prim.GetPath().pathString))
 
     def set_time(self, time):
         """Moves to `time`, pushing only what varies; returns (and keeps in last_update) the counts by kind."""
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
-        for _, kind, update in self._updaters:
-            update(self.time)
-            self.last_update[kind] += 1
+        with reading(f"time {self.time.GetValue():g}"):
+            for _, kind, update in self._updaters:
+                update(self.time)
+                self.last_update[kind] += 1
         return self.last_update
 
     def _track(self, entry, owner=None):
@@ -135,9 +188,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _own(self, prim_id):
         self._owned.setdefault(self._owner, []).append(prim_id)
 
-    def _forget(self, prim_id):
+    def _forget_id(self, prim_id):
         """Drops a removed delegate prim from the lists and light-linking tables that name it."""
-        for ids in (self.eyes, self.cameras):
+        self._point_counts.pop(prim_id, None)
+        for ids in (self.eyes, self.cameras, self.lights):
             if prim_id in ids:
                 ids.remove(prim_id)
         self._rprims.pop(prim_id, None)
@@ -154,7 +208,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if prim.IsA(UsdSkel.Root):  # its skinned prims, before they are added
             self._skinning.add_root(prim)
         if prim.IsA(UsdGeom.PointInstancer):
-            self._add_point_instancer(prim)
+            self._instancing.add_point_instancer(prim)
             return True
         if prim.IsA(UsdGeom.Mesh):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
@@ -175,13 +229,67 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._add_analytic_eye(prim)
         return False
 
-    def _world_of(self, prim):
-        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint."""
+    # -- what instancing.py uses --------------------------------------------------------------------------------
+
+    def world_of(self, prim):
+        """prim's local-to-world transform at the current time (Gf.Matrix4d)."""
+        return self._world_of(prim)
+
+    @property
+    def xform_cache(self):
+        """The UsdGeom.XformCache at the current time."""
+        return self._xforms
+
+    def add_updater(self, kind, update):
+        """Registers update(time), called by set_time and counted under `kind` in last_update; owned by the prim
+        being added (see owning)."""
+        self._track((kind, update))
+
+    @contextlib.contextmanager
+    def owning(self, owner, sources=()):
+        """Within it, every delegate prim and updater added (instancers included, see own_prim) belongs to prim path
+        `owner` and goes when it re-populates; an edit at, above or under a path in `sources` (prototype roots and
+        instance prims the owner reads) re-populates the owner (stage_notices.py)."""
+        previous, self._owner = self._owner, owner
+        for source in sources:
+            self._instance_sources.setdefault(source, set()).add(owner)
         try:
-            return self._skinning.world(prim, self._xforms, self.time)
+            yield
+        finally:
+            self._owner = previous
+
+    def own_prim(self, prim_id):
+        """Owns a delegate prim that has no prim of its own (an instancer) by the current owner."""
+        self._own(prim_id)
+
+    def is_cornea_shell(self, prim):
+        """Whether prim is an eye's cornea shell, left out of the render index (eye_rigs.py)."""
+        return bool(prim) and self._rigs is not None and self._rigs.is_shell(prim)
+
+    def transform_varies(self, prim):
+        return self._transform_varies(prim)
+
+    def add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
+        """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
+        (or the world, with no instancer_id); `binding`: the prim whose bound material it gets."""
+        if prim.IsA(UsdGeom.Mesh):
+            self._add_mesh(prim, prim_id, transform, instancer_id, binding)
+        elif prim.IsA(UsdGeom.Gprim):
+            if not self._add_gprim(prim, prim_id, transform, instancer_id, binding):
+                return
+        else:
+            self._add_analytic_eye(prim, prim_id, transform)
+        self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
+
+    def _world_of(self, prim):
+        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint; raises
+        EyeRenderError for one no prim can use (validation.check_transform)."""
+        try:
+            world = self._skinning.world(prim, self._xforms, self.time)
         except SkinningError as e:
             self._skinning.drop(self._skinning.rigid_anchor(prim), e)
-            return self._xforms.GetLocalToWorldTransform(prim)
+            world = self._xforms.GetLocalToWorldTransform(prim)
+        return check_transform(prim.GetPath(), world)
 
     def _transform_varies(self, prim):
         """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
@@ -227,9 +335,11 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int32)
         indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int32)
         points = mesh.GetPointsAttr().Get(time)
-        if points is None or len(points) == 0 or len(counts) == 0:
+        if points is None or len(counts) == 0:
             raise EyeRenderError(f"{path}: mesh has no points or no faces")
         points = _array(points, 3, f"{path}: points")
+        if len(points) == 0:
+            raise EyeRenderError(f"{path}: mesh has no points")
         if counts.min() < 3:
             raise EyeRenderError(f"{path}: faceVertexCounts holds a face with fewer than 3 vertices")
         if int(counts.sum()) != len(indices):
@@ -239,30 +349,32 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             raise EyeRenderError(f"{path}: faceVertexIndices refers to points outside [0, {len(points)})")
         return counts, indices, points
 
-    def _add_mesh(self, prim, prim_id, world):
+    def _add_mesh(self, prim, prim_id, world, instancer_id="", binding=None):
         self._rprims[prim_id] = prim.GetPath()
         mesh = UsdGeom.Mesh(prim)
         path = prim.GetPath()
+        check_transform(prim_id, world)  # an instance's transform composes the instancer's
         counts, indices, points = self._topology(prim, mesh, self.time)
         skinned = self._skinned_points_of(prim, prim_id)
         if skinned is not None:
             points = self._skinned_points(skinned, self.time, points)
             if self._skinning.get(prim) is None and skinned.moves_frame:  # dropped: its bind frame, unskinned
-                world = self._xforms.GetLocalToWorldTransform(prim)
+                world = check_transform(prim_id, self._xforms.GetLocalToWorldTransform(prim))
         subdivision = mesh_topology.Subdivision(mesh, counts, indices, len(points), self.time)
         self._warn_once(subdivision.warnings)
         level = self.refine_level if subdivision.refines else 0
         self._point_counts[prim_id] = len(points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
-        material_id, st_name = self._bind_material(prim)
+        material_id, st_name = self._bind_material(binding or prim)
         if eyes.is_eye(prim):
-            eye = self._eye_mesh_params(prim, self.time)
+            eye = self._eye_mesh_params(prim, self.time, self.warnings)
             self.store.add_eye_mesh(prim_id, counts, indices, points, eye, _matrix(world), material_id, level, left)
             self.eyes.append(prim_id)
             self._own_top_level(prim, prim_id)
             self._track_eye(prim, prim_id, mesh=True)
         else:
-            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left)
+            self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, level, left,
+                                instancer_id=instancer_id)
             self._own_top_level(prim, prim_id)
         self._push_mesh_tags(prim, prim_id, subdivision, len(counts))
         names = {"st": st_name, **{n: n for n in PRIMVARS}}
@@ -338,19 +450,22 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return None
 
     def _own_top_level(self, prim, prim_id):
-        """Owns a mesh added for itself (not as a PointInstancer's copy, which its instancer owns)."""
+        """Owns a prim added for itself (an instance copy is owned by add_instanced_prim, as its instancer is)."""
         if prim_id == prim.GetPath().pathString:
             self._own(prim_id)
 
     def _skinned_points_of(self, prim, prim_id):
-        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned)."""
+        """The SkinnedPrim deforming this mesh's points, or None (also for instanced copies: not skinned, one
+        warning; a native instance's prototype prims, which no SkelRoot populate reaches, warn on their joint
+        influences)."""
         skinned = self._skinning.get(prim)
-        if skinned is None or not skinned.deforms_points:
-            return None
         if prim_id != prim.GetPath().pathString:
-            warning = f"{prim.GetPath()}: point-instanced copies of a skinned mesh render unskinned"
-            if warning not in self.warnings:
-                self.warnings.append(warning)
+            if (skinned is not None and skinned.deforms_points) or (prim.IsInPrototype() and _has_skel_binding(prim)):
+                warning = f"{prim.GetPath()}: instanced copies of a skinned mesh render unskinned"
+                if warning not in self.warnings:
+                    self.warnings.append(warning)
+            return None
+        if skinned is None or not skinned.deforms_points:
             return None
         return skinned
 
@@ -394,9 +509,9 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                                  f"{0 if rest is None else len(rest)} points, the mesh has {count}")
         self.store.set_primvar(prim_id, "rest", "vertex", _array(rest, 3, f"{prim.GetPath()}: points at eye:restTime"))
 
-    def _eye_mesh_params(self, prim, time):
+    def _eye_mesh_params(self, prim, time, warnings=None):
         """An eye mesh's EyeParams at `time`, with its iris projection (eye:irisProjection) resolved."""
-        eye = eyes.read_eye_params(prim, time, self.cornea_model)
+        eye = eyes.read_eye_params(prim, time, self.cornea_model, warnings)
         projection = self._iris_projection(prim, time)
         if projection is not None:
             eye.iris_projection = projection
@@ -445,80 +560,48 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             values, interpolation = mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation()
         else:
             return
-        if values is None or len(values) == 0:
+        if values is None or (hasattr(values, "__len__") and len(values) == 0):
             return
-        components = {"st": 2}.get(name, 3)
-        self.store.set_primvar(prim_id, name, str(interpolation),
-                               _array(values, components, f"{prim.GetPath()}: primvars:{source}"))
+        try:
+            values = _array(values, {"st": 2}.get(name, 3), f"{prim.GetPath()}: primvars:{source}")
+        except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
+            self.warnings.append(f"{e}: ignored")
+            return
+        self.store.set_primvar(prim_id, name, str(interpolation), values)
 
-    def _add_gprim(self, prim):
+    def _add_gprim(self, prim, prim_id=None, world=None, instancer_id="", binding=None):
         tessellated = tessellate_gprim(prim, self.time)
         if tessellated is None:
             self.warnings.append(f"{prim.GetPath()}: {prim.GetTypeName()} is not rendered (not supported)")
-            return
+            return False
         counts, indices, points = tessellated
-        prim_id = prim.GetPath().pathString
+        material_id, _ = self._bind_material(binding or prim)
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
         self._rprims[prim_id] = prim.GetPath()
-        material_id, _ = self._bind_material(prim)
-        self.store.add_mesh(prim_id, counts, indices, points, _matrix(self._world_of(prim)), material_id, 0, False)
-        self._own(prim_id)
+        world = self._world_of(prim) if world is None else world
+        self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, 0, False,
+                            instancer_id=instancer_id)
+        self._own_top_level(prim, prim_id)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
-        self._track_transform(prim)
+        if own:
+            self._track_transform(prim)
         self._track_visibility(prim, prim_id)
+        return True
 
     def _add_curves_or_points(self, prim):
-        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data skips the prim with a warning."""
+        """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data raises EyeRenderError (the prim
+        is skipped)."""
         prim_id = prim.GetPath().pathString
         material_id, _ = self._bind_material(prim)
         add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
         self._rprims[prim_id] = prim.GetPath()
-        try:
-            animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
-        except EyeRenderError as e:
-            self.warnings.append(f"{e}; not rendered")
-            return
+        animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
         self._own(prim_id)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
         if _varies(animated):
             self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t)))
-
-    # -- point instancers --------------------------------------------------------------------------------------
-
-    def _add_point_instancer(self, prim):
-        """Flattens a PointInstancer: every instance of every mesh under its prototypes becomes a mesh prim."""
-        instancer = UsdGeom.PointInstancer(prim)
-        ids = self._add_instances(prim, instancer, self.time)
-        self._owned[prim.GetPath()] = ids  # the same list: updates replace its contents
-        attrs = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
-                 instancer.GetProtoIndicesAttr(), instancer.GetInvisibleIdsAttr()]
-        if _varies(attrs) or self._transform_varies(prim):
-            def update(t):
-                for prim_id in ids:
-                    self.store.remove_prim(prim_id)
-                ids[:] = self._add_instances(prim, instancer, t)
-            self._track(("instancer", update))
-
-    def _add_instances(self, prim, instancer, time):
-        prototypes = instancer.GetPrototypesRel().GetTargets()
-        transforms = instancer.ComputeInstanceTransformsAtTime(time, time)
-        proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
-        mask = instancer.ComputeMaskAtTime(time)
-        world = self._xforms.GetLocalToWorldTransform(prim)
-        ids = []
-        for k, (proto, instance) in enumerate(zip(proto_indices, transforms)):
-            if (mask and not mask[k]) or not 0 <= proto < len(prototypes):
-                continue
-            root = self.stage.GetPrimAtPath(prototypes[proto])
-            for mesh_prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)):
-                if not mesh_prim.IsA(UsdGeom.Mesh) or (self._rigs and self._rigs.is_shell(mesh_prim)):
-                    continue
-                relative, _ = self._xforms.ComputeRelativeTransform(mesh_prim, root.GetParent())
-                relative_path = mesh_prim.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
-                prim_id = f"{prim.GetPath()}/instance_{k}/{relative_path}"
-                self._add_mesh(mesh_prim, prim_id, relative * instance * world)
-                ids.append(prim_id)
-        return ids
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
 
@@ -537,9 +620,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString
         self._lights[prim_id] = prim
-        self.store.add_light(prim_id, lights.light_type(prim), lights.read_light(prim, self.time),
-                             _matrix(self._world_of(prim)))
+        params = self._light_params(prim, self.time, self.warnings)
+        self.store.add_light(prim_id, lights.light_type(prim), params, _matrix(self._world_of(prim)))
         self._own(prim_id)
+        self.lights.append(prim_id)
         self.warnings.extend(lights.unsupported_light_features(prim, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
@@ -561,14 +645,17 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                     path, materials.read_material(material, t)[0])), owner=material.GetPath())
         return path, self._materials[path]
 
-    def _add_analytic_eye(self, prim):
-        prim_id = prim.GetPath().pathString
+    def _add_analytic_eye(self, prim, prim_id=None, world=None):
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
         self._rprims[prim_id] = prim.GetPath()
-        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model),
-                                    _matrix(self._world_of(prim)))
+        world = self._world_of(prim) if world is None else world
+        self.store.add_analytic_eye(prim_id, eyes.read_eye_params(prim, self.time, self.cornea_model, self.warnings),
+                                    _matrix(world))
         self.eyes.append(prim_id)
-        self._own(prim_id)
-        self._track_transform(prim)
+        self._own_top_level(prim, prim_id)
+        if own:
+            self._track_transform(prim)
         self._track_eye(prim, prim_id)
 
     def _track_eye(self, prim, prim_id, mesh=False):

@@ -12,10 +12,12 @@ def to_matrix(m):
 
 def to_float_array(values, components, what):
     """A Vt array (or sequence) as a C-contiguous float32 (n, components) view, copied only if its layout needs it."""
-    a = np.asarray(values, dtype=np.float32)
-    if a.size % components:
+    try:
+        a = np.asarray(values, dtype=np.float32)
+    except (TypeError, ValueError):
+        raise EyeRenderError(f"{what} is a {type(values).__name__}, not an array of numbers") from None
+    if a.ndim != 2 or a.shape[1] != components:  # a flat float[] is not a point3f[], whatever its length
         raise EyeRenderError(f"{what} does not hold {components}-component values")
-    a = a.reshape(-1, components)
     if not np.isfinite(a).all():
         raise EyeRenderError(f"{what} holds NaN or infinite values")
     return np.ascontiguousarray(a)

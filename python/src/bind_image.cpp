@@ -1,16 +1,30 @@
-// Image files: EXR (named float planes, string header attributes) and tone-mapped PNG previews, written atomically.
+// Image files: EXR (named float planes, string header attributes) and tone-mapped PNG previews, written atomically;
+// any format OpenImageIO reads or writes, at any bit depth, for tools and tests.
 #include "bindings.h"
 
 #include "hdeye/image/imageWriter.h"
 
+#include <OpenImageIO/imageio.h>
 #include <nanobind/stl/map.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <cstring>
 #include <stdexcept>
 
 namespace hdeye::python {
+namespace {
+
+OIIO::TypeDesc PixelType(const std::string& name) {
+  if (name == "uint8") return OIIO::TypeDesc::UINT8;
+  if (name == "uint16") return OIIO::TypeDesc::UINT16;
+  if (name == "half") return OIIO::TypeDesc::HALF;
+  if (name == "float") return OIIO::TypeDesc::FLOAT;
+  throw std::invalid_argument("pixel type '" + name + "' is not one of uint8, uint16, half, float");
+}
+
+}  // namespace
 
 void BindImage(nb::module_& m) {
   m.def(
@@ -58,6 +72,46 @@ void BindImage(nb::module_& m) {
         return out;
       },
       nb::arg("path"), "Every channel of an EXR as {name: float32 (height, width)}.");
+  m.def(
+      "write_image",
+      [](const std::string& path, const nb::ndarray<const float, nb::c_contig, nb::device::cpu, nb::ndim<3>>& pixels,
+         const std::string& type, const std::map<std::string, std::string>& attributes) {
+        const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
+        OIIO::ImageSpec spec(w, h, c, PixelType(type));
+        for (const auto& [name, value] : attributes) spec.attribute(name, value);
+        std::vector<float> data(pixels.data(), pixels.data() + pixels.size());
+        nb::gil_scoped_release release;
+        auto out = OIIO::ImageOutput::create(path);
+        if (!out) throw std::runtime_error("cannot write " + path + ": " + OIIO::geterror());
+        if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !out->close())
+          throw std::runtime_error("cannot write " + path + ": " + out->geterror());
+      },
+      nb::arg("path"), nb::arg("pixels"), nb::arg("type") = "uint8",
+      nb::arg("attributes") = std::map<std::string, std::string>{},
+      "Writes float pixels (height, width, channels; row 0 at the top, values as stored: no colour transform) "
+      "in the format the extension names, quantised to `type` (uint8, uint16, half, float). Not atomic: for "
+      "tools and tests.");
+  m.def(
+      "read_image",
+      [](const std::string& path) {
+        std::vector<float> data;
+        int w = 0, h = 0, c = 0;
+        {
+          nb::gil_scoped_release release;
+          auto in = OIIO::ImageInput::open(path);
+          if (!in) throw std::runtime_error("cannot read " + path + ": " + OIIO::geterror());
+          const OIIO::ImageSpec& spec = in->spec();
+          w = spec.width, h = spec.height, c = spec.nchannels;
+          data.resize(std::size_t(w) * h * c);
+          if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, data.data()))
+            throw std::runtime_error("cannot read " + path + ": " + in->geterror());
+        }
+        auto* copy = new float[data.size()];
+        std::memcpy(copy, data.data(), data.size() * sizeof(float));
+        nb::capsule owner(copy, [](void* d) noexcept { delete[] static_cast<float*>(d); });
+        return nb::ndarray<nb::numpy, float, nb::ndim<3>>(copy, {std::size_t(h), std::size_t(w), std::size_t(c)}, owner);
+      },
+      nb::arg("path"), "An image's pixels as float32 (height, width, channels), as stored (no colour transform).");
 }
 
 }  // namespace hdeye::python

@@ -7,6 +7,9 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <stdexcept>
+#include <utility>
+
 namespace hdeye::python {
 
 namespace {
@@ -30,6 +33,19 @@ void ChamberProperty(nb::class_<EyeParams>& cls, const char* name, const char* d
     cls.def_prop_rw(name, get, set, doc);
   else
     cls.def_prop_rw(name, get, set);
+}
+
+/// The MaterialInput of a UsdPreviewSurface input name; throws std::invalid_argument for one no texture drives.
+MaterialInput MaterialInputNamed(const std::string& name) {
+  static const std::pair<const char*, MaterialInput> kNames[] = {
+      {"diffuseColor", MaterialInput::DiffuseColor}, {"emissiveColor", MaterialInput::EmissiveColor},
+      {"roughness", MaterialInput::Roughness},       {"metallic", MaterialInput::Metallic},
+      {"opacity", MaterialInput::Opacity},           {"ior", MaterialInput::Ior},
+      {"normal", MaterialInput::Normal},             {"specularColor", MaterialInput::SpecularColor},
+      {"clearcoat", MaterialInput::Clearcoat},       {"clearcoatRoughness", MaterialInput::ClearcoatRoughness}};
+  for (const auto& [n, input] : kNames)
+    if (name == n) return input;
+  throw std::invalid_argument("'" + name + "' is not a texturable UsdPreviewSurface input");
 }
 
 }  // namespace
@@ -81,13 +97,27 @@ void BindParams(nb::module_& m) {
 
   nb::class_<MaterialParams> material(m, "MaterialParams");
   material.def(nb::init<>())
-      .def_rw("diffuse_texture", &MaterialParams::diffuseTexture)
+      .def(
+          "set_texture",
+          [](MaterialParams& p, const std::string& input, const TextureInput& t) {
+            p.Texture(MaterialInputNamed(input)) = t;
+          },
+          nb::arg("input"), nb::arg("texture"), "Drives a UsdPreviewSurface input (by its name) by a texture.")
+      .def(
+          "texture",
+          [](const MaterialParams& p, const std::string& input) { return p.Texture(MaterialInputNamed(input)); },
+          nb::arg("input"), "The texture driving an input (its texture.file is '' when none does).")
+      .def_rw("opacity_threshold", &MaterialParams::opacityThreshold)
+      .def_rw("use_specular_workflow", &MaterialParams::useSpecularWorkflow)
+      .def_rw("clearcoat", &MaterialParams::clearcoat)
+      .def_rw("clearcoat_roughness", &MaterialParams::clearcoatRoughness)
       .def_rw("roughness", &MaterialParams::roughness)
       .def_rw("metallic", &MaterialParams::metallic)
       .def_rw("opacity", &MaterialParams::opacity)
       .def_rw("ior", &MaterialParams::ior);
   Vec3Property<MaterialParams, &MaterialParams::diffuseColor>(material, "diffuse_color");
   Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
+  Vec3Property<MaterialParams, &MaterialParams::specularColor>(material, "specular_color");
 
   nb::class_<EyeParams> eye(m, "EyeParams");
   ChamberProperty<eyelib::CorneaModel, &eyelib::ChamberParams::model>(eye, "cornea_model");

@@ -97,11 +97,20 @@ void BindPlan(nb::module_& m) {
       .def_ro("float_would_suffice", &EyePlan::floatWouldSuffice)
       .def_ro("why", &EyePlan::why);
 
+  nb::class_<MeshPlan>(m, "MeshPlan", "A subdivision mesh's size on screen and its planned level.")
+      .def_ro("prim", &MeshPlan::prim)
+      .def_ro("pixels", &MeshPlan::pixels, "projected bounding-sphere diameter, pixels (largest over instances)")
+      .def_ro("instances", &MeshPlan::instances)
+      .def_ro("scene_level", &MeshPlan::sceneLevel, "the --complexity level")
+      .def_ro("refine_level", &MeshPlan::refineLevel, "the level it renders")
+      .def_ro("why", &MeshPlan::why);
+
   nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
       .def_ro("width", &RenderPlan::width)
       .def_ro("height", &RenderPlan::height)
       .def_ro("camera", &RenderPlan::camera)
       .def_ro("eyes", &RenderPlan::eyes)
+      .def_ro("meshes", &RenderPlan::meshes, "non-eye subdivision meshes: size on screen, planned level")
       .def_ro("why", &RenderPlan::why, "reasons for the global switches")
       .def("summary_lines", &RenderPlan::SummaryLines, "One line per eye, for printing at render start.")
       .def(

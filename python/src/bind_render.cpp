@@ -25,9 +25,14 @@ void BindRender(nb::module_& m) {
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("dome_light_camera_visibility", &RenderSettings::domeLightCameraVisibility,
+              "camera rays see dome lights (eyerecord: --enableDomeLightVisibility)")
+      .def_rw("texture_filtering", &RenderSettings::textureFiltering,
+              "filter textures over each ray's footprint (off: finest level, point sampled)")
+      .def_rw("texture_footprint_scale", &RenderSettings::textureFootprintScale,
+              "the camera's ray cone as a fraction of a pixel")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
-              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
-      .def_rw("dome_light_visible", &RenderSettings::domeLightVisible, "camera rays see dome lights");
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
 
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)
@@ -43,6 +48,8 @@ void BindRender(nb::module_& m) {
       .def_prop_ro(
           "settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
           nb::rv_policy::reference_internal)
+      .def("warnings", [](RenderDelegate& d) { return d.GetRenderParam()->Warnings(); },
+           "Problems found at sync that did not stop the render (textures that cannot be read), one line each.")
       .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
       .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
 

@@ -9,6 +9,7 @@
 #include "hdeye/prims/renderDelegate.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
 
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
@@ -26,6 +27,17 @@ std::vector<Vec3f> ToPoints(const Points& a) {
 }
 
 std::vector<int> ToInts(const Indices& a) { return {a.data(), a.data() + a.shape(0)}; }
+
+using Matrices = InArray<double, nb::shape<-1, 4, 4>>;
+
+/// n 4x4 float64 matrices in USD's layout (as ToMatrix, each).
+std::vector<Matrix4d> ToMatrices(const Matrices& a) {
+  std::vector<Matrix4d> out(a.shape(0));
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::make_mat4(a.data() + 16 * i);
+  return out;
+}
+
+std::vector<Vec3f> ToColors(const std::optional<Points>& a) { return a ? ToPoints(*a) : std::vector<Vec3f>{}; }
 
 MeshTopology ToTopology(const Indices& counts, const Indices& indices, int refineLevel, bool leftHanded) {
   MeshTopology t;
@@ -116,6 +128,7 @@ void BindScene(nb::module_& m) {
             d["normal_evaluations"] = s.normalEvaluations, d["transform_updates"] = s.transformUpdates;
             d["triangles"] = mesh->TriangleCount();
             d["refine_level"] = mesh->RefineLevel(), d["refine_level_changes"] = s.refineLevelChanges;
+            d["instance_syncs"] = s.instanceSyncs, d["instances_drawn"] = s.instancesDrawn;
             return d;
           },
           "What a mesh's syncs did, counted (topology builds, refinements, stencil evaluations, ...).")
@@ -129,6 +142,14 @@ void BindScene(nb::module_& m) {
             return CopyToNumpy(flat, {mesh->Points().size(), 3});
           },
           "A mesh's rendered points (limit positions if subdivided), object space, float32 (n, 3).")
+      .def(
+          "instancer_sync_count",
+          [](const RenderIndex& index, const PrimId& id) {
+            const Instancer* instancer = index.GetInstancer(id);
+            if (!instancer) throw std::invalid_argument("no instancer " + id);
+            return instancer->SyncCount();
+          },
+          "How many times an instancer was synced.")
       .def(
           "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
           "A render buffer's per-pixel means, float32 (height, width, components).")
@@ -158,13 +179,29 @@ void BindScene(nb::module_& m) {
       .def(
           "add_mesh",
           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
-             const Points& points, const Matrix& transform, const PrimId& material, int refineLevel, bool leftHanded) {
+             const Points& points, const Matrix& transform, const PrimId& material, int refineLevel, bool leftHanded,
+             const PrimId& instancer) {
             s.AddMesh(id, ToTopology(counts, indices, refineLevel, leftHanded), ToPoints(points), ToMatrix(transform),
-                      material);
+                      material, instancer);
           },
           nb::arg("id"), nb::arg("face_vertex_counts"), nb::arg("face_vertex_indices"), nb::arg("points"),
           nb::arg("transform"), nb::arg("material_id") = "", nb::arg("refine_level") = 0,
-          nb::arg("left_handed") = false)
+          nb::arg("left_handed") = false, nb::arg("instancer_id") = "",
+          "A mesh; instancer_id: drawn at every instance of that instancer (add_instancer first).")
+      .def(
+          "add_instancer",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms, const std::optional<Points>& colors) {
+            s.AddInstancer(id, ToMatrices(transforms), ToColors(colors));
+          },
+          nb::arg("id"), nb::arg("transforms"), nb::arg("colors") = nb::none(),
+          "An instancer: (n, 4, 4) float64 instance-to-world transforms in USD's layout, optional (n, 3) colours.")
+      .def(
+          "set_instance_transforms",
+          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms, const std::optional<Points>& colors) {
+            s.SetInstanceTransforms(id, ToMatrices(transforms), ToColors(colors));
+          },
+          nb::arg("id"), nb::arg("transforms"), nb::arg("colors") = nb::none(),
+          "New instances for an instancer: only it and its meshes' instances re-sync.")
       .def(
           "add_eye_mesh",
           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,

@@ -30,10 +30,11 @@ inline std::array<double, 16> FromMatrix(const Matrix4d& m) {
   return a;
 }
 
-void BindParams(nb::module_& m);  ///< bind_params.cpp: camera, light, material and eye parameters
-void BindScene(nb::module_& m);   ///< bind_scene.cpp: the render index, its buffers, the scene store
-void BindPlan(nb::module_& m);    ///< bind_plan.cpp: overrides, rules, the plan and its parts
-void BindRender(nb::module_& m);  ///< bind_render.cpp: settings, the render delegate, the render pass, stats
-void BindImage(nb::module_& m);   ///< bind_image.cpp: EXR and PNG files
+void BindTextures(nb::module_& m);  ///< bind_textures.cpp: texture parameters, textured inputs, texture checks
+void BindParams(nb::module_& m);    ///< bind_params.cpp: camera, light, material and eye parameters
+void BindScene(nb::module_& m);     ///< bind_scene.cpp: the render index, its buffers, the scene store
+void BindPlan(nb::module_& m);      ///< bind_plan.cpp: overrides, rules, the plan and its parts
+void BindRender(nb::module_& m);    ///< bind_render.cpp: settings, the render delegate, the render pass, stats
+void BindImage(nb::module_& m);     ///< bind_image.cpp: EXR and PNG files, any image OpenImageIO handles
 
 }  // namespace hdeye::python

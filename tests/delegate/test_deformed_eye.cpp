@@ -204,7 +204,7 @@ TEST_CASE("on an undeformed eye the re-projection is the rigid mapping, and the 
 // ---------------------------------------------------------------------------------------------------------
 // The measured demonstration: the caustic read back in iris texture space.
 
-TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic; the affine-frame baseline departs", "[render][deformed]") {
+TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic, and the affine-frame baseline departs", "[render][deformed]") {
   const int size = 64, spp = 16;
   Eyeball ball(32, 16, 32, 1);
   const auto cases = Cases(ball.zCentre);
@@ -383,7 +383,7 @@ TEST_CASE("an iris projection that does not cover the hits shades them as sclera
   CHECK_THROWS_WITH(s.Render(1), Catch::Contains("/eye") && Catch::Contains("irisProjection"));
 }
 
-TEST_CASE("an animated eye mesh refines once and re-evaluates stencils per frame; the eye frames follow", "[deformed]") {
+TEST_CASE("an animated eye mesh refines once and re-evaluates stencils per frame, and the eye frames follow", "[deformed]") {
   // Frame after frame of squash and stretch through SetPoints: DirtyPoints only. Topology is refined
   // once; each frame costs one stencil evaluation and one Embree upload; the mapping sees the new pose.
   Eyeball ball(24, 12, 24, 2);

@@ -41,7 +41,7 @@ TEST_CASE("the delegate creates the prim types it supports and refuses the other
   CHECK_THROWS_WITH(scene.AddMaterial("/m", {}), Catch::Contains("/m already exists"));
 }
 
-TEST_CASE("moving points re-evaluates stencils only; unchanged prims are not touched") {
+TEST_CASE("moving points re-evaluates stencils only, and unchanged prims are not touched") {
   Fixture f;
   MeshTopology cube;
   std::vector<Vec3f> points;

@@ -357,10 +357,22 @@ TEST_CASE("the iris texture, tinted by irisColor, u along +x over the 15.08 mm d
     CHECK(right.z > 10 * right.x);
     CHECK(left.y == 0);
   }
-  // A missing file is an error naming the eye and the file.
-  EyeScene missing(4);
+  // A missing file is one warning naming the eye and the file; the iris renders magenta (no green).
+  EyeScene missing(16);
   EyeParams e = GreyIris();
+  e.irisColor = glm::vec3(1);
   e.irisTexture = "/tmp/hdeye_no_such_iris.exr";
   missing.scene.AddEyeMesh("/eye", topology, points, e);
-  CHECK_THROWS_WITH(missing.Render(1), Catch::Contains("/eye") && Catch::Contains("hdeye_no_such_iris.exr"));
+  CHECK_NOTHROW(missing.Render(4));
+  const std::vector<std::string> warnings = missing.delegate.GetRenderParam()->Warnings();
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("/eye") && Catch::Contains("hdeye_no_such_iris.exr"));
+  glm::dvec3 iris(0);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c = 0; c < 3; ++c) iris[c] += missing.Buffer("/iris").Resolved(x, y, c);
+  std::printf("iris of a missing texture: R %.4f G %.4f B %.4f\n", iris.x, iris.y, iris.z);
+  CHECK(iris.x > 0);
+  CHECK(iris.y == 0);
+  CHECK(iris.z > 0);
 }

@@ -56,7 +56,7 @@ std::pair<double, double> RenderIrisAndBeauty(test::RenderStack& s) {
 
 }  // namespace
 
-TEST_CASE("shadow linking: a blocker the light ignores casts no shadow; light linking: an unlinked floor is dark ",
+TEST_CASE("shadow linking: a blocker the light ignores casts no shadow, light linking: an unlinked floor is dark ",
           "[linking]") {
   LightParams beam;
   beam.angle = 0;

@@ -362,7 +362,7 @@ TEST_CASE("the limbal arc: under a side light the shadowed limbus is lit only th
   CHECK(on.lit.x < off.lit.x);
 }
 
-TEST_CASE("sclera walks run only for eye meshes with scattering on; bad mean free paths are reported", "[limbal]") {
+TEST_CASE("sclera walks run only for eye meshes with scattering on, and bad mean free paths are reported", "[limbal]") {
   // An analytic eye has no sclera volume: no walk, whatever the settings.
   RenderDelegate delegate;
   RenderIndex index(&delegate);

@@ -1,4 +1,4 @@
-// The UsdPreviewSurface subset: textures (decode, lookup), the BSDF (reciprocity, pdfs, sampling
+// The UsdPreviewSurface subset: the BSDF (reciprocity, pdfs, sampling
 // weights, energy), the textured dome light (importance sampling and its pdf), and renders that
 // must return closed-form answers.
 #include "hdeye/hd/renderIndex.h"
@@ -17,11 +17,9 @@
 #include <eyelib/optics.h>
 #include <eyelib/random.h>
 #include <eyelib/sampling.h>
-#include <png.h>
 #include <unistd.h>
 
 #include <cmath>
-#include <csetjmp>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,158 +36,8 @@ constexpr double kPi = 3.14159265358979323846;
 using test::ErrorOf;
 using test::ScratchDir;
 
-/// The sRGB decoding curve (IEC 61966-2-1), written out independently of the code under test.
-double SrgbDecode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-
-/// Writes a PNG with libpng's low-level API, any colour type and bit depth: rows of packed bytes
-/// (16-bit samples big-endian, as PNG stores them). Returns false on a libpng error.
-bool WriteRawPng(const std::string& path, int w, int h, int colorType, int bitDepth,
-                 const std::vector<std::vector<png_byte>>& rows, const std::vector<png_color>& palette = {}) {
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (!file) return false;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(file);
-    return false;
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, png_uint_32(w), png_uint_32(h), bitDepth, colorType, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  if (!palette.empty()) png_set_PLTE(png, info, palette.data(), int(palette.size()));
-  png_write_info(png, info);
-  for (const auto& row : rows) png_write_row(png, row.data());
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  std::fclose(file);
-  return true;
-}
-
-/// The texture coordinates of texel (x, y)'s centre (row 0 at the top, v = 0 at the bottom).
-glm::vec2 TexelCentre(const Texture& t, int x, int y) {
-  return {(x + 0.5f) / float(t.Width()), 1.0f - (y + 0.5f) / float(t.Height())};
-}
 
 }  // namespace
-
-// ---------------------------------------------------------------------------------------------
-// Textures
-
-TEST_CASE("a PNG texture is decoded from sRGB to linear, with v = 0 at the bottom row", "[texture]") {
-  ScratchDir dir;
-  // 2 x 2: top row red, blue; bottom row green, grey 0.2 (linear values the writer sRGB-encodes).
-  const std::vector<float> rgb = {1, 0, 0, 0, 0, 1, 0, 1, 0, 0.2f, 0.2f, 0.2f};
-  WritePngPreview(dir / "t.png", 2, 2, rgb);
-  const auto t = Texture::Load(dir / "t.png");
-  REQUIRE(t->Width() == 2);
-  REQUIRE(t->Height() == 2);
-  // The writer stores round(255 * encode(0.2)); the reader must return exactly its decoded value.
-  const double stored = std::lround(255 * LinearToSrgb(0.2f)) / 255.0;
-  CHECK(t->Texel(1, 1).r == Approx(SrgbDecode(stored)).margin(1e-6));
-  CHECK(t->Texel(1, 1).r == Approx(0.2).epsilon(0.01));  // and that is close to what was written
-  CHECK(t->Lookup(TexelCentre(*t, 0, 0)) == glm::vec3(1, 0, 0));
-  CHECK(t->Lookup({0.25f, 0.75f}) == glm::vec3(1, 0, 0));  // top-left: high v
-  CHECK(t->Lookup({0.25f, 0.25f}) == glm::vec3(0, 1, 0));  // bottom-left: low v
-  CHECK(t->Lookup({0.75f, 0.75f}) == glm::vec3(0, 0, 1));
-}
-
-TEST_CASE("PNG gray, gray+alpha, RGBA, 16-bit and palette images expand to linear RGB", "[texture]") {
-  ScratchDir dir;
-  SECTION("8-bit gray") {
-    REQUIRE(WriteRawPng(dir / "g.png", 2, 1, PNG_COLOR_TYPE_GRAY, 8, {{0, 128}}));
-    const auto t = Texture::Load(dir / "g.png");
-    CHECK(t->Texel(0, 0) == glm::vec3(0));
-    CHECK(t->Texel(1, 0).g == Approx(SrgbDecode(128 / 255.0)).margin(1e-6));
-    CHECK(t->Texel(1, 0).r == t->Texel(1, 0).b);
-  }
-  SECTION("8-bit gray + alpha: alpha is ignored, not premultiplied") {
-    REQUIRE(WriteRawPng(dir / "ga.png", 1, 1, PNG_COLOR_TYPE_GRAY_ALPHA, 8, {{200, 10}}));
-    CHECK(Texture::Load(dir / "ga.png")->Texel(0, 0).r == Approx(SrgbDecode(200 / 255.0)).margin(1e-6));
-  }
-  SECTION("8-bit RGBA") {
-    REQUIRE(WriteRawPng(dir / "rgba.png", 1, 1, PNG_COLOR_TYPE_RGB_ALPHA, 8, {{255, 64, 0, 0}}));
-    const glm::vec3 c = Texture::Load(dir / "rgba.png")->Texel(0, 0);
-    CHECK(c.r == Approx(1.0).margin(1e-6));
-    CHECK(c.g == Approx(SrgbDecode(64 / 255.0)).margin(1e-6));
-    CHECK(c.b == 0);
-  }
-  SECTION("16-bit RGB and gray keep their precision") {
-    REQUIRE(WriteRawPng(dir / "rgb16.png", 1, 1, PNG_COLOR_TYPE_RGB, 16, {{0x80, 0x01, 0x00, 0x02, 0xff, 0xff}}));
-    const glm::vec3 c = Texture::Load(dir / "rgb16.png")->Texel(0, 0);
-    CHECK(c.r == Approx(SrgbDecode(0x8001 / 65535.0)).margin(1e-7));
-    CHECK(c.g == Approx(SrgbDecode(2 / 65535.0)).margin(1e-9));
-    CHECK(c.b == Approx(1.0).margin(1e-7));
-    REQUIRE(WriteRawPng(dir / "g16.png", 1, 1, PNG_COLOR_TYPE_GRAY, 16, {{0x12, 0x34}}));
-    CHECK(Texture::Load(dir / "g16.png")->Texel(0, 0).b == Approx(SrgbDecode(0x1234 / 65535.0)).margin(1e-7));
-  }
-  SECTION("1-bit palette") {
-    const std::vector<png_color> palette = {{10, 20, 30}, {255, 0, 128}};
-    REQUIRE(WriteRawPng(dir / "p.png", 2, 1, PNG_COLOR_TYPE_PALETTE, 1, {{0x40}}, palette));  // pixels 0, 1
-    const auto t = Texture::Load(dir / "p.png");
-    CHECK(t->Texel(0, 0).g == Approx(SrgbDecode(20 / 255.0)).margin(1e-6));
-    CHECK(t->Texel(1, 0).r == Approx(1.0).margin(1e-6));
-    CHECK(t->Texel(1, 0).b == Approx(SrgbDecode(128 / 255.0)).margin(1e-6));
-  }
-}
-
-TEST_CASE("an EXR texture is read as linear floats, with v = 0 at the bottom row", "[texture]") {
-  ScratchDir dir;
-  // 1 x 2: top (row 0) = (2.5, 0.25, 0), bottom = (0, 0, 7): values above 1 stay (HDR).
-  WriteExr(dir / "t.exr", 1, 2, {{"R", {2.5f, 0}}, {"G", {0.25f, 0}}, {"B", {0, 7}}});
-  const auto t = Texture::Load(dir / "t.exr");
-  CHECK(t->Texel(0, 0) == glm::vec3(2.5f, 0.25f, 0));
-  CHECK(t->Lookup({0.5f, 0.75f}) == glm::vec3(2.5f, 0.25f, 0));
-  CHECK(t->Lookup({0.5f, 0.25f}) == glm::vec3(0, 0, 7));
-  WriteExr(dir / "y.exr", 1, 1, {{"Y", {0.5f}}});
-  CHECK(Texture::Load(dir / "y.exr")->Texel(0, 0) == glm::vec3(0.5f));
-}
-
-TEST_CASE("texture lookup is bilinear between texel centres and repeats in u and v", "[texture]") {
-  const Texture t(2, 1, {glm::vec3(0), glm::vec3(1)});
-  CHECK(t.Lookup({0.25f, 0.5f}).r == Approx(0));
-  CHECK(t.Lookup({0.75f, 0.5f}).r == Approx(1));
-  CHECK(t.Lookup({0.5f, 0.5f}).r == Approx(0.5));
-  CHECK(t.Lookup({0.375f, 0.5f}).r == Approx(0.25));
-  // Repeat: u = 0 sits halfway between the last texel and the first.
-  CHECK(t.Lookup({0.0f, 0.5f}).r == Approx(0.5));
-  CHECK(t.Lookup({1.375f, 0.5f}).r == Approx(0.25));
-  CHECK(t.Lookup({-0.625f, 0.5f}).r == Approx(0.25));
-  CHECK(t.Lookup({0.375f, 3.7f}).r == Approx(0.25));  // one row: v does not matter
-  const Texture column(1, 2, {glm::vec3(1), glm::vec3(0)});  // top 1, bottom 0
-  CHECK(column.Lookup({0.5f, 0.5f}).r == Approx(0.5));
-  CHECK(column.Lookup({0.5f, 0.625f}).r == Approx(0.75));
-  CHECK(column.Lookup({0.5f, -0.375f}).r == Approx(0.75));  // v repeats too
-  CHECK(column.Lookup({0.5f, 0.0f}).r == Approx(0.5));       // the bottom edge wraps to the top row
-  CHECK(std::isfinite(t.Lookup({NAN, 0.5f}).r));
-}
-
-TEST_CASE("an unreadable texture is a one-line error naming the file; the cache shares loaded images", "[texture]") {
-  ScratchDir dir;
-  const std::string missing = dir / "missing.png";
-  std::string e = ErrorOf([&] { Texture::Load(missing); });
-  CHECK_THAT(e, Catch::Contains(missing));
-  CHECK(e.find('\n') == std::string::npos);
-  { std::ofstream(dir / "junk.png") << "not a png"; }
-  e = ErrorOf([&] { Texture::Load(dir / "junk.png"); });
-  CHECK_THAT(e, Catch::Contains(dir / "junk.png") && Catch::Contains("not a PNG"));
-  { std::ofstream(dir / "junk.exr") << "not an exr"; }
-  CHECK_THAT(ErrorOf([&] { Texture::Load(dir / "junk.exr"); }), Catch::Contains(dir / "junk.exr"));
-  // A truncated PNG: a valid signature and header, then nothing.
-  WritePngPreview(dir / "good.png", 4, 4, std::vector<float>(48, 0.5f));
-  {
-    std::ifstream in(dir / "good.png", std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::ofstream(dir / "cut.png", std::ios::binary) << bytes.substr(0, 40);
-  }
-  CHECK_THAT(ErrorOf([&] { Texture::Load(dir / "cut.png"); }), Catch::Contains(dir / "cut.png"));
-  CHECK_THAT(ErrorOf([&] { Texture::Load(dir / "image.tif"); }), Catch::Contains("image.tif"));
-
-  TextureCache cache;
-  const auto a = cache.Get(dir / "good.png");
-  CHECK(a == cache.Get(dir / "good.png"));
-  CHECK_THROWS_WITH(cache.Get(missing), Catch::Contains(missing));
-}
 
 // ---------------------------------------------------------------------------------------------
 // The BSDF
@@ -219,6 +67,19 @@ PreviewSurface Surface(glm::dvec3 albedo, double roughness, double metallic, dou
   return s;
 }
 
+/// s under a clearcoat of the given weight and roughness.
+PreviewSurface Coated(PreviewSurface s, double clearcoat, double clearcoatRoughness) {
+  s.clearcoat = clearcoat, s.clearcoatRoughness = clearcoatRoughness;
+  return s;
+}
+
+/// The specular workflow: specularColor replaces metallic and ior.
+PreviewSurface SpecularWorkflow(glm::dvec3 albedo, double roughness, glm::dvec3 specularColor) {
+  PreviewSurface s = Surface(albedo, roughness, 0);
+  s.specularWorkflow = true, s.specularColor = specularColor;
+  return s;
+}
+
 const glm::dvec3 kUp(0, 0, 1);
 
 /// The surface's directional albedo (red channel) seen from wo, by sampling: the mean BSDF sample weight over
@@ -240,7 +101,9 @@ TEST_CASE("the BSDF is reciprocal and, with ior 1, exactly Lambert", "[bsdf]") {
   std::uniform_real_distribution<double> u(0, 1);
   const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.2, 0.9));
   for (const PreviewSurface& s : {Surface({0.5, 0.3, 0.2}, 0.3, 0), Surface({0.9, 0.6, 0.2}, 0.6, 1),
-                                  Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5)}) {
+                                  Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5),
+                                  Coated(Surface({0.5, 0.3, 0.2}, 0.5, 0), 0.8, 0.3),
+                                  SpecularWorkflow({0.4, 0.5, 0.6}, 0.4, {0.9, 0.5, 0.1})}) {
     for (int i = 0; i < 200; ++i) {
       glm::dvec3 t, b;
       eyelib::OrthonormalBasis(n, &t, &b);
@@ -269,7 +132,10 @@ TEST_CASE("the BSDF's pdf integrates to the probability that a sample is a non-d
   std::uniform_real_distribution<double> u(0, 1);
   for (const PreviewSurface& s : {Surface({0.5, 0.5, 0.5}, 0.5, 0, 1, 1.0), Surface({0.5, 0.4, 0.3}, 0.3, 0),
                                   Surface({0.9, 0.9, 0.9}, 0.6, 1), Surface({1, 1, 1}, 1, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5)}) {
+                                  Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.3, 0), 1, 0.5),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.5, 1), 0.5, 0.01),
+                                  SpecularWorkflow({0.5, 0.4, 0.3}, 0.3, {0.2, 0.6, 0.9})}) {
     for (double cosO : {0.9, 0.4, 0.1}) {
       const glm::dvec3 wo = DirectionAt(cosO, 0.3);
       const double integral = IntegrateHemisphere([&](const glm::dvec3& wi) { return PdfPreviewSurface(s, kUp, wo, wi); });
@@ -293,7 +159,9 @@ TEST_CASE("a sampled weight is f cos / pdf, and sampling averages to the quadrat
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 1);
   for (const PreviewSurface& s : {Surface({0.5, 0.4, 0.3}, 0.3, 0), Surface({0.9, 0.7, 0.5}, 0.6, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0)}) {
+                                  Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0),
+                                  Coated(Surface({0.5, 0.4, 0.3}, 0.6, 0), 1, 0.25),
+                                  SpecularWorkflow({0.6, 0.5, 0.4}, 0.35, {0.3, 0.5, 0.7})}) {
     for (double cosO : {0.95, 0.5, 0.15}) {
       const glm::dvec3 wo = DirectionAt(cosO, 1.1);
       const int n = 100000;
@@ -361,6 +229,49 @@ TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most w
       }
 }
 
+TEST_CASE("a clearcoat adds Schlick's 4% white reflection at normal incidence and takes it from what lies below, and "
+          "the specular workflow reflects specularColor", "[bsdf]") {
+  std::mt19937_64 rng(17);
+  const glm::dvec3 normal = DirectionAt(1, 0), grazing = DirectionAt(0.2, 0);
+  // Over a black, non-reflecting base (ior 1), a mirror coat reflects exactly clearcoat x Schlick(0.04).
+  const PreviewSurface black = Surface({0, 0, 0}, 0.5, 0, 1, 1.0);
+  for (double c : {1.0, 0.5}) {
+    CHECK(SampledAlbedo(Coated(black, c, 0.01), normal, 2000, rng) == Approx(c * 0.04).epsilon(1e-9));
+    CHECK(SampledAlbedo(Coated(black, c, 0.01), grazing, 2000, rng) ==
+          Approx(c * (0.04 + 0.96 * std::pow(0.8, 5))).epsilon(1e-9));
+  }
+  // Over a white Lambert base, what the coat reflects is missing below: the sum stays at most 1 at every angle.
+  // With a smooth coat at normal incidence it is 0.04 + 0.96 (1 - Fbar), Fbar = 0.04 + 0.96 / 21 the coat's
+  // cosine-weighted mean reflectance (the light that reaches the base leaves through the coat too).
+  const PreviewSurface white = Surface({1, 1, 1}, 0.5, 0, 1, 1.0);
+  for (double roughness : {0.01, 0.3, 0.8})
+    for (const glm::dvec3& wo : {normal, grazing}) {
+      const double albedo = SampledAlbedo(Coated(white, 1, roughness), wo, 40000, rng);
+      INFO("clearcoat roughness " << roughness << " cos_o " << wo.z << ": albedo " << albedo);
+      CHECK(albedo <= 1.01);
+      if (roughness < 0.1 && wo.z == 1.0) CHECK(albedo == Approx(0.04 + 0.96 * (1 - (0.04 + 0.96 / 21))).margin(0.005));
+    }
+  // Specular workflow, mirror: the reflection is specularColor at normal incidence, whatever metallic says.
+  PreviewSurface mirror = SpecularWorkflow({0, 0, 0}, 0, {0.9, 0.5, 0.1});
+  mirror.metallic = 1;
+  BsdfSample bs;
+  std::uniform_real_distribution<double> u(0, 1);
+  glm::dvec3 sum(0);
+  const int n = 2000;
+  for (int i = 0; i < n; ++i)
+    if (SamplePreviewSurface(mirror, kUp, normal, false, u(rng), u(rng), u(rng), &bs)) sum += bs.weight;
+  CHECK(sum.x / n == Approx(0.9).epsilon(1e-9));
+  CHECK(sum.y / n == Approx(0.5).epsilon(1e-9));
+  CHECK(sum.z / n == Approx(0.1).epsilon(1e-9));
+  // ... and its diffuse is not dimmed by metallic (kd = 1): with a black specularColor only Schlick's white edge,
+  // (1 - c)^5, takes from it.
+  const PreviewSurface edge = SpecularWorkflow({0.5, 0.5, 0.5}, 0.5, {0, 0, 0});
+  const glm::dvec3 wo = DirectionAt(0.7, 0), wi = DirectionAt(0.4, 2);
+  const double specular = EvalPreviewSurface(SpecularWorkflow({0, 0, 0}, 0.5, {0, 0, 0}), kUp, wo, wi).x;
+  CHECK(EvalPreviewSurface(edge, kUp, wo, wi).x - specular ==
+        Approx(0.5 / kPi * (1 - std::pow(0.3, 5)) * (1 - std::pow(0.6, 5))).epsilon(1e-12));
+}
+
 TEST_CASE("glass reflects with the Fresnel probability and refracts with weight 1/eta^2", "[bsdf]") {
   const PreviewSurface glass = Surface({1, 1, 1}, 0.5, 0, 0, 1.5);
   CHECK_FALSE(HasSmoothLobe(glass, kUp, DirectionAt(0.5, 0)));
@@ -402,7 +313,7 @@ TEST_CASE("the BSDF never returns NaN or infinity, at grazing angles and for mir
     for (double metallic : {0.0, 1.0})
       for (double opacity : {0.0, 0.5, 1.0})
         for (double cosO : {1.0, 1e-3, 1e-8, 1e-12, 0.0, -0.1}) {
-          const PreviewSurface s = Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5);
+          const PreviewSurface s = Coated(Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5), metallic, roughness);
           const glm::dvec3 wo = glm::normalize(DirectionAt(std::abs(cosO), 0.4) * glm::dvec3(1, 1, cosO < 0 ? -1 : 1));
           for (int i = 0; i < 200; ++i) {
             BsdfSample bs;
@@ -428,18 +339,25 @@ namespace {
 /// around longitude +pi/2, 0, -pi/2 (u = 0.25, 0.5, 0.75), grey elsewhere, and a bright spot.
 std::shared_ptr<const Texture> TestDomeImage() {
   const int w = 64, h = 32;
-  std::vector<glm::vec3> texels(w * h, glm::vec3(0.2f));
+  std::vector<float> r(w * h, 0.2f), g(w * h, 0.2f), b(w * h, 0.2f);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const double u = (x + 0.5) / w, v = 1 - (y + 0.5) / h;
-      glm::vec3& c = texels[std::size_t(y) * w + x];
+      glm::vec3 c(0.2f);
       if (v > 0.9) c = {1, 1, 0};
       else if (std::abs(u - 0.25) < 0.05) c = {1, 0, 0};
       else if (std::abs(u - 0.5) < 0.05) c = {0, 1, 0};
       else if (std::abs(u - 0.75) < 0.05) c = {0, 0, 1};
       if (x == 40 && y == 20) c = glm::vec3(500);
+      const std::size_t i = std::size_t(y) * w + x;
+      r[i] = c.r, g[i] = c.g, b[i] = c.b;
     }
-  return std::make_shared<const Texture>(w, h, std::move(texels));
+  static const std::string path = [&] {
+    const std::string p = (fs::temp_directory_path() / ("hdeye_test_dome_" + std::to_string(getpid()) + ".exr")).string();
+    WriteExr(p, w, h, {{"R", r}, {"G", g}, {"B", b}});
+    return p;
+  }();
+  return Texture::Open(TextureParams::Image(path, TextureWrap::Clamp));
 }
 
 RenderLight TexturedDome(const glm::dmat4& transform) {
@@ -566,7 +484,15 @@ TEST_CASE("material parameters out of range are reported with the prim and the a
   expectError([](MaterialParams& m) { m.ior = 0.9f; }, "ior");
   expectError([](MaterialParams& m) { m.diffuseColor.g = -1; }, "diffuseColor");
   expectError([](MaterialParams& m) { m.emissiveColor.b = INFINITY; }, "emissiveColor");
-  expectError([](MaterialParams& m) { m.diffuseTexture = "/nonexistent/albedo.png"; }, "/nonexistent/albedo.png");
+  expectError([](MaterialParams& m) { m.opacityThreshold = 2; }, "opacityThreshold");
+  // A texture that cannot be read is no error: one warning naming the material and the file.
+  MaterialParams missing;
+  missing.Texture(MaterialInput::DiffuseColor).texture.file = "/nonexistent/albedo.png";
+  s.scene.SetMaterialParams("/mat", missing);
+  CHECK_NOTHROW(s.Render());
+  const std::vector<std::string> warnings = s.delegate.GetRenderParam()->Warnings();
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("material /mat") && Catch::Contains("/nonexistent/albedo.png"));
   MaterialParams bright;
   bright.emissiveColor = {5, 5, 5};  // emission may exceed 1
   s.scene.SetMaterialParams("/mat", bright);
@@ -647,7 +573,7 @@ TEST_CASE("a white diffuse plane under a textured dome lit above the horizon ret
     CHECK(results[mis] == Approx(expected).epsilon(mis ? 0.005 : 0.015));
   }
 
-  // A dome naming a file that cannot be read is reported with the light's path and the file.
+  // A dome naming a file that cannot be read renders magenta, with one warning naming the light and the file.
   Scene s;
   LightParams bad;
   bad.type = LightType::Dome;
@@ -655,5 +581,13 @@ TEST_CASE("a white diffuse plane under a textured dome lit above the horizon ret
   s.scene.AddLight("/badsky", primTypes::kDomeLight, bad);
   s.scene.AddCamera("/cam", CameraParams{}, test::LookDownZ(2));
   s.scene.AddRenderBuffer("/color", 2, 2, 4);
-  CHECK_THROWS_WITH(s.Render(), Catch::Contains("light /badsky") && Catch::Contains("missing.exr"));
+  s.delegate.Settings().samplesPerPixel = 1;
+  CHECK_NOTHROW(s.Render());
+  const std::vector<std::string> warnings = s.delegate.GetRenderParam()->Warnings();
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("light /badsky") && Catch::Contains("missing.exr"));
+  const RenderBuffer& seen = s.Buffer("/color");
+  CHECK(seen.Resolved(0, 0, 0) == Approx(1));  // the camera sees the dome: magenta
+  CHECK(seen.Resolved(0, 0, 1) == Approx(0));
+  CHECK(seen.Resolved(0, 0, 2) == Approx(1));
 }

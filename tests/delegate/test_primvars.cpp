@@ -215,7 +215,7 @@ TEST_CASE("subdivided faceVarying st on a cube keeps its seams: every face stays
   }
 }
 
-TEST_CASE("authored normals shade polygon meshes; subdivided meshes keep their limit normals") {
+TEST_CASE("authored normals shade polygon meshes, and subdivided meshes keep their limit normals") {
   MeshTopology topology;
   std::vector<Vec3f> points;
   test::Quad(1, &topology, &points);

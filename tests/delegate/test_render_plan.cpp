@@ -621,7 +621,7 @@ TEST_CASE("a tiny eye mesh gets a Lambertian sclera, no limbal arc and refine le
   CHECK(e.why.at("refineLevel").find("sweep refine") != std::string::npos);
 }
 
-TEST_CASE("a large side-lit eye mesh gets the walk, the limbal arc and the ceiling level; a front light keeps the arc",
+TEST_CASE("a large side-lit eye mesh gets the walk, the limbal arc and the ceiling level, and a front light keeps the arc",
           "[plan]") {
   Scene s(60, /*mesh=*/true);
   s.SphereLight("/key", 2, 70);

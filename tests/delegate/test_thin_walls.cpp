@@ -62,7 +62,7 @@ struct SheetScene : test::RenderStack {
 
 }  // namespace
 
-TEST_CASE("an open mesh has boundary edges; a closed one, also with duplicated seam points, has none", "[thin]") {
+TEST_CASE("an open mesh has boundary edges, and a closed one, also with duplicated seam points, has none", "[thin]") {
   MeshTopology quad, cube, sphere;
   std::vector<Vec3f> quadPoints, cubePoints, spherePoints;
   test::Quad(1, &quad, &quadPoints);
@@ -147,7 +147,7 @@ TEST_CASE("shadow linking and thin walls in one shadow ray: an ignored card pass
   CHECK(bothIgnored == Approx(unshadowed).epsilon(0.015));
 }
 
-TEST_CASE("a mesh is a thin wall while it is open; closing it makes it glass again", "[thin]") {
+TEST_CASE("a mesh is a thin wall while it is open, and closing it makes it glass again", "[thin]") {
   SheetScene s(0.5f, 1, true);
   s.MeanRed();
   auto* sheet = static_cast<Mesh*>(s.index.GetRprim("/sheet"));

@@ -48,7 +48,7 @@ void Report(const char* what, double got, double expected, const char* reference
 
 }  // namespace
 
-TEST_CASE("a distant light's intensity is the radiance of its disc; with normalize, the illuminance ", "[usdlux]") {
+TEST_CASE("a distant light's intensity is the radiance of its disc, with normalize, the illuminance ", "[usdlux]") {
   LightParams sun;
   sun.intensity = 50000;  // UsdLux's fallback for a DistantLight, over its 0.53 degree disc
   sun.angle = 0.53f;
@@ -78,7 +78,7 @@ TEST_CASE("exposure scales a light by 2^exposure ", "[usdlux]") {
   CHECK(got == Approx(Lambert(2)).epsilon(1e-6));
 }
 
-TEST_CASE("a sphere light below its centre gives pi L (R/d)^2; normalize divides L by 4 pi R^2 ", "[usdlux]") {
+TEST_CASE("a sphere light below its centre gives pi L (R/d)^2, normalize divides L by 4 pi R^2 ", "[usdlux]") {
   const double R = 0.5, d = 4, L = 10;
   LightParams bulb;
   bulb.radius = float(R);
@@ -109,7 +109,7 @@ TEST_CASE("treatAsPoint renders the sphere's radiant intensity pi R^2 L as a poi
   CHECK(on == Approx(Lambert(L / 4 / (d * d))).epsilon(1e-4));
 }
 
-TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2); normalize divides L by pi R^2 ", "[usdlux]") {
+TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2), normalize divides L by pi R^2 ", "[usdlux]") {
   const double R = 1, d = 2, L = 4;
   LightParams disk;
   disk.radius = float(R);
@@ -123,7 +123,7 @@ TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2); normalize
   CHECK(on == Approx(Lambert(L / (R * R + d * d))).epsilon(0.01));
 }
 
-TEST_CASE("a rect light facing the plane gives its four corner form factors; normalize divides L by w h ", "[usdlux]") {
+TEST_CASE("a rect light facing the plane gives its four corner form factors, normalize divides L by w h ", "[usdlux]") {
   const double w = 2, h = 1, d = 1.5, L = 3;
   // The form factor of an a x b rectangle at height d from a point under one corner (Howell's catalogue, C-11).
   const auto corner = [d](double a, double b) {

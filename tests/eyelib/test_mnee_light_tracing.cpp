@@ -147,7 +147,7 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
   }
 }
 
-TEST_CASE("a straight-line seed alone loses light where it fails to converge; the fallback and the search recover it", "[slow]") {
+TEST_CASE("a straight-line seed alone loses light where it fails to converge, and the fallback and the search recover it", "[slow]") {
   // A parallel beam at 45 deg: at the far side's periphery the Newton solve from the straight-line
   // seed does not converge, and Cycles-style MNEE (that seed alone) loses those cells' light.
   const AnteriorChamber<double> chamber;

@@ -519,4 +519,6 @@ TEST_CASE("no NaN or Inf leaves the walk, whatever the input", "[sss]") {
   CHECK(ValidateSssArtistParams(V(0.5), V(1)).empty());
   CHECK(ValidateSssArtistParams(V(0.5, 1.2, 0.5), V(1)).find("albedo.g") != std::string::npos);
   CHECK(ValidateSssArtistParams(V(0.5), V(1, 1, 0)).find("mean free path.b") != std::string::npos);
+  CHECK(ValidateSssArtistParams(V(0.5), V(1e20, 1, 1)).find("mean free path.r") != std::string::npos);
+  CHECK(ValidateSssArtistParams(V(0.5), V(kMaxMeanFreePathMm)).empty());
 }

@@ -108,8 +108,8 @@ def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warni
     thin.CreateWidthsAttr([1.0, 1.0, 1.0])
     thin.SetWidthsInterpolation(UsdGeom.Tokens.varying)  # cubic bezier: 2 per curve
     s = RenderSession(stage, width=8, height=8)
-    assert s.scene.warnings == ["/World/bad: curveVertexCounts add up to 5, there are 4 points; not rendered",
-                                "/World/thin: widths has 3 values, varying needs 4; not rendered"]
+    assert s.scene.warnings == ["/World/bad: curveVertexCounts add up to 5, there are 4 points (skipped)",
+                                "/World/thin: widths has 3 values, varying needs 4 (skipped)"]
     s.render(spp=1, time=2)
     assert s.stats["updated"] == {"points": 1}
     assert "/World/bad" not in s.index.rprim_ids() and "/World/thin" not in s.index.rprim_ids()

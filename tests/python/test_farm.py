@@ -1,6 +1,7 @@
 """Rendering on a Dask farm (eyerender.farm, eyerecord --workers/--scheduler), with real processes on 127.0.0.1:
 a farm's frames and split frames are bit-identical to the single-machine render, lost workers lose no frame, a bad
-frame fails alone, re-runs skip written frames, and unreachable schedulers or stages give one-line errors.
+frame fails alone, re-runs skip written frames, --strict fails frames on an unreadable texture, and unreachable
+schedulers or stages give one-line errors.
 
 Two clusters serve the module: a LocalCluster of 2 worker processes (eyerender.farm.Farm(workers=2)), and a
 scheduler plus 2 workers started as `python -m distributed.cli.dask_*` subprocesses, driven through --scheduler.
@@ -18,7 +19,7 @@ import pytest
 
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
 distributed = pytest.importorskip("distributed", reason="the farm extra is not installed (pip install .[farm])")
-from pxr import Usd, UsdGeom, Vt  # noqa: E402
+from pxr import Sdf, Usd, UsdGeom, UsdShade, Vt  # noqa: E402
 
 from eyerender.eyerecord import main  # noqa: E402
 from eyerender.farm import Farm, RenderJob  # noqa: E402
@@ -182,14 +183,20 @@ def test_a_resumed_job_skips_finished_frames_unless_overwrite(local_farm, refere
     assert forced.skipped == [] and list(forced.stats) == FRAMES[:1]
 
 
+def sample_with_triangle(path, prim_path):
+    """A new stage at `path` over the animated sample, with a triangle mesh (points unset) at prim_path."""
+    stage = Usd.Stage.CreateNew(str(path))
+    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
+    mesh = UsdGeom.Mesh.Define(stage, prim_path)
+    mesh.CreateFaceVertexCountsAttr([3])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    return stage, mesh
+
+
 def bad_prim_stage(tmp):
     """The animated sample plus a triangle whose points are NaN at time code 3 only."""
     path = tmp / "bad_frame.usda"
-    stage = Usd.Stage.CreateNew(str(path))
-    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
-    mesh = UsdGeom.Mesh.Define(stage, "/World/Bad")
-    mesh.CreateFaceVertexCountsAttr([3])
-    mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+    stage, mesh = sample_with_triangle(path, "/World/Bad")
     points = mesh.CreatePointsAttr()
     good = Vt.Vec3fArray([(0, 0, -50), (1, 0, -50), (0, 1, -50)])
     for frame in FRAMES:
@@ -210,6 +217,41 @@ def test_cli_reports_a_deterministically_failing_frame_once_and_completes_the_ot
     assert [f for f in FRAMES if (tmp_path / f"bad_{int(f):04d}.exr").exists()] == [1.0, 2.0, 4.0]
     assert not [n for n in os.listdir(tmp_path) if n.startswith(".")], "a temporary output was left behind"
     assert "3 frame(s)" in captured.out and "1 failed" in captured.out
+
+
+def missing_texture_stage(tmp):
+    """The animated sample plus a material whose diffuseColor reads a file that does not exist."""
+    path = tmp / "missing_texture.usda"
+    stage, mesh = sample_with_triangle(path, "/World/Card")
+    mesh.CreatePointsAttr(Vt.Vec3fArray([(0, 0, -50), (1, 0, -50), (0, 1, -50)]))
+    material = UsdShade.Material.Define(stage, "/World/Looks/card")
+    surface = UsdShade.Shader.Define(stage, "/World/Looks/card/surface")
+    surface.CreateIdAttr("UsdPreviewSurface")
+    material.CreateSurfaceOutput().ConnectToSource(surface.ConnectableAPI(), "surface")
+    texture = UsdShade.Shader.Define(stage, "/World/Looks/card/texture")
+    texture.CreateIdAttr("UsdUVTexture")
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("missing.png")
+    rgb = texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    surface.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(rgb)
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(material)
+    stage.GetRootLayer().Save()
+    return path
+
+
+def test_strict_on_the_farm_fails_every_frame_on_an_unreadable_texture_and_writes_nothing(scheduler, tmp_path,
+                                                                                           capsys):
+    stage = missing_texture_stage(tmp_path)
+    args = [str(stage), str(tmp_path / "t_####.exr"), "-w", "8", "--spp", "1", "--frames", "1:2", "--split", "1",
+            "--scheduler", scheduler, "-q"]
+    assert main(args + ["--strict"]) == 1
+    errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("eyerecord: error:")]
+    assert len(errors) == 2 and all("missing.png" in e and len(e) < 200 for e in errors), errors
+    assert not [n for n in os.listdir(tmp_path) if n.endswith(".exr")]
+    # Without --strict the same job renders, warning once about the texture.
+    assert main(args) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "missing.png" in line]
+    assert len(warnings) == 1, warnings
+    assert sorted(n for n in os.listdir(tmp_path) if n.endswith(".exr")) == ["t_0001.exr", "t_0002.exr"]
 
 
 def test_cli_on_a_running_scheduler_renders_frames_bit_identical_and_reruns_skip_them(scheduler, reference,

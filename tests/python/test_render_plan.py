@@ -1,6 +1,7 @@
 """The render plan from Python and the command line: the JSON contract, the synthetic cases, overrides winning,
 `eyerecord --plan` (prints JSON, renders and writes nothing), the one line per eye at render start, and the
 `eyerender:plan` EXR header attribute."""
+import csv
 import json
 import math
 import os
@@ -188,16 +189,22 @@ def test_eyestudy_writes_table_reference_and_image_and_reuses_the_reference(tmp_
     out = tmp_path / "shot.exr"
     args = [str(stage_file), str(out), "-w", "8", "--budgets", "0.02,0.05", "--reference-spp", "4", "-q"]
     assert study(args) == 0
-    for name in ("shot.exr", "shot.reference.exr", "shot.study.csv"):
+    for name in ("shot.exr", "shot.reference.exr", "shot.study.csv", "shot.study.png"):
         assert (tmp_path / name).exists(), name
-    rows = (tmp_path / "shot.study.csv").read_text().splitlines()
-    assert rows[0].startswith("mode,budget_s,spp,seconds,eye_rel_rmse,frame_rel_rmse")
-    assert len(rows) == 1 + 2 * 2  # two modes x two budgets
+    rows = list(csv.DictReader((tmp_path / "shot.study.csv").open()))
+    assert list(rows[0])[:7] == ["mode", "budget_s", "spp", "seconds", "eye_rel_rmse", "eye_noise", "eye_bias"]
+    assert len(rows) == 2 * 2  # two modes x two budgets
+    for r in rows:  # two seeds per budget: a noisy 8 px render has noise, and noise and bias make up the RMSE
+        rmse, noise, bias = (float(r[f"frame_{k}"]) for k in ("rel_rmse", "noise", "bias"))
+        assert noise > 0 and (math.isclose(rmse**2, noise**2 + bias**2, rel_tol=1e-9) or bias == 0 <= noise - rmse), r
     assert PLAN_ATTRIBUTE in eyerender._hdeye.read_exr_attributes(str(out))
     capsys.readouterr()
     stamp = (tmp_path / "shot.reference.exr").stat().st_mtime_ns
     assert study(args) == 0
     assert (tmp_path / "shot.reference.exr").stat().st_mtime_ns == stamp  # reused, not re-rendered
+    (tmp_path / "shot.study.png").unlink()
+    assert study(args + ["--no-plot"]) == 0
+    assert not (tmp_path / "shot.study.png").exists()
 
 
 def test_session_renders_a_tiny_eye_mesh_at_the_planned_level_and_restores_it_without_a_plan():

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace hdeye {
 
@@ -21,6 +22,9 @@ inline constexpr DirtyBits DirtyPrimvar = 1u << 4;
 inline constexpr DirtyBits DirtyVisibility = 1u << 5;
 inline constexpr DirtyBits DirtyParams = 1u << 6;     ///< sprim/bprim parameters (camera, light, buffer size)
 inline constexpr DirtyBits DirtyMaterialId = 1u << 7;
+/// On an rprim: its instancer's instances changed (rebuild its instances, nothing else). On an instancer: its
+/// instance transforms or colours changed.
+inline constexpr DirtyBits DirtyInstancer = 1u << 8;
 inline constexpr DirtyBits AllDirty = ~0u;
 }  // namespace dirty
 
@@ -43,8 +47,25 @@ class ChangeTracker {
     if (auto it = bits_.find(id); it != bits_.end()) it->second = remaining;
   }
 
+  /// Records that rprim `rprimId` draws the instances of `instancerId` (HdChangeTracker's
+  /// AddInstancerRprimDependency), so that MarkInstancerDirty reaches it.
+  void AddInstancerRprimDependency(const PrimId& instancerId, const PrimId& rprimId) {
+    instancerRprims_[instancerId].insert(rprimId);
+  }
+  void RemoveInstancerRprimDependency(const PrimId& instancerId, const PrimId& rprimId) {
+    if (auto it = instancerRprims_.find(instancerId); it != instancerRprims_.end()) it->second.erase(rprimId);
+  }
+  /// Marks the instancer dirty and every rprim that depends on it DirtyInstancer: those rebuild their
+  /// instances only, never their topology or points.
+  void MarkInstancerDirty(const PrimId& instancerId, DirtyBits bits = dirty::DirtyInstancer) {
+    MarkDirty(instancerId, bits);
+    if (auto it = instancerRprims_.find(instancerId); it != instancerRprims_.end())
+      for (const PrimId& rprim : it->second) MarkDirty(rprim, dirty::DirtyInstancer);
+  }
+
  private:
   std::unordered_map<PrimId, DirtyBits> bits_;
+  std::unordered_map<PrimId, std::unordered_set<PrimId>> instancerRprims_;
 };
 
 }  // namespace hdeye

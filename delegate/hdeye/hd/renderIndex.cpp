@@ -18,7 +18,7 @@ template <class T>
 void RenderIndex::Insert(std::map<PrimId, Entry<T>>& m, std::unique_ptr<T> prim, const std::string& type,
                          SceneDelegate* sceneDelegate, const PrimId& id) {
   if (!prim) throw std::invalid_argument("render index: prim type '" + type + "' is not supported (" + id + ")");
-  if (GetRprim(id) || GetSprim(id) || GetBprim(id))
+  if (GetRprim(id) || GetSprim(id) || GetBprim(id) || GetInstancer(id))
     throw std::invalid_argument("render index: a prim " + id + " already exists");
   tracker_.Track(id, prim->GetInitialDirtyBitsMask());
   m.emplace(id, Entry<T>{type, sceneDelegate, std::move(prim)});
@@ -34,6 +34,10 @@ void RenderIndex::InsertBprim(const std::string& type, SceneDelegate* sceneDeleg
   Insert(bprims_, delegate_->CreateBprim(type, id), type, sceneDelegate, id);
 }
 
+void RenderIndex::InsertInstancer(SceneDelegate* sceneDelegate, const PrimId& id) {
+  Insert(instancers_, std::make_unique<Instancer>(id), "instancer", sceneDelegate, id);
+}
+
 void RenderIndex::RemovePrim(const PrimId& id) {
   auto remove = [&](auto& m) {
     auto it = m.find(id);
@@ -45,6 +49,7 @@ void RenderIndex::RemovePrim(const PrimId& id) {
   remove(rprims_);
   remove(sprims_);
   remove(bprims_);
+  remove(instancers_);
 }
 
 template <class T> void RenderIndex::SyncMap(std::map<PrimId, Entry<T>>& m) {
@@ -59,6 +64,7 @@ template <class T> void RenderIndex::SyncMap(std::map<PrimId, Entry<T>>& m) {
 void RenderIndex::SyncAll() {
   SyncMap(sprims_);
   SyncMap(bprims_);
+  SyncMap(instancers_);
   SyncMap(rprims_);
 }
 

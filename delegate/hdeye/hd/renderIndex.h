@@ -1,8 +1,9 @@
 #pragma once
 // The render index (HdRenderIndex's role): the prims of one scene, by id, with their scene delegate
 // and dirty bits. SyncAll brings every dirty prim up to date: sprims first (cameras, lights,
-// materials), then bprims, then rprims.
+// materials), then bprims, then instancers, then rprims (which read their instancer's instances).
 #include "hdeye/hd/changeTracker.h"
+#include "hdeye/hd/instancer.h"
 #include "hdeye/hd/prim.h"
 
 #include <map>
@@ -25,6 +26,8 @@ class RenderIndex {
   void InsertRprim(const std::string& type, SceneDelegate* sceneDelegate, const PrimId& id);
   void InsertSprim(const std::string& type, SceneDelegate* sceneDelegate, const PrimId& id);
   void InsertBprim(const std::string& type, SceneDelegate* sceneDelegate, const PrimId& id);
+  /// Inserts an instancer (HdRenderIndex::InsertInstancer); its rprims name it through GetInstancerId.
+  void InsertInstancer(SceneDelegate* sceneDelegate, const PrimId& id);
   /// Removes (and finalizes) a prim; unknown ids are ignored.
   void RemovePrim(const PrimId& id);
 
@@ -38,6 +41,7 @@ class RenderIndex {
   Rprim* GetRprim(const PrimId& id) const { return Find(rprims_, id); }
   Sprim* GetSprim(const PrimId& id) const { return Find(sprims_, id); }
   Bprim* GetBprim(const PrimId& id) const { return Find(bprims_, id); }
+  const Instancer* GetInstancer(const PrimId& id) const { return Find(instancers_, id); }
 
   template <class T> struct Entry {
     std::string type;
@@ -61,6 +65,7 @@ class RenderIndex {
   std::map<PrimId, Entry<Rprim>> rprims_;
   std::map<PrimId, Entry<Sprim>> sprims_;
   std::map<PrimId, Entry<Bprim>> bprims_;
+  std::map<PrimId, Entry<Instancer>> instancers_;
 };
 
 }  // namespace hdeye

@@ -23,9 +23,13 @@ struct Primvar {
   bool Empty() const { return values.empty() || components <= 0; }
 };
 
+class RenderIndex;
+
 class SceneDelegate {
  public:
   virtual ~SceneDelegate() = default;
+  /// The render index this delegate populates (prims reach their instancer through it, as in Hydra).
+  virtual RenderIndex* GetRenderIndex() = 0;
   virtual MeshTopology GetMeshTopology(const PrimId& id) = 0;
   /// BasisCurves prims only; the default suits scene delegates that have none.
   virtual BasisCurvesTopology GetBasisCurvesTopology(const PrimId& /*id*/) { return {}; }
@@ -40,6 +44,13 @@ class SceneDelegate {
   virtual LightParams GetLightParams(const PrimId& id) = 0;
   virtual MaterialParams GetMaterialParams(const PrimId& id) = 0;
   virtual EyeParams GetEyeParams(const PrimId& id) = 0;
+  /// The instancer whose instances an rprim draws (HdSceneDelegate::GetInstancerId), or empty: drawn once.
+  virtual PrimId GetInstancerId(const PrimId& /*rprimId*/) { return {}; }
+  /// An instancer's per-instance transforms (instance space to world, column vectors): an rprim drawn by it
+  /// renders at instanceTransform * rprimTransform for every instance.
+  virtual std::vector<Matrix4d> GetInstanceTransforms(const PrimId& /*instancerId*/) { return {}; }
+  /// Per-instance displayColor (linear RGB), one per instance, or empty: the prototypes' own colours.
+  virtual std::vector<Vec3f> GetInstanceColors(const PrimId& /*instancerId*/) { return {}; }
 };
 
 }  // namespace hdeye

@@ -7,7 +7,7 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
-#include <png.h>
+#include <OpenImageIO/imageio.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -201,18 +201,13 @@ void WritePngPreview(const std::string& path, int width, int height, const std::
     bytes[i] = static_cast<unsigned char>(std::lround(255.0f * LinearToSrgb(rgb[i] * scale)));
 
   WriteAtomically(path, [&](const std::string& tmp) {
-    png_image image;
-    std::memset(&image, 0, sizeof image);
-    image.version = PNG_IMAGE_VERSION;
-    image.width = png_uint_32(width);
-    image.height = png_uint_32(height);
-    image.format = PNG_FORMAT_RGB;
-    // Checks fflush/ferror/fclose itself and removes the file on failure.
-    const int ok = png_image_write_to_file(&image, tmp.c_str(), 0, bytes.data(), 3 * width, nullptr);
-    const std::string message = image.message;
-    png_image_free(&image);
-    if (!ok)
-      throw std::runtime_error("libpng cannot write temporary file " + tmp + " (" + message + ")");
+    // By format name: the temporary file's name has no .png extension for OIIO to go by.
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) throw std::runtime_error("OpenImageIO has no PNG writer (" + OIIO::geterror() + ")");
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
+      throw std::runtime_error("cannot write temporary file " + tmp + " (" + out->geterror() + ")");
   });
 }
 

@@ -38,7 +38,7 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
 /// The material sprim `id` as the renderer shades it; the fallback material when there is none.
 SurfaceMaterial Resolve(RenderIndex& index, const PrimId& id) {
   const auto* material = dynamic_cast<const Material*>(index.GetSprim(id));
-  return material ? SurfaceMaterial{material->Params(), material->DiffuseTexture(), true} : SurfaceMaterial{};
+  return material ? SurfaceMaterial{material->Params(), &material->Textures(), true} : SurfaceMaterial{};
 }
 
 /// Flags, over every rprim index, the rprims named in `excludes` (ids of prims not in the index are skipped:
@@ -71,6 +71,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
   std::map<PrimId, int> primIndices;
+  bool cutouts = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
@@ -78,26 +79,33 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
     context->material = bound.params;
     context->materialBound = bound.bound;
-    context->diffuseTexture = bound.diffuseTexture;
+    context->textures = bound.textures;
     context->subsetMaterials.clear();
     if (const auto* mesh = dynamic_cast<const Mesh*>(entry.prim.get()))
       for (const PrimId& subsetMaterial : mesh->SubsetMaterialIds())
         context->subsetMaterials.push_back(subsetMaterial.empty() ? bound : Resolve(*index_, subsetMaterial));
+    cutouts = cutouts || bound.params.opacityThreshold > 0;
+    for (const SurfaceMaterial& subset : context->subsetMaterials)
+      cutouts = cutouts || subset.params.opacityThreshold > 0;
   }
 
   std::vector<RenderLight> lights;
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      lights.push_back(
+          RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
       MarkLinked(light->Params().lightLinkExcludes, primIndices, primIndex, &lights.back().unlit);
       MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
     }
+  renderer_.SetCutouts(cutouts);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }
 
 RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
                             const PlanRules& rules) {
+  // Meshes synced now for the first time wait at level 0 for the plan's level (plan/meshRefinePlan.h).
+  index_->GetRenderDelegate()->GetRenderParam()->SetMeshLevelsAwaitPlan(true);
   index_->SyncAll();
   return MakeRenderPlan(*index_, cameraId, width, height, overrides, rules);
 }

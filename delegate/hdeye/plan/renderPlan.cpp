@@ -380,7 +380,8 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
   std::vector<std::pair<PrimId, RenderLight>> lights;
   for (const auto& [id, entry] : index.Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.emplace_back(id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome()));
+      lights.emplace_back(
+          id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
 
   for (const auto& [id, entry] : index.Rprims()) {
     if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
@@ -394,6 +395,7 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
     plan.eyes.push_back(std::move(e));
   }
 
+  plan.meshes = PlanMeshRefinement(index, camera->View(), width, height, overrides, rules);
   DecideGlobals(&plan, overrides);
   return plan;
 }
@@ -486,6 +488,7 @@ void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings*
     const auto e = std::find_if(plan.eyes.begin(), plan.eyes.end(), [&](const EyePlan& p) { return p.prim == id; });
     SetEyeOptions(index, id, entry.prim.get(), e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder));
   }
+  ApplyMeshRefinement(plan.meshes, index);
   ApplyRenderPlan(plan, settings);
 }
 
@@ -498,6 +501,8 @@ void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) {
 void ClearRenderPlan(RenderIndex* index) {
   // Unplanned eye meshes go back to the scene's level (--complexity), re-refining if the plan had lowered it.
   for (const auto& [id, entry] : index->Rprims()) SetEyeOptions(index, id, entry.prim.get(), EyeRenderOptions{});
+  ClearMeshRefinement(index);
+  index->GetRenderDelegate()->GetRenderParam()->SetMeshLevelsAwaitPlan(false);
 }
 
 std::vector<std::string> RenderPlan::SummaryLines() const {
@@ -516,6 +521,13 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
     lines.push_back(line);
   }
   if (eyes.empty()) lines.push_back("plan: no eyes in the scene");
+  if (!meshes.empty()) {
+    std::map<int, int> perLevel;
+    for (const MeshPlan& m : meshes) ++perLevel[m.refineLevel];
+    std::string line = "plan meshes: " + std::to_string(meshes.size()) + " subdivision meshes by size on screen:";
+    for (const auto& [level, count] : perLevel) line += " level " + std::to_string(level) + " x" + std::to_string(count);
+    lines.push_back(line);
+  }
   return lines;
 }
 

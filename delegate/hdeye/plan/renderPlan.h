@@ -19,6 +19,7 @@
 // Eye meshes' refineLevel is applied too (the mesh re-refines when its level changes: a topology change for that
 // mesh only). Reported, not applied: precision (one arithmetic exists; the plan says when float would do).
 #include "hdeye/hd/types.h"
+#include "hdeye/plan/meshRefinePlan.h"
 #include "hdeye/render/cameraView.h"
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/eyeRenderOptions.h"
@@ -169,13 +170,16 @@ struct RenderPlan {
   int width = 0, height = 0;  ///< image pixels the plan was made for
   PrimId camera;
   std::vector<EyePlan> eyes;
+  /// Every non-eye subdivision mesh's level by its size on screen (meshRefinePlan.h); applied with the eyes.
+  std::vector<MeshPlan> meshes;
   /// The global switches ApplyRenderPlan also sets: on if any eye's plan needs the feature. They are the
   /// defaults for eyes the plan does not cover (none, when the plan was made for the scene it is applied
   /// to); every planned eye renders with its own switches.
   bool mnee = true, mneeAllSolutions = false;
   bool scleraScattering = false;  ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
   std::map<std::string, std::string> why;  ///< reasons for the global values
-  /// One human-readable line per eye (and one for the globals when there is no eye).
+  /// One human-readable line per eye (and one for the globals when there is no eye), and one counting the
+  /// subdivision meshes per planned level.
   std::vector<std::string> SummaryLines() const;
 };
 

@@ -9,10 +9,10 @@
 
 namespace hdeye {
 
-/// Reads prim `id`'s EyeParams into *params, validates its chamber, and loads its iris texture (nullptr for none)
+/// Reads prim `id`'s EyeParams into *params, validates its chamber, and opens its iris texture (nullptr for none)
 /// into *irisTexture through the render delegate's texture cache. Throws std::runtime_error naming the prim as
-/// "<kind> <id>: ..." (kind "eye", "eye mesh") when the chamber is invalid or the texture cannot be loaded; *params
-/// is then already updated and *irisTexture left as it was.
+/// "<kind> <id>: ..." (kind "eye", "eye mesh") when the chamber is invalid (*params is then already updated and
+/// *irisTexture left as it was). A texture that cannot be read is a RenderParam warning; its lookups are magenta.
 void SyncEyeParams(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::string& kind, const PrimId& id,
                    EyeParams* params, std::shared_ptr<const Texture>* irisTexture);
 

@@ -15,7 +15,8 @@ void InstancedGeometry::Reset(RenderParam* renderParam, RTCGeometry geometry, Ge
   context->prototypeScene = prototype_;
   instance_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(instance_, prototype_);
-  rtcSetGeometryUserData(instance_, context);
+  instanceContext_.geometry = context;
+  rtcSetGeometryUserData(instance_, &instanceContext_);
   instanceId_ = rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance_);
   SetTransform(renderParam, transform_, context);
   SetVisible(renderParam, visible_);
@@ -24,6 +25,7 @@ void InstancedGeometry::Reset(RenderParam* renderParam, RTCGeometry geometry, Ge
 void InstancedGeometry::SetTransform(RenderParam* renderParam, const Matrix4d& transform, GeometryContext* context) {
   transform_ = transform;
   context->normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform)));
+  instanceContext_.normalToWorld = context->normalToWorld;
   if (!instance_) return;
   const glm::mat4 m(transform);
   renderParam->AcquireSceneForEdit();

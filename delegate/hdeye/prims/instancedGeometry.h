@@ -16,7 +16,7 @@ class InstancedGeometry {
   InstancedGeometry& operator=(const InstancedGeometry&) = delete;
 
   /// Replaces the geometry (a new, uncommitted Embree geometry whose buffers are filled; ownership taken) and
-  /// commits it in a new prototype scene under a new instance whose user data is `context`.
+  /// commits it in a new prototype scene under a new instance whose user data is an InstanceContext of `context`.
   void Reset(RenderParam* renderParam, RTCGeometry geometry, GeometryContext* context);
   /// The instance's object-to-world transform (and the context's normal transform).
   void SetTransform(RenderParam* renderParam, const Matrix4d& transform, GeometryContext* context);
@@ -32,6 +32,7 @@ class InstancedGeometry {
   unsigned instanceId_ = RTC_INVALID_GEOMETRY_ID;
   Matrix4d transform_{1.0};
   bool visible_ = true;
+  InstanceContext instanceContext_;  ///< the instance's user data, as the renderer reads every instance's
 };
 
 /// An rprim drawn as one InstancedGeometry (curves, points): Sync rebuilds the geometry when `GeometryBits()` are

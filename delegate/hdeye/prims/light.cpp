@@ -8,7 +8,13 @@
 namespace hdeye {
 
 void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
-  if (*dirtyBits & dirty::DirtyTransform) transform_ = sceneDelegate->GetTransform(Id());
+  if (*dirtyBits & dirty::DirtyTransform) {
+    transform_ = sceneDelegate->GetTransform(Id());
+    // A NaN position would make the light silently dark; say so instead.
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(transform_[c][0] + transform_[c][1] + transform_[c][2] + transform_[c][3]))
+        throw std::runtime_error("light " + Id() + ": transform is not finite");
+  }
   if (*dirtyBits & dirty::DirtyParams) {
     LightParams p = sceneDelegate->GetLightParams(Id());
     p.type = type_;
@@ -16,14 +22,28 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
     if (p.type == LightType::Sphere && !(p.radius >= 0)) throw std::runtime_error("light " + Id() + ": radius must be >= 0");
     std::shared_ptr<const DomeTexture> dome;
     if (p.type == LightType::Dome && !p.textureFile.empty()) {
-      try {
-        dome = DomeTexture::Build(renderParam ? renderParam->Textures().Get(p.textureFile) : Texture::Load(p.textureFile));
-      } catch (const std::exception& e) {
-        throw std::runtime_error("light " + Id() + ": textureFile: " + e.what());
+      // Repeat around the dome, clamp at the poles (repeat would blend the two poles).
+      const TextureParams image = TextureParams::Image(p.textureFile, TextureWrap::Clamp);
+      std::shared_ptr<const Texture> texture = renderParam ? renderParam->Textures().Get(image) : Texture::Open(image);
+      if (texture->Valid()) {
+        dome = DomeTexture::Build(std::move(texture));
+      } else {
+        // The render goes on with a dome of the fallback colour, which nobody mistakes for the sky.
+        if (renderParam) renderParam->Warn("light " + Id() + ": textureFile: " + texture->Error() + "; lit by a magenta dome");
+        p.color *= glm::vec3(image.fallback);
+        p.textureFile.clear();
       }
+    }
+    std::shared_ptr<const Texture> rectImage;
+    if (p.type == LightType::Rect && !p.textureFile.empty()) {
+      const TextureParams image = TextureParams::Image(p.textureFile, TextureWrap::Clamp);
+      rectImage = renderParam ? renderParam->Textures().Get(image) : Texture::Open(image);
+      if (!rectImage->Valid() && renderParam)
+        renderParam->Warn("light " + Id() + ": textureFile: " + rectImage->Error() + "; the light emits magenta");
     }
     params_ = p;
     dome_ = std::move(dome);
+    rectImage_ = std::move(rectImage);
   }
   *dirtyBits = dirty::Clean;
 }

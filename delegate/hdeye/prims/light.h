@@ -20,11 +20,15 @@ class Light final : public Sprim {
   /// A dome's texture with its sampling distribution, loaded through RenderParam::Textures() when
   /// the params change; null for other lights and a constant dome.
   std::shared_ptr<const DomeTexture> Dome() const { return dome_; }
+  /// A rect light's texture (UsdLux inputs:texture:file), opened through RenderParam::Textures(); null
+  /// for other lights and an untextured rect.
+  std::shared_ptr<const Texture> RectImage() const { return rectImage_; }
 
  private:
   LightType type_;
   LightParams params_;
   std::shared_ptr<const DomeTexture> dome_;
+  std::shared_ptr<const Texture> rectImage_;
   Matrix4d transform_{1.0};
 };
 

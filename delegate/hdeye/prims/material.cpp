@@ -9,6 +9,10 @@ namespace hdeye {
 
 namespace {
 
+constexpr std::array<const char*, kMaterialInputCount> kInputNames = {
+    "diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal", "specularColor", "clearcoat",
+    "clearcoatRoughness"};
+
 void CheckUnit(const PrimId& id, const char* name, float v) {
   if (!(v >= 0 && v <= 1))
     throw std::runtime_error("material " + id + ": " + name + " = " + std::to_string(v) + " must be in [0, 1]");
@@ -34,16 +38,23 @@ void Material::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, Dirt
     CheckUnit(Id(), "opacity", p.opacity);
     if (!(std::isfinite(p.ior) && p.ior >= 1))
       throw std::runtime_error("material " + Id() + ": ior = " + std::to_string(p.ior) + " must be finite and >= 1");
-    std::shared_ptr<const Texture> texture;
-    if (!p.diffuseTexture.empty()) {
-      try {
-        texture = renderParam ? renderParam->Textures().Get(p.diffuseTexture) : Texture::Load(p.diffuseTexture);
-      } catch (const std::exception& e) {
-        throw std::runtime_error("material " + Id() + ": diffuseTexture: " + e.what());
-      }
+    CheckUnit(Id(), "opacityThreshold", p.opacityThreshold);
+    CheckUnit(Id(), "clearcoat", p.clearcoat);
+    CheckUnit(Id(), "clearcoatRoughness", p.clearcoatRoughness);
+    CheckColor(Id(), "specularColor", p.specularColor);
+    MaterialTextures textures;
+    for (int i = 0; i < kMaterialInputCount; ++i) {
+      const TextureInput& input = p.textures[std::size_t(i)];
+      if (!input.Active()) continue;
+      std::shared_ptr<const Texture> texture =
+          renderParam ? renderParam->Textures().Get(input.texture) : Texture::Open(input.texture);
+      if (!texture->Valid() && renderParam)
+        renderParam->Warn("material " + Id() + ": " + kInputNames[std::size_t(i)] + ": " + texture->Error() +
+                          "; its fallback is used");
+      textures[std::size_t(i)] = {std::move(texture), input};
     }
     params_ = p;
-    diffuseTexture_ = std::move(texture);
+    textures_ = std::move(textures);
   }
   *dirtyBits = dirty::Clean;
 }

@@ -1,5 +1,6 @@
 #include "hdeye/prims/mesh.h"
 
+#include "hdeye/hd/renderIndex.h"
 #include "hdeye/prims/meshBoundary.h"
 #include "hdeye/prims/renderParam.h"
 #include "hdeye/prims/subdivRefiner.h"
@@ -77,11 +78,16 @@ TriangleLayout RemoveHoles(TriangleLayout layout, const std::vector<int>& holes)
 }  // namespace
 
 Mesh::Mesh(PrimId id) : Rprim(std::move(id)) {}
+
+int Mesh::RefineLevelFor(int sceneLevel) {
+  if (plannedRefineLevel_ >= 0) return std::min(sceneLevel, plannedRefineLevel_);
+  return awaitingPlan_ ? 0 : sceneLevel;
+}
 Mesh::~Mesh() = default;
 
 DirtyBits Mesh::GetInitialDirtyBitsMask() const {
   return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTopology | dirty::DirtyTransform |
-         dirty::DirtyPrimvar | dirty::DirtyVisibility | dirty::DirtyMaterialId;
+         dirty::DirtyPrimvar | dirty::DirtyVisibility | dirty::DirtyMaterialId | dirty::DirtyInstancer;
 }
 
 void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
@@ -97,21 +103,8 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
   }
   // Primvars after points: "rest" is refined through the same refiner the topology just built.
   if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncPrimvars(sceneDelegate);
-  if (topologyDirty || (bits & dirty::DirtyTransform)) {
-    transform_ = sceneDelegate->GetTransform(Id());
-    const glm::mat4 m(transform_);
-    renderParam->AcquireSceneForEdit();
-    rtcSetGeometryTransform(instance_, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
-    context_.normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform_)));
-    rtcCommitGeometry(instance_);
-    ++stats_.transformUpdates;
-  }
-  if (topologyDirty || (bits & dirty::DirtyVisibility)) {
-    renderParam->AcquireSceneForEdit();
-    if (sceneDelegate->GetVisible(Id())) rtcEnableGeometry(instance_);
-    else rtcDisableGeometry(instance_);
-    rtcCommitGeometry(instance_);
-  }
+  if (topologyDirty || (bits & (dirty::DirtyTransform | dirty::DirtyVisibility | dirty::DirtyInstancer)))
+    SyncInstances(sceneDelegate, renderParam, bits, topologyDirty);
   if (topologyDirty || (bits & dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
   *dirtyBits = dirty::Clean;
 }
@@ -121,6 +114,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   const int previousLevel = sceneRefineLevel_ < 0 ? -1 : topology_.refineLevel;
   topology_ = sceneDelegate->GetMeshTopology(Id());
   sceneRefineLevel_ = topology_.refineLevel;
+  if (plannedRefineLevel_ < 0 && renderParam->MeshLevelsAwaitPlan()) awaitingPlan_ = true;
   topology_.refineLevel = RefineLevelFor(sceneRefineLevel_);
   if (previousLevel >= 0 && previousLevel != topology_.refineLevel) ++stats_.refineLevelChanges;
   controlPointCount_ = controlPointCount;
@@ -193,11 +187,6 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   rtcSetSceneBuildQuality(prototype_, RTC_BUILD_QUALITY_LOW);
   rtcAttachGeometry(prototype_, triangleGeometry_);
   context_.prototypeScene = prototype_;
-
-  instance_ = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-  rtcSetGeometryInstancedScene(instance_, prototype_);
-  rtcSetGeometryUserData(instance_, &context_);
-  instanceId_ = rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance_);
   context_.triangleVertices = &triangles_;
   ++stats_.topologyBuilds;
 }
@@ -253,7 +242,7 @@ void Mesh::UploadPoints() {
   rtcUpdateGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0);
   rtcCommitGeometry(triangleGeometry_);
   rtcCommitScene(prototype_);
-  rtcCommitGeometry(instance_);  // the instance's bounds follow its prototype
+  for (RTCGeometry instance : instances_) rtcCommitGeometry(instance);  // instance bounds follow the prototype
   ++stats_.pointUploads;
 }
 
@@ -301,17 +290,93 @@ void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate) {
   context_.restPoints = rest_.empty() ? nullptr : &rest_;
 }
 
-void Mesh::ReleaseGeometry(RenderParam* renderParam) {
-  if (instance_) {
-    rtcDetachGeometry(renderParam->AcquireSceneForEdit(), instanceId_);
-    rtcReleaseGeometry(instance_);
+namespace {
+
+/// Whether Embree can instance with this transform: finite, with an invertible linear part (a zero-scale
+/// instance, which PointInstancers use to hide one, draws nothing and is left out).
+bool Instanceable(const Matrix4d& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  const double det = glm::determinant(glm::dmat3(m));
+  return std::isfinite(det) && std::abs(det) > 1e-300;
+}
+
+}  // namespace
+
+void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits bits, bool topologyDirty) {
+  if (topologyDirty || (bits & dirty::DirtyTransform)) {
+    transform_ = sceneDelegate->GetTransform(Id());
+    context_.normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform_)));
+    ++stats_.transformUpdates;
   }
+  if (topologyDirty || (bits & dirty::DirtyVisibility)) visible_ = sceneDelegate->GetVisible(Id());
+  if (topologyDirty || (bits & dirty::DirtyInstancer)) instancerId_ = sceneDelegate->GetInstancerId(Id());
+
+  // Each drawn instance: instance transform * the mesh's own (column vectors), as HdInstancer composes them.
+  std::vector<Matrix4d> worlds;
+  std::vector<int> indices;
+  const Instancer* instancer = nullptr;
+  if (instancerId_.empty()) {
+    if (Instanceable(transform_)) worlds.push_back(transform_), indices.push_back(0);
+  } else {
+    RenderIndex* index = sceneDelegate->GetRenderIndex();
+    instancer = index ? index->GetInstancer(instancerId_) : nullptr;
+    if (!instancer) Fail(Id(), "instancer " + instancerId_ + " does not exist");
+    const std::vector<Matrix4d>& transforms = instancer->InstanceTransforms();
+    for (std::size_t i = 0; i < transforms.size(); ++i) {
+      const Matrix4d world = transforms[i] * transform_;
+      if (Instanceable(world)) worlds.push_back(world), indices.push_back(int(i));
+    }
+  }
+
+  renderParam->AcquireSceneForEdit();
+  if (worlds.size() != instances_.size()) {
+    // A new count: new Embree instances (their user data lives in instanceContexts_, sized here once).
+    ReleaseInstances(renderParam);
+    instanceContexts_.resize(worlds.size());
+    for (std::size_t k = 0; k < worlds.size(); ++k) {
+      RTCGeometry instance = rtcNewGeometry(renderParam->Device(), RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(instance, prototype_);
+      rtcSetGeometryUserData(instance, &instanceContexts_[k]);
+      instanceIds_.push_back(rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance));
+      instances_.push_back(instance);
+    }
+  }
+  const std::vector<Vec3f>* colors = instancer && !instancer->InstanceColors().empty() ? &instancer->InstanceColors() : nullptr;
+  for (std::size_t k = 0; k < worlds.size(); ++k) {
+    InstanceContext& c = instanceContexts_[k];
+    c.geometry = &context_;
+    c.normalToWorld = glm::transpose(glm::inverse(glm::dmat3(worlds[k])));
+    c.instanceIndex = indices[k];
+    c.hasColor = colors != nullptr;
+    c.color = colors ? (*colors)[std::size_t(indices[k])] : Vec3f(0);
+    const glm::mat4 m(worlds[k]);
+    rtcSetGeometryTransform(instances_[k], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
+    if (visible_) rtcEnableGeometry(instances_[k]);
+    else rtcDisableGeometry(instances_[k]);
+    rtcCommitGeometry(instances_[k]);
+  }
+  instanceWorlds_ = std::move(worlds);
+  stats_.instancesDrawn = int(instances_.size());
+  ++stats_.instanceSyncs;
+}
+
+void Mesh::ReleaseInstances(RenderParam* renderParam) {
+  for (std::size_t k = 0; k < instances_.size(); ++k) {
+    rtcDetachGeometry(renderParam->AcquireSceneForEdit(), instanceIds_[k]);
+    rtcReleaseGeometry(instances_[k]);
+  }
+  instances_.clear(), instanceIds_.clear(), instanceContexts_.clear();
+}
+
+void Mesh::ReleaseGeometry(RenderParam* renderParam) {
+  ReleaseInstances(renderParam);
   if (triangleGeometry_) rtcReleaseGeometry(triangleGeometry_);
   if (prototype_) rtcReleaseScene(prototype_);
-  instance_ = triangleGeometry_ = nullptr;
+  triangleGeometry_ = nullptr;
   prototype_ = nullptr;
   context_.prototypeScene = nullptr;
-  instanceId_ = RTC_INVALID_GEOMETRY_ID;
 }
 
 void Mesh::Finalize(RenderParam* renderParam) { ReleaseGeometry(renderParam); }

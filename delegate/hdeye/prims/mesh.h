@@ -1,8 +1,11 @@
 #pragma once
 // A polygon mesh rprim (HdMesh's role): triangles, quads and n-gons, optionally subdivided (Catmull-Clark,
-// Loop, bilinear, with creases, corners, holes) through OpenSubdiv, per-face materials from geomSubsets, held in Embree as a prototype scene under one instance in the root scene.
-// Topology is refined once; when only points change, the stencils re-evaluate them and the Embree
-// vertex buffer is updated in place; a transform change only touches the instance.
+// Loop, bilinear, with creases, corners, holes) through OpenSubdiv, with per-face materials from geomSubsets,
+// held in Embree as one prototype scene under instances in the root scene: one instance when drawn once, one per
+// instance of its instancer (GetInstancerId) otherwise, all over the same prototype scene, so memory grows with
+// the prototypes, not with the instances. Topology is refined once; when only points change, the stencils
+// re-evaluate them and the Embree vertex buffer is updated in place; a transform or instancer change only
+// touches the instances.
 //
 // Smooth shading: every points change also recomputes per-vertex normals for the renderer
 // (GeometryContext::vertexNormals). Refined meshes render the limit surface: the vertices are the limit
@@ -41,6 +44,8 @@ struct MeshSyncStats {
   /// Topology syncs that rendered another refinement level than the previous one (a render plan's level change
   /// on an eye mesh, or new scene topology with another level).
   int refineLevelChanges = 0;
+  int instanceSyncs = 0;   ///< the Embree instances rebuilt or moved (transform, instancer or visibility change)
+  int instancesDrawn = 0;  ///< Embree instances now in the root scene (instances with a singular transform are not)
 };
 
 /// Not final: EyeMesh is a Mesh that also carries an eye.
@@ -67,10 +72,14 @@ class Mesh : public Rprim {
   /// topology asked for at the last topology sync; they differ when RefineLevelFor lowers it (eye meshes).
   int RefineLevel() const { return topology_.refineLevel; }
   int SceneRefineLevel() const { return sceneRefineLevel_; }
-  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: that level. EyeMesh: capped by
-  /// its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
+  /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: capped by its planned level
+  /// (0 while a pending plan has not reached it). EyeMesh: capped by its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
   /// changes the rendered level, i.e. whether the mesh's topology is dirty.
-  virtual int RefineLevelFor(int sceneLevel) { return sceneLevel; }
+  virtual int RefineLevelFor(int sceneLevel);
+  /// The render plan's level for this mesh (plan/meshRefinePlan.h): it then renders min(scene level, level).
+  void SetPlannedRefineLevel(int level) { plannedRefineLevel_ = level, awaitingPlan_ = false; }
+  void ClearPlannedRefineLevel() { plannedRefineLevel_ = -1, awaitingPlan_ = false; }
+  int PlannedRefineLevel() const { return plannedRefineLevel_; }
   /// Primvars as the renderer reads them, per rendered triangle corner (empty when not authored).
   const std::vector<Vec2f>& St() const { return st_; }
   const std::vector<Vec3f>& AuthoredNormals() const { return cornerNormals_; }
@@ -80,6 +89,10 @@ class Mesh : public Rprim {
   /// The prototype scene (object space, this mesh's triangles only; committed after every points upload),
   /// or null before the first sync. Also in Context()->prototypeScene, where the renderer reads it.
   RTCScene PrototypeScene() const { return prototype_; }
+  /// The instancer drawing this mesh, or empty; and the object-to-world transform of each instance drawn (one,
+  /// the mesh's own, when not instanced).
+  const PrimId& InstancerId() const { return instancerId_; }
+  const std::vector<Matrix4d>& InstanceWorldTransforms() const { return instanceWorlds_; }
 
  protected:
   const Matrix4d& Transform() const { return transform_; }
@@ -93,10 +106,15 @@ class Mesh : public Rprim {
   void SyncPoints(const std::vector<Vec3f>& control);
   void SyncPrimvars(SceneDelegate* sceneDelegate);
   void UploadPoints();
+  /// Rebuilds or moves the Embree instances: the mesh's transform, times its instancer's instance transforms.
+  void SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits bits, bool topologyDirty);
+  void ReleaseInstances(RenderParam* renderParam);
   void ReleaseGeometry(RenderParam* renderParam);
 
   MeshTopology topology_;    ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
   int sceneRefineLevel_ = -1;  ///< the scene delegate's refineLevel at the last topology sync; -1 before it
+  int plannedRefineLevel_ = -1;  ///< the render plan's level, or -1
+  bool awaitingPlan_ = false;    ///< synced while a plan was pending and not planned yet: level 0 until it is
   int controlPointCount_ = 0;
   std::unique_ptr<SubdivRefiner> refiner_;
   std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
@@ -114,8 +132,12 @@ class Mesh : public Rprim {
 
   RTCScene prototype_ = nullptr;
   RTCGeometry triangleGeometry_ = nullptr;
-  RTCGeometry instance_ = nullptr;
-  unsigned instanceId_ = RTC_INVALID_GEOMETRY_ID;
+  PrimId instancerId_;
+  bool visible_ = true;
+  std::vector<Matrix4d> instanceWorlds_;          ///< object to world per drawn instance
+  std::vector<RTCGeometry> instances_;           ///< Embree instances of prototype_, one per drawn instance
+  std::vector<unsigned> instanceIds_;            ///< their ids in the root scene
+  std::vector<InstanceContext> instanceContexts_;  ///< their user data (sized once per rebuild: never reallocated)
   GeometryContext context_;
   MeshSyncStats stats_;
 };

@@ -46,6 +46,10 @@ struct EyeGeometry {
   EyeGeometry() = default;
   EyeGeometry(const EyeParams& params, const Matrix4d& primTransform);
 
+  /// The absolute part of SpawnOffset (surfacePoint.h) on this eye: its centimetre in world units (10 x
+  /// worldPerMm), so that rays leave the eye's surfaces alike from 1e-8 to 1e4 world units per mm.
+  double SpawnScale() const { return 10 * worldPerMm; }
+
   glm::dvec3 ToCanonical(const glm::dvec3& p) const { return glm::dvec3(worldToCanonical * glm::dvec4(p, 1)); }
   glm::dvec3 ToWorld(const glm::dvec3& p) const { return glm::dvec3(canonicalToWorld * glm::dvec4(p, 1)); }
   /// Directions map by the linear part; the result is normalised (a similarity keeps angles).

@@ -55,6 +55,11 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     y = light.position;
     end.position = eye.ToCanonical(y);
     weight = 1 / (eye.worldPerMm * eye.worldPerMm);
+  } else if (ls.pointLimit) {
+    // A sphere too small to sample over its surface: its centre, of intensity radiance x pi r^2.
+    y = light.position;
+    end.position = eye.ToCanonical(y);
+    weight = kPi * (light.radius / eye.worldPerMm) * (light.radius / eye.worldPerMm);
   } else {
     y = apex + ls.dir * ls.distance;
     emitterNormal = light.type == LightType::Sphere ? glm::normalize(y - light.position) : light.direction;
@@ -78,7 +83,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
       const glm::dvec3 d = y - p;
       tFar = glm::length(d);
       toLight = d / tFar;
-      cosEmit = light.delta ? 1.0 : std::max(0.0, -glm::dot(emitterNormal, toLight));
+      cosEmit = light.delta || ls.pointLimit ? 1.0 : std::max(0.0, -glm::dot(emitterNormal, toLight));
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
@@ -110,7 +115,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     ev.kind = EyeEvent::Continue;
     ev.passThrough = true;
     ev.dir = worldDir;
-    ev.origin = SpawnOrigin(hit.worldPoint, worldDir);
+    ev.origin = SpawnOrigin(hit.worldPoint, worldDir, eye.SpawnScale());
     return ev;
   }
   // Past the outer limbus edge (a projection that does not cover the hit included), and anywhere below
@@ -135,7 +140,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
     EyeMeshHit leaving = hit;
     if (!hit.reprojected) leaving.worldToLocal = glm::dmat3(1.0);  // the direction is already the world one
     ev.dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(ev.dir) : ev.dir);
-    ev.origin = SpawnOrigin(hit.worldPoint, hit.worldNormal);
+    ev.origin = SpawnOrigin(hit.worldPoint, hit.worldNormal, eye.SpawnScale());
   }
   return ev;
 }

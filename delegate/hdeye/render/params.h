@@ -2,10 +2,13 @@
 // What the renderer is given of cameras, lights, materials and eyes: the parameters a scene delegate returns
 // (hd/sceneDelegate.h) and the prims hand on to the renderer. World units are whatever the scene uses (USD:
 // usually cm or m); eyes carry their own transform into eyelib's canonical millimetre frame.
+#include "hdeye/render/texture.h"
+
 #include <eyelib/anterior_chamber.h>
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -67,7 +70,9 @@ struct LightParams {
   float radius = 0.5f;      ///< sphere, disk (scene units)
   float width = 1, height = 1;  ///< rect (scene units)
   float angle = 0.53f;      ///< distant: angular diameter, degrees
-  std::string textureFile;  ///< dome: lat-long texture (empty: constant colour)
+  /// Dome: a lat-long image; rect: an image over the rectangle (RenderLight::rectImage's orientation). Any
+  /// format OpenImageIO reads; empty: a constant colour.
+  std::string textureFile;
   /// Dome: the lat-long image's top pole is the light's local +z (UsdLuxDomeLight_1 poleAxis "Z", or "scene" on
   /// a Z-up stage), a +90 degree turn about x of the default +y pole; false: +y (UsdLuxDomeLight).
   bool domePoleZ = false;
@@ -79,17 +84,47 @@ struct LightParams {
   std::vector<std::string> shadowLinkExcludes;
 };
 
+/// The UsdPreviewSurface inputs a texture can drive.
+enum class MaterialInput {
+  DiffuseColor, EmissiveColor, Roughness, Metallic, Opacity, Ior, Normal, SpecularColor, Clearcoat, ClearcoatRoughness,
+  Count
+};
+constexpr int kMaterialInputCount = int(MaterialInput::Count);
+
+/// A material input read from a UsdUVTexture: the texture, which of its outputs, and the UsdTransform2d
+/// between the mesh's st primvar and the texture's st (st' = R(rotation) (st * scale) + translation).
+struct TextureInput {
+  TextureParams texture;  ///< texture.file empty: the input is not textured
+  int channel = -1;       ///< the UsdUVTexture output: -1 rgb, 0..3 r, g, b, a (float inputs take one)
+  glm::vec2 scale{1, 1};
+  float rotation = 0;     ///< degrees, counter-clockwise
+  glm::vec2 translation{0, 0};
+  bool Active() const { return !texture.file.empty(); }
+};
+
 /// Material parameters (UsdPreviewSurface subset). Colours are linear; opacity below 1 makes the
-/// surface a dielectric of index `ior` (glass) rather than a cut-out.
+/// surface a dielectric of index `ior` (glass), unless opacityThreshold > 0 makes opacity a cut-out mask.
 struct MaterialParams {
   glm::vec3 diffuseColor{0.18f, 0.18f, 0.18f};
-  /// Image (PNG: sRGB, EXR: linear) looked up by the mesh's `st` primvar; replaces diffuseColor where set.
-  std::string diffuseTexture;
   glm::vec3 emissiveColor{0, 0, 0};
   float roughness = 0.5f;  ///< GGX, perceptual (alpha = roughness^2), [0, 1]
   float metallic = 0;      ///< [0, 1]
   float opacity = 1;       ///< [0, 1]
+  /// [0, 1]. Above 0: a point whose opacity is below it is not there (card eyelashes, leaves), and one
+  /// at or above it is opaque.
+  float opacityThreshold = 0;
   float ior = 1.5f;        ///< dielectric index of refraction (>= 1)
+  /// useSpecularWorkflow: the specular lobe's colour at normal incidence is specularColor (white at the
+  /// edge) instead of coming from metallic and ior.
+  bool useSpecularWorkflow = false;
+  glm::vec3 specularColor{0, 0, 0};  ///< linear, [0, 1]
+  float clearcoat = 0;               ///< [0, 1]: a white coat of index 1.5 over everything
+  float clearcoatRoughness = 0.01f;  ///< perceptual, [0, 1]
+  /// Inputs driven by textures (looked up by the mesh's `st` primvar), indexed by MaterialInput; an
+  /// active one replaces the constant above. Normal: a tangent-space normal map (tangents from st).
+  std::array<TextureInput, kMaterialInputCount> textures;
+  TextureInput& Texture(MaterialInput i) { return textures[std::size_t(i)]; }
+  const TextureInput& Texture(MaterialInput i) const { return textures[std::size_t(i)]; }
 };
 
 /// An eye's parameters (the EyeAPI schema's attributes). Lengths in the canonical frame are mm.

@@ -28,13 +28,37 @@ struct Frame {
 /// Exact dielectric Fresnel reflectance from outside (cos > 0) for index ior over air; 0 for ior = 1.
 double FresnelCoat(double cosTheta, double ior) { return eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior); }
 
-/// The specular reflectance at a microfacet seen at cosine c: the spec's F0/F90 interpolation by metallic.
+/// Schlick's Fresnel from its normal-incidence reflectance f0 (white at grazing incidence).
+glm::dvec3 Schlick(const glm::dvec3& f0, double c) {
+  const double m = 1 - std::clamp(c, 0.0, 1.0);
+  return f0 + (glm::dvec3(1) - f0) * (m * m * m * m * m);
+}
+
+/// The specular reflectance at a microfacet seen at cosine c: the spec's F0/F90 interpolation by metallic,
+/// or Schlick of specularColor in the specular workflow.
 glm::dvec3 SpecularFresnel(const PreviewSurface& s, double c) {
+  if (s.specularWorkflow) return Schlick(s.specularColor, c);
   return glm::mix(glm::dvec3(FresnelCoat(c, s.ior)), s.albedo, s.metallic);
 }
 
+/// What the specular lobe takes from the diffuse at cosine c (scalar, so the product stays reciprocal).
+double DiffuseFresnel(const PreviewSurface& s, double c) {
+  if (!s.specularWorkflow) return FresnelCoat(c, s.ior);
+  const glm::dvec3 f = Schlick(s.specularColor, c);
+  return std::max({f.x, f.y, f.z});
+}
+double DiffuseWeight(const PreviewSurface& s) { return s.specularWorkflow ? 1.0 : 1 - s.metallic; }
+
+/// The clearcoat's reflectance at cosine c: clearcoat x Schlick with F0 = 0.04 (index 1.5).
+constexpr double kClearcoatF0 = 0.04;
+double CoatFresnel(const PreviewSurface& s, double c) { return s.clearcoat * Schlick(glm::dvec3(kClearcoatF0), c).x; }
+/// What reaches the layers under the clearcoat, seen from cosine c.
+double UnderCoat(const PreviewSurface& s, double c) { return 1 - CoatFresnel(s, c); }
+
 bool IsMirror(const PreviewSurface& s) { return s.roughness < kMirrorRoughness; }
 double Alpha(const PreviewSurface& s) { return std::max(kMinAlpha, s.roughness * s.roughness); }
+bool CoatIsMirror(const PreviewSurface& s) { return s.clearcoatRoughness < kMirrorRoughness; }
+double CoatAlpha(const PreviewSurface& s) { return std::max(kMinAlpha, s.clearcoatRoughness * s.clearcoatRoughness); }
 
 // GGX (Trowbridge-Reitz), isotropic, in the local frame (z = normal).
 double GgxD(double alpha, const glm::dvec3& h) {
@@ -68,44 +92,57 @@ glm::dvec3 SampleGgxVisibleNormal(double alpha, const glm::dvec3& wo, double u1,
 
 /// Lobe selection probabilities from wo, proportional to each lobe's estimated reflectance.
 struct LobeProbabilities {
-  double diffuse = 0, specular = 0, glass = 0;
+  double diffuse = 0, specular = 0, coat = 0, glass = 0;
 };
 LobeProbabilities SelectLobes(const PreviewSurface& s, double cosO) {
-  const double coat = FresnelCoat(cosO, s.ior);
-  const double wD = s.opacity * (1 - s.metallic) * Luminance(s.albedo) * (1 - coat);
-  const double wS = s.opacity * Luminance(SpecularFresnel(s, cosO));
+  const double under = UnderCoat(s, cosO);
+  const double wD = s.opacity * under * DiffuseWeight(s) * Luminance(s.albedo) * (1 - DiffuseFresnel(s, cosO));
+  const double wS = s.opacity * under * Luminance(SpecularFresnel(s, cosO));
+  const double wC = s.opacity * CoatFresnel(s, cosO);
   const double wG = 1 - s.opacity;
-  const double total = wD + wS + wG;
+  const double total = wD + wS + wC + wG;
   if (!(total > 0) || !std::isfinite(total)) return {};
-  return {wD / total, wS / total, wG / total};
+  return {wD / total, wS / total, wC / total, wG / total};
 }
 
-/// Diffuse plus rough specular f (1/sr), without the opacity factor, both directions above (local).
-glm::dvec3 OpaqueF(const PreviewSurface& s, const glm::dvec3& wo, const glm::dvec3& wi) {
-  const glm::dvec3 diffuse = (1 - s.metallic) * s.albedo / kPi * (1 - FresnelCoat(wo.z, s.ior)) *
-                             (1 - FresnelCoat(wi.z, s.ior));
-  if (IsMirror(s)) return diffuse;
+/// GGX reflection with masking-shadowing for alpha at local directions above: D G2 / (4 cos_o cos_i), and h.
+double GgxReflection(double alpha, const glm::dvec3& wo, const glm::dvec3& wi, glm::dvec3* h) {
   const glm::dvec3 sum = wo + wi;
   const double len = glm::length(sum);
-  if (!(len > 0)) return diffuse;
-  const glm::dvec3 h = sum / len;
-  const double alpha = Alpha(s);
+  if (!(len > 0)) return 0;
+  *h = sum / len;
   const double g2 = 1 / (1 + GgxLambda(alpha, wo) + GgxLambda(alpha, wi));
-  const glm::dvec3 specular = GgxD(alpha, h) * g2 * SpecularFresnel(s, glm::dot(wo, h)) / (4 * wo.z * wi.z);
-  return diffuse + specular;
+  return GgxD(alpha, *h) * g2 / (4 * wo.z * wi.z);
+}
+
+/// The solid-angle pdf of reflecting wo into wi about a visible GGX normal.
+double GgxReflectionPdf(double alpha, const glm::dvec3& wo, const glm::dvec3& wi) {
+  const glm::dvec3 sum = wo + wi;
+  const double len = glm::length(sum);
+  return len > 0 ? GgxD(alpha, sum / len) * GgxG1(alpha, wo) / (4 * wo.z) : 0;
+}
+
+/// Clearcoat, diffuse and rough specular f (1/sr), without the opacity factor, both directions above (local).
+glm::dvec3 OpaqueF(const PreviewSurface& s, const glm::dvec3& wo, const glm::dvec3& wi) {
+  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - DiffuseFresnel(s, wo.z)) * (1 - DiffuseFresnel(s, wi.z));
+  glm::dvec3 h;
+  if (!IsMirror(s)) {
+    const double g = GgxReflection(Alpha(s), wo, wi, &h);
+    if (g > 0) base += g * SpecularFresnel(s, glm::dot(wo, h));
+  }
+  glm::dvec3 f = base * (UnderCoat(s, wo.z) * UnderCoat(s, wi.z));
+  if (s.clearcoat > 0 && !CoatIsMirror(s)) {
+    const double g = GgxReflection(CoatAlpha(s), wo, wi, &h);
+    if (g > 0) f += glm::dvec3(g * CoatFresnel(s, glm::dot(wo, h)));
+  }
+  return f;
 }
 
 /// Non-delta pdf, local directions, both above.
 double OpaquePdf(const PreviewSurface& s, const LobeProbabilities& p, const glm::dvec3& wo, const glm::dvec3& wi) {
   double pdf = p.diffuse * wi.z / kPi;
-  if (!IsMirror(s) && p.specular > 0) {
-    const glm::dvec3 sum = wo + wi;
-    const double len = glm::length(sum);
-    if (len > 0) {
-      const double alpha = Alpha(s);
-      pdf += p.specular * GgxD(alpha, sum / len) * GgxG1(alpha, wo) / (4 * wo.z);
-    }
-  }
+  if (!IsMirror(s) && p.specular > 0) pdf += p.specular * GgxReflectionPdf(Alpha(s), wo, wi);
+  if (!CoatIsMirror(s) && p.coat > 0) pdf += p.coat * GgxReflectionPdf(CoatAlpha(s), wo, wi);
   return pdf;
 }
 
@@ -139,7 +176,7 @@ bool HasSmoothLobe(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec
   const double cosO = glm::dot(n, wo);
   if (!(cosO > kMinCos)) return false;
   const LobeProbabilities p = SelectLobes(s, cosO);
-  return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s));
+  return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s)) || (p.coat > 0 && !CoatIsMirror(s));
 }
 
 bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, bool inside, double u0,
@@ -150,7 +187,7 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
   if (!(lo.z > kMinCos)) return false;
   const LobeProbabilities p = SelectLobes(s, lo.z);
 
-  if (u0 >= p.diffuse + p.specular) {
+  if (u0 >= p.diffuse + p.specular + p.coat) {
     // Glass: reflect with the Fresnel probability, else refract (a thin sheet: pass straight through).
     if (!(p.glass > 0)) return false;
     if (s.thinWalled) {
@@ -179,9 +216,18 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
     return Finite(out->weight);
   }
 
-  if (u0 >= p.diffuse && IsMirror(s)) {
+  const bool coatLobe = u0 >= p.diffuse + p.specular;
+  if (coatLobe && CoatIsMirror(s)) {
     out->wi = eyelib::Reflect(wo, n);
-    out->weight = s.opacity * SpecularFresnel(s, lo.z) / p.specular;  // p.specular > 0 here
+    out->weight = glm::dvec3(s.opacity * CoatFresnel(s, lo.z) / p.coat);  // p.coat > 0 here
+    out->pdf = p.coat;
+    out->delta = true;
+    return Finite(out->weight);
+  }
+  if (!coatLobe && u0 >= p.diffuse && IsMirror(s)) {
+    out->wi = eyelib::Reflect(wo, n);
+    const double under = UnderCoat(s, lo.z);  // down through the coat and back up at the same angle
+    out->weight = s.opacity * under * under * SpecularFresnel(s, lo.z) / p.specular;  // p.specular > 0 here
     out->pdf = p.specular;
     out->delta = true;
     return Finite(out->weight);
@@ -190,6 +236,9 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
   glm::dvec3 li;
   if (u0 < p.diffuse) {
     li = frame.ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
+  } else if (coatLobe) {
+    const glm::dvec3 h = SampleGgxVisibleNormal(CoatAlpha(s), lo, u1, u2);
+    li = 2 * glm::dot(lo, h) * h - lo;
   } else {
     const glm::dvec3 h = SampleGgxVisibleNormal(Alpha(s), lo, u1, u2);
     li = 2 * glm::dot(lo, h) * h - lo;

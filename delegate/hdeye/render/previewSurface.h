@@ -1,16 +1,22 @@
 #pragma once
-// The BSDF of UsdPreviewSurface's metallic workflow (the subset MaterialParams carries), at one
-// shading point. Every sampling routine has its pdf beside it, and the tests check they agree.
+// The BSDF of UsdPreviewSurface (metallic and specular workflows, clearcoat), at one shading point.
+// Every sampling routine has its pdf beside it, and the tests check they agree.
 //
 // Lobes, mixed by `opacity`:
 //   opaque part (weight opacity):
-//     diffuse   (1 - metallic) albedo / pi * (1 - Fd(cos_o)) (1 - Fd(cos_i))   (reciprocal; what the
-//               specular coat reflects is not also scattered diffusely)
+//     clearcoat a white GGX lobe of its own roughness, F = clearcoat x Schlick(0.04) (index 1.5), over
+//               everything below, which it dims by (1 - Fc(cos_o)) (1 - Fc(cos_i)) (reciprocal; what
+//               the coat reflects does not also reach the base). Below kMirrorRoughness a delta lobe.
+//     diffuse   kd albedo / pi * (1 - Fd(cos_o)) (1 - Fd(cos_i))   (reciprocal; what the
+//               specular coat reflects is not also scattered diffusely). Metallic workflow: kd = 1 -
+//               metallic, Fd the exact dielectric Fresnel of `ior`; specular workflow: kd = 1, Fd the
+//               largest channel of Schlick(specularColor).
 //     specular  GGX microfacet D G2 F / (4 cos_o cos_i), Smith height-correlated G2, perceptual
 //               roughness (alpha = roughness^2, at least kMinAlpha), F = mix(Fd(wo.h), albedo, metallic):
 //               the spec's F0 = ((1 - ior) / (1 + ior))^2 with F90 = 1 for metallic 0 (exact
 //               dielectric Fresnel here, which Schlick's form approximates), F0 = F90 = albedo for
-//               metallic 1. Below kMirrorRoughness it is a mirror: a delta lobe, never light-sampled.
+//               metallic 1; specular workflow: F = Schlick(specularColor), white at the edge.
+//               Below kMirrorRoughness it is a mirror: a delta lobe, never light-sampled.
 //   glass part (weight 1 - opacity): a smooth dielectric of index `ior`, reflecting with the Fresnel
 //     probability, else refracting (radiance scaled by 1/eta^2, pbrt's non-symmetric BTDF, as the
 //     cornea does). Rough transmission is not modelled: roughness does not blur the glass.
@@ -32,9 +38,17 @@ struct PreviewSurface {
   double opacity = 1;       ///< [0, 1]; below 1 part of the surface is glass
   double ior = 1.5;         ///< >= 1
   bool thinWalled = false;  ///< the glass part is a thin sheet (no refraction, no inside)
+  bool specularWorkflow = false;   ///< useSpecularWorkflow: specularColor instead of metallic and ior
+  glm::dvec3 specularColor{0};     ///< linear, [0, 1]: the specular workflow's F0 (edge colour white)
+  double clearcoat = 0;            ///< [0, 1]: weight of the white clearcoat lobe
+  double clearcoatRoughness = 0.01;  ///< perceptual, [0, 1] (the spec's default is a mirror)
 
   /// A pure Lambertian reflector (the sclera, and anything that must stay Lambert).
-  static PreviewSurface Lambert(const glm::dvec3& albedo) { return {albedo, 1, 0, 1, 1}; }
+  static PreviewSurface Lambert(const glm::dvec3& albedo) {
+    PreviewSurface s;
+    s.albedo = albedo, s.roughness = 1, s.metallic = 0, s.opacity = 1, s.ior = 1;
+    return s;
+  }
 };
 
 /// Reflectance of a thin dielectric sheet of index `ior` at cosine `cosTheta` (both interfaces and the light

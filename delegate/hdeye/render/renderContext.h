@@ -3,20 +3,29 @@
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/render/eyeRenderOptions.h"
 #include "hdeye/render/params.h"
+#include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>
 
+#include <array>
+#include <memory>
 #include <vector>
 
 namespace hdeye {
 
 struct EyeGeometry;
-class Texture;
 
-/// A material as the renderer shades it: its parameters and its diffuse texture (owned by the Material sprim).
+/// A textured input as the renderer uses it: the opened texture (null: not textured) and its input.
+struct BoundTexture {
+  std::shared_ptr<const Texture> texture;
+  TextureInput input;
+};
+using MaterialTextures = std::array<BoundTexture, kMaterialInputCount>;
+
+/// A material as the renderer shades it: its parameters and its textured inputs (owned by the Material sprim).
 struct SurfaceMaterial {
   MaterialParams params;
-  const Texture* diffuseTexture = nullptr;
+  const MaterialTextures* textures = nullptr;
   /// False for the fallback material (no material sprim bound), which shows the displayColor primvar as Hydra's
   /// fallback surface does; a bound UsdPreviewSurface shows its own diffuseColor.
   bool bound = false;
@@ -24,7 +33,9 @@ struct SurfaceMaterial {
 
 struct GeometryContext {
   int primIndex = -1;                 ///< the primId AOV value
-  glm::dmat3 normalToWorld{1.0};      ///< inverse transpose of the instance transform's linear part
+  /// Inverse transpose of the transform's linear part: analytic eyes and meshes drawn once (eye meshes, which are
+  /// never instanced, map hits with it); an instanced mesh's are per instance, in InstanceContext.
+  glm::dmat3 normalToWorld{1.0};
   MaterialParams material;            ///< resolved from the bound material (or the fallback)
   bool materialBound = false;         ///< a material sprim is bound (else `material` is the fallback)
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
@@ -46,8 +57,8 @@ struct GeometryContext {
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
-  /// The bound material's diffuseTexture (owned by the Material sprim), looked up at the hit's st; or null.
-  const Texture* diffuseTexture = nullptr;
+  /// The bound material's textured inputs (owned by the Material sprim), looked up at the hit's st; or null.
+  const MaterialTextures* textures = nullptr;
   /// Per-face materials (geomSubsets): per rendered triangle, an index into subsetMaterials, or -1 for the
   /// prim's own material above; null when the prim has no subsets.
   const std::vector<int>* triangleSubsets = nullptr;
@@ -61,6 +72,18 @@ struct GeometryContext {
   /// The mesh is an open surface (it has boundary edges): its glass part, if its material has opacity < 1, is a
   /// thin sheet that transmits straight through and lets shadow rays pass (thinWalls.h).
   bool thinWalled = false;
+};
+
+/// What the renderer knows of one Embree instance of a mesh (HdEmbreeInstanceContext's role), stored as the
+/// instance geometry's user data: the prototype's context, shared by all its instances, and what differs per
+/// instance. A mesh drawn once has one; an instanced mesh one per instance over the same prototype scene.
+struct InstanceContext {
+  const GeometryContext* geometry = nullptr;  ///< the prototype mesh's context
+  glm::dmat3 normalToWorld{1.0};  ///< inverse transpose of this instance's object-to-world linear part
+  /// The instancer's displayColor for this instance (linear RGB), replacing the mesh's colour when hasColor.
+  Vec3f color{0};
+  bool hasColor = false;
+  int instanceIndex = 0;  ///< the instance's index in its instancer (0 when drawn once)
 };
 
 }  // namespace hdeye

@@ -15,8 +15,13 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+using eyelib::OneMinusCosFromSin2;
 using eyelib::SampleUniformCone;
 using eyelib::UniformConePdf;
+
+// sin^2 of a sphere's angular radius below which it is sampled as its centre (1e-5 rad: the point limit's
+// relative error, of order the angle, is then below the sampling noise of any render).
+constexpr double kPointLimitSin2 = 1e-10;
 
 /// Area pdf to solid angle pdf.
 double AreaToSolidAngle(double areaPdf, double distance, double cosAtLight) {
@@ -80,6 +85,12 @@ glm::dvec2 DirectionToLatLong(const glm::dvec3& d, double* cosLat) {
 double UvToSolidAngle(double pdfUv, double cosLat) {
   return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0;
 }
+/// Radiance of a rect light at local point a axisU + b axisV (a, b in [-1, 1]; see RenderLight::rectImage).
+glm::dvec3 RectRadiance(const RenderLight& l, double a, double b) {
+  if (!l.rectImage) return l.radiance;
+  return l.radiance * glm::dvec3(l.rectImage->Lookup(glm::vec2(float((1 - a) / 2), float((1 + b) / 2))));
+}
+
 /// Radiance of the textured dome at (u, v): clamped at the poles (repeat would blend the two poles).
 glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
   const Texture& image = *l.dome->image;
@@ -91,10 +102,12 @@ glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
 
 std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
   if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
+  const std::vector<glm::vec3> texels = image->Texels();
+  if (texels.empty()) throw std::invalid_argument("DomeTexture::Build: " + (image->Valid() ? std::string("a UDIM set is no lat-long image") : image->Error()));
   const int w = image->Width(), h = image->Height();
   std::vector<double> luminance(std::size_t(w) * std::size_t(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(image->Texel(x, y)));
+    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
   // Distribution row r is image row h-1-r (v = 0 at the bottom).
   std::vector<double> weights(luminance.size());
   for (int r = 0; r < h; ++r) {
@@ -116,7 +129,8 @@ std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Text
   return dome;
 }
 
-RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome) {
+RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, std::shared_ptr<const DomeTexture> dome,
+                                    std::shared_ptr<const Texture> rectImage) {
   RenderLight l;
   l.type = p.type;
   glm::dvec3 color(p.color);
@@ -154,6 +168,7 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
     case LightType::Rect:
       l.axisU = x * (p.width / 2.0);
       l.axisV = y * (p.height / 2.0);
+      l.rectImage = std::move(rectImage);
       sizeFactor = PlanarArea(l);
       break;
     case LightType::Disk:
@@ -164,7 +179,12 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
       break;
     case LightType::Dome:
       if (!p.textureFile.empty()) {
-        l.dome = dome ? std::move(dome) : DomeTexture::Build(Texture::Load(p.textureFile));
+        if (!dome) {
+          auto image = Texture::Open(TextureParams::Image(p.textureFile, TextureWrap::Clamp));
+          if (!image->Valid()) throw std::runtime_error(image->Error());
+          dome = DomeTexture::Build(std::move(image));
+        }
+        l.dome = std::move(dome);
         // +90 degrees about x takes the +y pole to +z (columns: the images of x, y, z).
         const glm::dmat3 poleZ(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, -1, 0));
         l.domeToWorld = p.domePoleZ ? RotationOf(m) * poleZ : RotationOf(m);
@@ -173,6 +193,9 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
   }
   // A zero-size light has nothing to divide by: it stays dark rather than infinite.
   if (p.normalize && sizeFactor != 1) l.radiance = sizeFactor > 0 ? l.radiance / sizeFactor : glm::dvec3(0);
+  // An intensity x 2^exposure (or its normalized value) past double's range has no finite radiance to render:
+  // the light is off (the scene delegate reports such lights).
+  if (!std::isfinite(l.radiance.x + l.radiance.y + l.radiance.z)) l.radiance = glm::dvec3(0);
   return l;
 }
 
@@ -197,23 +220,34 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     case LightType::Sphere: {
       const glm::dvec3 toC = l.position - p;
       const double d = glm::length(toC);
+      if (!std::isfinite(d)) return s;
       if (l.delta) {  // a point: intensity / d^2 from its one direction
         if (!(d > 0)) return s;
         s.dir = toC / d;
         s.distance = d;
         s.radiance = l.radiance * EmissionShaping(l, -s.dir) / (d * d);
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // too near
         s.pdf = 1;
         s.delta = true;
         return s;
       }
       if (!(d > l.radius)) return s;  // inside the light: not sampled
-      const double sinMax = l.radius / d, cosMax = std::sqrt(std::max(0.0, 1 - sinMax * sinMax));
-      s.dir = SampleUniformCone(toC / d, cosMax, u1, u2);
+      const double sin2 = (l.radius / d) * (l.radius / d), cone = OneMinusCosFromSin2(sin2);
+      // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
+      if (!(cone > 0) || !std::isfinite(1 / cone)) return s;
+      s.pdf = 1 / (2 * kPi * cone);
+      if (sin2 < kPointLimitSin2) {
+        s.dir = toC / d;
+        s.distance = d;
+        s.radiance = l.radiance * EmissionShaping(l, -s.dir);
+        s.pointLimit = true;
+        return s;
+      }
+      s.dir = SampleUniformCone(toC / d, 1 - cone, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
       s.radiance = l.radiance * EmissionShaping(l, -s.dir);
-      s.pdf = UniformConePdf(cosMax);
       return s;
     }
     case LightType::Distant:
@@ -249,19 +283,23 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
     }
     case LightType::Rect:
     case LightType::Disk: {
+      if (!(PlanarArea(l) > 0)) return s;  // a zero width, height or radius emits nothing
       glm::dvec3 q;
+      glm::dvec3 radiance = l.radiance;
       if (l.type == LightType::Rect) {
         q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
+        radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
       } else {
         const double r = l.radius * std::sqrt(u1), phi = 2 * kPi * u2;
         q = l.position + r * (std::cos(phi) * l.axisU + std::sin(phi) * l.axisV);
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
-      if (!(s.distance > 0)) return s;
+      if (!(s.distance > 0) || !std::isfinite(s.distance)) return s;
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
-      if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
+      if (!std::isfinite(s.pdf)) return LightSample{};  // too small to sample from here: it overflows
+      if (s.pdf > 0) s.radiance = radiance * EmissionShaping(l, -s.dir);
       return s;
     }
   }
@@ -280,9 +318,8 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       if (disc < 0) return false;
       const double t = b - std::sqrt(disc);
       if (!(t > 0) || t >= maxDistance) return false;
-      const double sinMax2 = l.radius * l.radius / d2;
       *radiance = l.radiance * EmissionShaping(l, -dir);
-      *pdf = UniformConePdf(std::sqrt(std::max(0.0, 1 - sinMax2)));
+      *pdf = 1 / (2 * kPi * OneMinusCosFromSin2(l.radius * l.radius / d2));
       *distance = t;
       return true;
     }
@@ -309,17 +346,19 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
     case LightType::Rect:
     case LightType::Disk: {
       const double cosL = glm::dot(-dir, l.direction);
-      if (!(cosL > 0)) return false;  // one-sided
+      if (!(cosL > 0) || !(PlanarArea(l) > 0)) return false;  // one-sided; a zero-area light is never hit
       const double t = glm::dot(l.position - p, l.direction) / glm::dot(dir, l.direction);
       if (!(t > 0) || t >= maxDistance) return false;
       const glm::dvec3 q = p + t * dir - l.position;
+      *radiance = l.radiance;
       if (l.type == LightType::Rect) {
         const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU), b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
         if (std::abs(a) > 1 || std::abs(b) > 1) return false;
+        *radiance = RectRadiance(l, a, b);
       } else if (glm::dot(q, q) > l.radius * l.radius) {
         return false;
       }
-      *radiance = l.radiance * EmissionShaping(l, -dir);
+      *radiance *= EmissionShaping(l, -dir);
       *pdf = AreaToSolidAngle(1 / PlanarArea(l), t, cosL);
       *distance = t;
       return true;

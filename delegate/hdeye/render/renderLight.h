@@ -64,6 +64,10 @@ struct RenderLight {
   /// Light and shadow linking over GeometryContext::primIndex (RenderPass::Execute fills them from LightParams'
   /// excludes): non-zero where the rprim is not lit by / casts no shadow for this light. Empty: none.
   std::vector<char> unlit, unshadowed;
+  /// Rect with a texture: radiance = `radiance` x texel. UsdLux puts the image's first texel (its top-left)
+  /// at local (+x, +y) and its last at (-x, -y), so a viewer facing the light sees the image upright:
+  /// st = ((1 - a) / 2, (1 + b) / 2) at local point a axisU + b axisV, a and b in [-1, 1].
+  std::shared_ptr<const Texture> rectImage;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
   /// disk emit along their local -z, a distant light shines along -z). The radiance, as UsdLuxLightAPI
@@ -75,9 +79,11 @@ struct RenderLight {
   /// without normalize, L / 4 with it). A dome whose params name a
   /// texture uses `dome` if given (the Light sprim builds it once per texture), else loads the file
   /// and builds the distribution here (slow: for tests and one-off callers). Throws
-  /// std::runtime_error naming the file if it cannot be read.
+  /// std::runtime_error naming the file if it cannot be read. A rect light takes its texture from
+  /// `rectImage` (the Light sprim opens it; null: untextured, whatever params.textureFile says).
   static RenderLight FromParams(const LightParams& params, const glm::dmat4& transform,
-                                std::shared_ptr<const DomeTexture> dome = nullptr);
+                                std::shared_ptr<const DomeTexture> dome = nullptr,
+                                std::shared_ptr<const Texture> rectImage = nullptr);
 };
 
 /// Whether the light illuminates the rprim of index primIndex (-1, the camera or no geometry: yes).
@@ -97,6 +103,10 @@ struct LightSample {
   glm::dvec3 radiance{0};    ///< delta: the irradiance normal to dir it delivers at p (pdf 1)
   double pdf = 0;            ///< solid angle; 0 if the light cannot be sampled from here
   bool delta = false;        ///< a point or a parallel beam: no BSDF sample can find it (no MIS)
+  /// A sphere so small seen from p (angular radius below 1e-5 rad) that it is sampled in its point-light
+  /// limit: `dir` is exactly towards its centre, `distance` the centre's, and radiance / pdf its intensity
+  /// over distance^2 (radiance x pi radius^2 / distance^2, to 1e-10).
+  bool pointLimit = false;
 };
 
 /// The ShapingAPI factor of light emitted along unit `emitDir` (from the light towards the receiver): 0 past

@@ -20,9 +20,15 @@ struct RenderSettings {
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
   bool scleraScattering = true;
-  /// Camera rays see dome lights (the background). Off: they light the scene but the camera sees black behind
-  /// it, as usdrecord renders unless --enableDomeLightVisibility.
-  bool domeLightVisible = true;
+  /// Whether camera rays see dome lights (off: the dome lights the scene but the background is black, as
+  /// usdrecord renders without --enableDomeLightVisibility).
+  bool domeLightCameraVisibility = true;
+  /// Textures are filtered over each ray's footprint (the ray cone of rayCone.h: MIP-mapped, anisotropic).
+  /// Off: every lookup is at the finest level (point sampling, for A/B comparisons).
+  bool textureFiltering = true;
+  /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
+  /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
+  double textureFootprintScale = 0.5;
 };
 
 }  // namespace hdeye

@@ -1,7 +1,9 @@
 #include "hdeye/render/renderer.h"
 
 #include "hdeye/render/eyeShading.h"
+#include "hdeye/render/materialShading.h"
 #include "hdeye/render/previewSurface.h"
+#include "hdeye/render/rayCone.h"
 #include "hdeye/render/renderContext.h"
 #include "hdeye/render/scleraScattering.h"
 #include "hdeye/render/surfacePoint.h"
@@ -48,7 +50,16 @@ class SampleStream {
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
 };
 
-double PowerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+/// a^2 / (a^2 + b^2), as a ratio so that pdfs past 1e154 (a tiny light far away) do not overflow.
+double PowerHeuristic(double a, double b) {
+  if (!(a > 0)) return 0;
+  const double q = b / a;
+  return std::isfinite(q) ? 1 / (1 + q * q) : 0;
+}
+
+/// Surfaces (cut-outs, thin walls) one path or shadow ray passes through at most; past that the surface counts as
+/// there (a bound on the loop, far above any stack of cards a ray meets).
+constexpr int kMaxCutoutCrossings = 64;
 
 /// The material of triangle (or primitive) `part` of a geometry: its geomSubset's, else the prim's own.
 SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
@@ -56,23 +67,7 @@ SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
     const int subset = (*context.triangleSubsets)[part];
     if (subset >= 0 && std::size_t(subset) < context.subsetMaterials.size()) return context.subsetMaterials[subset];
   }
-  return SurfaceMaterial{context.material, context.diffuseTexture, context.materialBound};
-}
-
-/// The UsdPreviewSurface BSDF of a non-eye hit: the hit's material's parameters, with its diffuse
-/// texture (looked up at the hit's st) replacing `albedo` (diffuseColor, or displayColor) where set; `thinWalled`:
-/// the geometry is an open sheet (its glass is a thin wall, thinWalls.h).
-PreviewSurface MaterialBsdf(const SurfaceMaterial& material, const glm::dvec3& albedo, const glm::dvec2& st,
-                            bool thinWalled) {
-  const MaterialParams& m = material.params;
-  PreviewSurface s;
-  s.albedo = material.diffuseTexture ? glm::dvec3(material.diffuseTexture->Lookup(glm::vec2(st))) : albedo;
-  s.roughness = m.roughness;
-  s.metallic = m.metallic;
-  s.opacity = m.opacity;
-  s.ior = m.ior;
-  s.thinWalled = thinWalled;
-  return s;
+  return SurfaceMaterial{context.material, context.textures, context.materialBound};
 }
 
 
@@ -87,18 +82,29 @@ struct SurfaceHit {
   double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
   glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
   SurfaceMaterial material;  // the material of the hit's face (geomSubsets), else the prim's
+  StFrame stFrame;      // dp/ds, dp/dt of the hit triangle (world), where st and points are known
+  bool normalMapped = false;  // n comes from a normal map (it may lean below the surface itself)
+  glm::dmat3 normalToWorld{1.0};       // the hit instance's (object-space normals to world)
+  const Vec3f* instanceColor = nullptr;  // the instancer's displayColor for the hit instance, or null
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
 const EyeGeometry* EyeOf(const GeometryContext& context) { return context.eye ? context.eye : context.meshEye; }
+
+/// The absolute part of the spawn offsets off a geometry (SpawnOffset): an eye's own (EyeGeometry::SpawnScale),
+/// so that eyes render alike in any scene units; 1 world unit for everything else.
+double SpawnScaleOf(const GeometryContext& context) {
+  const EyeGeometry* eye = EyeOf(context);
+  return eye ? eye->SpawnScale() : 1.0;
+}
 
 /// An object-space shading normal carried to world space (not normalised), with its length. Degenerate (zero
 /// or not finite) ones are not Valid: the caller keeps its geometric normal there.
 struct WorldNormal {
   glm::dvec3 v;
   double length;
-  WorldNormal(const GeometryContext& context, const glm::dvec3& local)
-      : v(context.normalToWorld * local), length(glm::length(v)) {}
+  WorldNormal(const glm::dmat3& normalToWorld, const glm::dvec3& local)
+      : v(normalToWorld * local), length(glm::length(v)) {}
   bool Valid() const { return length > 1e-12 && std::isfinite(length); }
 };
 
@@ -132,10 +138,13 @@ struct PathSample {
 
 /// What a path carries from one vertex to the next.
 struct PathState {
-  explicit PathState(const WorldRay& ray) : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar) {}
+  PathState(const WorldRay& ray, const RayCone& cameraCone)
+      : o(ray.origin), d(ray.dir), tNear(ray.tNear), tFar(ray.tFar), cone(cameraCone) {}
 
   glm::dvec3 o, d;  ///< the next ray
   double tNear, tFar;
+  RayCone cone;     ///< the next ray's footprint (rayCone.h), for texture filtering
+  int cutoutCrossings = 0;  ///< cut-outs the path has passed through (bounded by kMaxCutoutCrossings)
   glm::dvec3 beta{1};
   // How the current ray was chosen, for weighting the lights it meets: after a specular event (the camera,
   // the cornea) a light counts in full; after a diffuse bounce, by MIS against light sampling (or not at all
@@ -163,6 +172,14 @@ struct PathState {
   void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
   /// After a delta event: lights the ray meets count in full.
   void SetSpecular() { specular = true, skipLights = false, skipMnee = false; }
+  /// The same ray goes on from just past a cut-out it met at distance t, point p: not a bounce.
+  void PassCutout(double t, const glm::dvec3& p) {
+    const double step = t + SpawnOffset(p);
+    o += d * step;
+    if (tFar < kInf) tFar -= step;
+    cone.width = cone.WidthAt(step);
+    tNear = 0;
+  }
 };
 
 /// What the integrator does with a hit after the eye shaded it.
@@ -175,15 +192,18 @@ class Tracer {
     std::int64_t rays = 0, walks = 0, teleportedWalks = 0, cappedWalks = 0, invalidWalks = 0;
   };
 
-  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings)
-      : scene_(scene), lights_(lights), settings_(settings) {}
+  /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
+      : scene_(scene), lights_(lights), settings_(settings), cutouts_(cutouts),
+        textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
-  PathSample Li(const WorldRay& ray, SampleStream& rng) const {
+  /// cone: the camera ray's footprint, carried along the path for texture filtering.
+  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng) const {
     PathSample sample;
     const std::function<double()> random = [&rng] { return rng.Next(); };
-    PathState path(ray);
+    PathState path(ray, cone);
     path.eyeLighting = EyeLighting{&lights_,
                                    [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
                                      return Transmittance(lights_[k], po, pd, t);
@@ -196,8 +216,20 @@ class Tracer {
         sample.hitAny = hitGeometry;
         if (hitGeometry) sample.first = hit;
       }
-      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, depth == 0 && !settings_.domeLightVisible);
+      const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
+      sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
       if (!hitGeometry) break;
+      SurfaceShading shading;
+      if (!EyeOf(*hit.context)) {
+        shading = ShadeMaterialHit(&hit, path.d, path.cone);
+        if (!shading.present && path.cutoutCrossings++ < kMaxCutoutCrossings) {
+          // A cut-out: lights behind it were not yet tested; the next segment tests them, with this ray's weights.
+          path.PassCutout(hit.t, hit.p);
+          --depth;
+          continue;
+        }
+        if (depth == 0) sample.first.n = hit.n;  // the normal AOV shows the normal map
+      }
       path.fromPrim = hit.primIndex;  // the next ray leaves this vertex (light linking)
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
@@ -208,10 +240,9 @@ class Tracer {
       // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
       // UsdPreviewSurface.
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
-      const PreviewSurface bsdf =
-          eyeSurface ? PreviewSurface::Lambert(hit.albedo) : MaterialBsdf(hit.material, hit.albedo, hit.st, hit.context->thinWalled);
+      const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
-      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n);
+      const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
       sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
       if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
     }
@@ -236,12 +267,21 @@ class Tracer {
     rtcIntersect1(scene_, &context, &rh);
     ++counts_.rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    // Meshes sit under instances; eyes are user geometry in the root scene.
-    const unsigned id = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
-    const auto* ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, id)));
+    // Meshes sit under instances (user data: an InstanceContext, one per instance); analytic eyes are user
+    // geometry in the root scene (user data: their GeometryContext).
+    const GeometryContext* ctx;
+    const InstanceContext* instance = nullptr;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+      instance = static_cast<const InstanceContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.instID[0])));
+      ctx = instance->geometry;
+    } else {
+      ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.geomID)));
+    }
+    hit->normalToWorld = instance ? instance->normalToWorld : ctx->normalToWorld;
+    hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
-    glm::dvec3 n = glm::normalize(ctx->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    glm::dvec3 n = glm::normalize(hit->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (glm::dot(n, d) > 0) n = -n;
     hit->ng = n;
     hit->u = rh.hit.u, hit->v = rh.hit.v;
@@ -271,25 +311,62 @@ class Tracer {
     } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
       local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
     }
-    const WorldNormal shading(ctx, local);
+    const WorldNormal shading(hit->normalToWorld, local);
     hit->n = !shading.Valid()                    ? hit->ng
              : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
                                                  : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
+    if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
     hit->material = MaterialAt(ctx, hit->part);
-    // displayColor is the fallback surface's colour (Hydra's): a face with a bound material shows the material's.
-    hit->albedo = ctx.displayColor && !hit->material.bound ? glm::dvec3(atCorners(*ctx.displayColor))
-                                                            : glm::dvec3(hit->material.params.diffuseColor);
+    // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
+    // with a bound material shows the material's.
+    hit->albedo = hit->material.bound     ? glm::dvec3(hit->material.params.diffuseColor)
+                  : hit->instanceColor   ? glm::dvec3(*hit->instanceColor)
+                  : ctx.displayColor     ? glm::dvec3(atCorners(*ctx.displayColor))
+                                         : glm::dvec3(hit->material.params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
 
+  /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`.
+  static StFrame TriangleStFrameAt(const GeometryContext& ctx, std::size_t firstCorner) {
+    const int* tri = &(*ctx.triangleVertices)[firstCorner];
+    const glm::dmat3 toWorld = glm::inverse(glm::transpose(ctx.normalToWorld));  // the instance's linear part
+    const auto& pts = *ctx.points;
+    const auto& st = *ctx.st;
+    return TriangleStFrame(toWorld * glm::dvec3(pts[tri[0]]), toWorld * glm::dvec3(pts[tri[1]]),
+                           toWorld * glm::dvec3(pts[tri[2]]), glm::dvec2(st[firstCorner]),
+                           glm::dvec2(st[firstCorner + 1]), glm::dvec2(st[firstCorner + 2]));
+  }
+
+  /// Where a non-eye hit's textures are looked up: its st, filtered over the cone's footprint there (unless
+  /// RenderSettings::textureFiltering is off).
+  TextureSite SiteOf(const SurfaceHit& hit, const glm::dvec3& d, const RayCone& cone) const {
+    TextureSite site;
+    site.st = hit.st;
+    site.frame = hit.stFrame;
+    if (settings_.textureFiltering) site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
+    site.thread = textureThread_;
+    return site;
+  }
+
+  /// The bound material at a non-eye hit (materialShading.h); the hit takes its emission and shading normal.
+  SurfaceShading ShadeMaterialHit(SurfaceHit* hit, const glm::dvec3& d, const RayCone& cone) const {
+    SurfaceShading shading = ShadeMaterial(hit->material, hit->albedo, -d, hit->n, SiteOf(*hit, d, cone));
+    shading.bsdf.thinWalled = hit->context->thinWalled;
+    hit->emission = shading.emission;
+    hit->n = shading.normal;
+    hit->normalMapped = shading.normalMapped;
+    return shading;
+  }
+
   /// The fraction of `light` that passes from o along unit d to tFar: 0 behind a surface that casts its shadow,
-  /// else the product of the thin walls crossed (thinWalls.h). Without shadow linking one any-hit query that
-  /// skips thin walls decides, and only if it met one are the hits walked (TransmittanceByHits); with shadow
-  /// linking they are walked at once.
+  /// else the product of the thin walls crossed (thinWalls.h); opacityThreshold cut-outs let it through where
+  /// they are cut away. Without shadow linking one any-hit query that skips thin walls decides, and only if it
+  /// met one (or, in a scene with cut-outs, anything) are the surfaces crossed in order (CrossSurfaces); with
+  /// shadow linking they are crossed at once.
   double Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
-    if (!light.unshadowed.empty()) return TransmittanceByHits(light, o, d, tFar);
+    if (!light.unshadowed.empty()) return CrossSurfaces(light, o, d, tFar);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -301,22 +378,23 @@ class Tracer {
     ThinWallsMet::Reset();
     rtcOccluded1(scene_, &context, &ray);
     ++counts_.rays;
-    if (ray.tfar < 0) return 0;
-    return ThinWallsMet::Any() ? TransmittanceByHits(light, o, d, tFar) : 1;
+    const bool blocked = ray.tfar < 0;
+    if (blocked && !cutouts_) return 0;
+    if (!blocked && !ThinWallsMet::Any()) return 1;
+    return CrossSurfaces(light, o, d, tFar);
   }
 
-  /// Transmittance by closest hits in order along the ray: a surface the light's shadow linking leaves out is
-  /// passed through, a thin wall attenuates, anything else blocks. Past kMaxShadowHits hits the light counts as
-  /// blocked (it never leaks through a thick stack).
-  double TransmittanceByHits(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
-    constexpr int kMaxShadowHits = 64;
+  /// Transmittance by walking the surfaces from o along d to tFar in order: a surface the light's shadow linking
+  /// leaves out passes, as do cut-away parts of cut-outs; thin walls attenuate, anything else blocks. At most
+  /// kMaxCutoutCrossings surfaces; more count as opaque (light never leaks through a thick stack).
+  double CrossSurfaces(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
     double transmittance = 1, left = tFar;
     glm::dvec3 origin = o;
-    for (int crossed = 0; crossed < kMaxShadowHits; ++crossed) {
+    for (int crossed = 0; crossed < kMaxCutoutCrossings; ++crossed) {
       SurfaceHit hit;
       if (!Intersect(origin, d, 0, left, &hit)) return transmittance;
-      if (CastsShadow(light, hit.primIndex)) {
-        if (!IsThinWall(*hit.context)) return 0;  // an eye, or an opaque surface the any-hit query met last
+      if (CastsShadow(light, hit.primIndex) && !CutAway(hit, d)) {
+        if (!IsThinWall(*hit.context)) return 0;  // an eye or an opaque surface
         transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));
         if (!(transmittance > 0)) return 0;
       }
@@ -328,19 +406,26 @@ class Tracer {
     return 0;
   }
 
+  /// Whether a ray along d passes a hit because its material is cut away there (opacityThreshold).
+  bool CutAway(const SurfaceHit& hit, const glm::dvec3& d) const {
+    return cutouts_ && !EyeOf(*hit.context) && hit.material.params.opacityThreshold > 0 &&
+           !ShadeMaterial(hit.material, hit.albedo, -d, hit.n, SiteOf(hit, d, RayCone{})).present;
+  }
+
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
   /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
   /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
   /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
   /// minDistance: lights nearer than this were met before (a ray continued past a thin wall starts there).
-  /// skipDomes: the ray is a camera ray and domes are not visible to the camera (RenderSettings). fromPrim: the
-  /// rprim the ray left; lights linked away from it are passed over.
+  /// skipDomes: dome lights are passed over (camera rays, when RenderSettings::domeLightCameraVisibility is off).
+  /// fromPrim: the rprim the ray left; lights linked away from it are passed over.
   bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
                 double* pdf, const EyeLighting* skipMneeOf, bool skipDomes, int fromPrim) const {
     double best = kInf;
     bool found = false;
     for (std::size_t k = 0; k < lights_.size(); ++k) {
       if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
+      if (skipDomes && lights_[k].type == LightType::Dome) continue;
       const RenderLight& l = lights_[k];
       if (skipDomes && l.type == LightType::Dome) continue;
       if (!Illuminates(l, fromPrim)) continue;
@@ -355,12 +440,12 @@ class Tracer {
   }
 
   /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
-  /// ray was chosen (PathState's flags).
-  glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool skipDomes) const {
+  /// ray was chosen (PathState's flags); hideDomes: dome lights are not met.
+  glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool hideDomes) const {
     glm::dvec3 le(0);
     double lpdf = 0;
     if (path.skipLights || !HitLight(path.o, path.d, path.tNear, maxDistance, &le, &lpdf,
-                                     path.skipMnee ? &path.skipMneeOf : nullptr, skipDomes, path.fromPrim))
+                                     path.skipMnee ? &path.skipMneeOf : nullptr, hideDomes, path.fromPrim))
       return glm::dvec3(0);
     if (path.specular) return path.beta * le;
     if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
@@ -389,6 +474,7 @@ class Tracer {
     sample->irisMnee += path->beta * ev.radiance;
     if (ev.kind == EyeEvent::Continue) {
       path->beta *= ev.weight;
+      path->cone = path->cone.AfterBounce(hit->t, true);
       path->SetRay(ev.origin, ev.dir);
       if (!ev.passThrough) {
         path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
@@ -397,7 +483,7 @@ class Tracer {
       return EyeOutcome::Continue;
     }
     if (ev.kind == EyeEvent::Absorbed) return EyeOutcome::End;
-    ShadeScleraSurface(eye, ev, path->d, hit);
+    ShadeScleraSurface(eye, ev, path->d, path->cone, hit);
     if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
     // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
     // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
@@ -407,11 +493,13 @@ class Tracer {
   }
 
   /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
-  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st).
-  static void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, SurfaceHit* hit) {
+  /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st,
+  /// filtered over the cone's footprint).
+  void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,
+                          SurfaceHit* hit) const {
     if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
     if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
-    else if (hit->material.diffuseTexture) hit->albedo = glm::dvec3(hit->material.diffuseTexture->Lookup(glm::vec2(hit->st)));
+    else hit->albedo = TexturedAlbedo(hit->material, hit->albedo, SiteOf(*hit, d, cone));
     hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
   }
 
@@ -422,6 +510,7 @@ class Tracer {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
     if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
+      path->cone = path->cone.AfterBounce(hit->t, true);
       path->SetRay(step.origin, step.dir);
       path->SetSpecular();
       return EyeOutcome::Continue;
@@ -471,7 +560,7 @@ class Tracer {
       // A shading normal can tilt the mirror direction under the triangle: lift it just above.
       const double cosG = glm::dot(step.dir, hit.ng);
       if (cosG < 1e-4) step.dir = glm::normalize(step.dir + (1e-4 - cosG) * hit.ng);
-      step.origin = SpawnOrigin(hit.p, hit.ng);
+      step.origin = SpawnOrigin(hit.p, hit.ng, eye.SpawnScale());
       return step;
     }
     glm::dvec3 inward;
@@ -516,7 +605,7 @@ class Tracer {
         3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
       return outward;
     const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
-    const WorldNormal shading(ctx, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+    const WorldNormal shading(ctx.normalToWorld, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
     return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
   }
 
@@ -532,6 +621,8 @@ class Tracer {
     const LightSample ls = SampleLight(light, origin, u1, u2);
     const double cosS = glm::dot(ls.dir, hit.n);
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
+    // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
+    if (hit.normalMapped && glm::dot(ls.dir, hit.ng) <= 0) return glm::dvec3(0);
     const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
     const double transmittance = Transmittance(light, origin, ls.dir, ls.distance * (1 - 1e-6));
@@ -554,14 +645,18 @@ class Tracer {
       // the previous vertex's, so a light met beyond is weighted (and its pdf taken) as from there, as next
       // event estimation saw it through the wall's transmittance.
       path->beta *= bs.weight;
-      path->tNear = hit.t + SpawnOffset(hit.p);
+      path->tNear = hit.t + SpawnOffset(hit.p, SpawnScaleOf(*hit.context));
       return RussianRoulette(depth, rng, path);
     }
+    // Under a normal map, a direction on the wrong side of the surface itself ends the path (the energy a
+    // shading normal cannot conserve); it would otherwise start inside the surface and hit it again.
+    if (hit.normalMapped && (glm::dot(bs.wi, hit.ng) > 0) == bs.transmitted) return false;
     if (bs.transmitted) path->insideGlass = !path->insideGlass;
     path->bsdfPdf = bs.pdf;
     path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
     path->beta *= bs.weight;
-    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n), bs.wi);
+    path->cone = path->cone.AfterBounce(hit.t, bs.delta);
+    path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n, SpawnScaleOf(*hit.context)), bs.wi);
     return RussianRoulette(depth, rng, path);
   }
 
@@ -577,6 +672,8 @@ class Tracer {
   RTCScene scene_;
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
+  bool cutouts_ = false;
+  TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
 
@@ -626,14 +723,23 @@ struct SharedCounts {
   }
 };
 
+/// The cone of the camera ray through image point (x, y) (pixels): the ray one pixel over gives its width
+/// (orthographic) and spread (perspective), both scaled by RenderSettings::textureFootprintScale.
+RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, double y, int width, int height,
+                  double footprintScale) {
+  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, double(width) / height);
+  return {footprintScale * glm::length(next.origin - ray.origin),
+          footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
+}
+
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, const AovBuffers& aovs,
-                 SharedCounts* counts) {
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+                 const AovBuffers& aovs, SharedCounts* counts) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  Tracer tracer(scene, lights, settings);
+  Tracer tracer(scene, lights, settings, cutouts);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
@@ -643,7 +749,8 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
         const bool lens = camera.HasLens();
         const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
                                                 lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
-        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, rng))) ++counts->nonFinite;
+        const RayCone cone = PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale);
+        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng))) ++counts->nonFinite;
       }
   }
   counts->Add(tracer.GetCounts());
@@ -668,7 +775,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts);
       });
     });
     ++stats.passes;

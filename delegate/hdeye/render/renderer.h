@@ -57,6 +57,12 @@ class Renderer {
   /// bound buffers (which must all have the colour buffer's size). `scene` must be committed.
   RenderStats Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
                      const RenderSettings& settings, const AovBuffers& aovs) const;
+  /// Whether a material in the scene has an opacityThreshold (cut-outs): shadow rays then find what they
+  /// meet instead of stopping at the first surface. Set by the render pass before Render.
+  void SetCutouts(bool cutouts) { cutouts_ = cutouts; }
+
+ private:
+  bool cutouts_ = false;
 };
 
 }  // namespace hdeye

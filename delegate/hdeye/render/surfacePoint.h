@@ -14,10 +14,14 @@ template <class V> glm::dvec3 InterpolateAtTriangle(const std::vector<V>& values
 }
 
 /// How far off surface point p (world units) a ray leaving it starts: more than Embree's float hit error, which
-/// is a few ulps of |p|.
-inline double SpawnOffset(const glm::dvec3& p) { return 1e-5 * (1 + glm::length(p)); }
+/// is a few ulps of |p|. `scale` (world units) is the absolute part: 1 by default, an eye's SpawnScale() on an
+/// eye, so that an eye's offsets keep their size relative to the eye in any scene units.
+inline double SpawnOffset(const glm::dvec3& p, double scale = 1) { return 1e-5 * (scale + glm::length(p)); }
 
-/// The origin of a ray leaving surface point p on the side of unit vector `side`: p moved SpawnOffset(p) along it.
-inline glm::dvec3 SpawnOrigin(const glm::dvec3& p, const glm::dvec3& side) { return p + side * SpawnOffset(p); }
+/// The origin of a ray leaving surface point p on the side of unit vector `side`: p moved SpawnOffset(p, scale)
+/// along it.
+inline glm::dvec3 SpawnOrigin(const glm::dvec3& p, const glm::dvec3& side, double scale = 1) {
+  return p + side * SpawnOffset(p, scale);
+}
 
 }  // namespace hdeye

@@ -1,190 +1,250 @@
 #include "hdeye/render/texture.h"
 
-#include "hdeye/image/imageWriter.h"
-
-#include <png.h>
+#include <OpenImageIO/texture.h>
+#include <OpenImageIO/imagecache.h>
 
 #include <algorithm>
-#include <array>
-#include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <csetjmp>
-#include <cstdio>
-#include <cstring>
-#include <stdexcept>
+#include <filesystem>
+#include <system_error>
 
 namespace hdeye {
 namespace {
 
-[[noreturn]] void Fail(const std::string& path, const std::string& reason) {
-  throw std::runtime_error("cannot read texture " + path + ": " + reason);
+namespace oiio = OIIO;
+
+/// Most probes along an anisotropic footprint (OIIO's default is 32). 8 keeps grazing views sharp enough
+/// for path tracing, where many samples per pixel average the rest, at a fraction of the lookups.
+constexpr int kMaxAnisotropy = 8;
+
+/// The process-wide TextureSystem, configured once. automip: files without MIP levels get them built
+/// in memory (a PNG or JPEG is then filtered like a .tx). unassociatedalpha: UsdUVTexture's rgb and a
+/// are independent outputs, so PNG colour must not be premultiplied by its alpha.
+oiio::TextureSystem* System() {
+  static oiio::TextureSystem* system = [] {
+    oiio::TextureSystem* ts = oiio::TextureSystem::create(/*shared=*/true);
+    ts->attribute("automip", 1);
+    ts->attribute("unassociatedalpha", 1);
+    ts->attribute("failure_retries", 0);
+    ts->attribute("max_memory_MB", 2048.0f);
+    return ts;
+  }();
+  return system;
 }
 
-/// sRGB-encoded value in [0,1] to linear (IEC 61966-2-1, the inverse of LinearToSrgb).
-double SrgbToLinear(double v) {
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
-
-bool EndsWithNoCase(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
-                    [](char a, char b) { return std::tolower(a) == std::tolower(b); });
-}
-
-/// libpng state for one read. libpng reports errors by longjmp; everything that must survive the jump
-/// lives in this struct, reached through a pointer that is not modified after setjmp, so no local of
-/// the jumping frame has an indeterminate value afterwards.
-struct PngRead {
-  std::FILE* file = nullptr;
-  png_structp png = nullptr;
-  png_infop info = nullptr;
-  char message[256] = {0};
-  png_uint_32 width = 0, height = 0;
-  int bitDepth = 0;                 // after transforms: 8 or 16
-  std::vector<png_byte> bytes;      // RGB, bitDepth per channel, big-endian for 16 bits
-  std::vector<png_bytep> rows;
-  ~PngRead() {
-    if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
-    if (file) std::fclose(file);
+oiio::TextureOpt::Wrap ToOiio(TextureWrap w) {
+  switch (w) {
+    case TextureWrap::Black: return oiio::TextureOpt::WrapBlack;
+    case TextureWrap::Clamp: return oiio::TextureOpt::WrapClamp;
+    case TextureWrap::Repeat: return oiio::TextureOpt::WrapPeriodic;
+    case TextureWrap::Mirror: return oiio::TextureOpt::WrapMirror;
+    case TextureWrap::UseMetadata: break;
   }
-};
-
-void PngError(png_structp png, png_const_charp message) {
-  auto* read = static_cast<PngRead*>(png_get_error_ptr(png));
-  std::snprintf(read->message, sizeof read->message, "%s", message ? message : "libpng error");
-  png_longjmp(png, 1);
-}
-void PngWarning(png_structp, png_const_charp) {}  // e.g. "known incorrect sRGB profile": not fatal
-
-/// Decodes the PNG into `read->bytes` as RGB at 8 or 16 bits per channel. Returns false (with
-/// read->message set) on a libpng error. Palette, gray and low bit depths are expanded, alpha is
-/// dropped (UsdUVTexture's rgb output ignores alpha; nothing is premultiplied).
-bool DecodePng(PngRead* read) {
-  if (setjmp(png_jmpbuf(read->png))) return false;
-  png_init_io(read->png, read->file);
-  png_read_info(read->png, read->info);
-  const int colorType = png_get_color_type(read->png, read->info);
-  png_set_expand(read->png);  // palette -> RGB, gray < 8 bits -> 8 bits, tRNS -> alpha
-  if (colorType == PNG_COLOR_TYPE_GRAY || colorType == PNG_COLOR_TYPE_GRAY_ALPHA)
-    png_set_gray_to_rgb(read->png);
-  png_set_strip_alpha(read->png);
-  png_set_interlace_handling(read->png);
-  png_read_update_info(read->png, read->info);
-  read->width = png_get_image_width(read->png, read->info);
-  read->height = png_get_image_height(read->png, read->info);
-  read->bitDepth = png_get_bit_depth(read->png, read->info);
-  const std::size_t rowBytes = png_get_rowbytes(read->png, read->info);
-  if (png_get_channels(read->png, read->info) != 3 || (read->bitDepth != 8 && read->bitDepth != 16) ||
-      rowBytes != std::size_t(read->width) * 3 * std::size_t(read->bitDepth / 8)) {
-    std::snprintf(read->message, sizeof read->message, "unexpected layout after expansion");
-    return false;
-  }
-  read->bytes.resize(rowBytes * read->height);
-  read->rows.resize(read->height);
-  for (png_uint_32 y = 0; y < read->height; ++y) read->rows[y] = read->bytes.data() + y * rowBytes;
-  png_read_image(read->png, read->rows.data());
-  png_read_end(read->png, nullptr);
-  return true;
+  return oiio::TextureOpt::WrapDefault;  // the file's "wrapmodes", else black
 }
 
-std::shared_ptr<const Texture> LoadPng(const std::string& path) {
-  PngRead read;
-  read.file = std::fopen(path.c_str(), "rb");
-  if (!read.file) Fail(path, std::strerror(errno));
-  png_byte signature[8] = {0};
-  if (std::fread(signature, 1, 8, read.file) != 8 || png_sig_cmp(signature, 0, 8) != 0)
-    Fail(path, "not a PNG file");
-  read.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &read, PngError, PngWarning);
-  if (read.png) read.info = png_create_info_struct(read.png);
-  if (!read.png || !read.info) Fail(path, "libpng cannot allocate its state");
-  png_set_sig_bytes(read.png, 8);
-  if (!DecodePng(&read)) Fail(path, read.message);
-
-  // sRGB -> linear through a table for 8 bits; per value for 16 bits.
-  std::array<float, 256> table8{};
-  for (int i = 0; i < 256; ++i) table8[std::size_t(i)] = float(SrgbToLinear(i / 255.0));
-  const std::size_t count = std::size_t(read.width) * read.height;
-  std::vector<glm::vec3> texels(count);
-  for (std::size_t i = 0; i < count; ++i)
-    for (int c = 0; c < 3; ++c) {
-      if (read.bitDepth == 8) {
-        texels[i][c] = table8[read.bytes[3 * i + std::size_t(c)]];
-      } else {
-        const std::size_t b = 6 * i + 2 * std::size_t(c);
-        const int v = (int(read.bytes[b]) << 8) | int(read.bytes[b + 1]);
-        texels[i][c] = float(SrgbToLinear(v / 65535.0));
-      }
-    }
-  return std::make_shared<const Texture>(int(read.width), int(read.height), std::move(texels));
+/// sRGB-encoded value to linear (IEC 61966-2-1). Values outside [0, 1] (bicubic overshoot) keep the curve's sign.
+float SrgbToLinear(float v) {
+  const float a = std::fabs(v);
+  const float l = a <= 0.04045f ? a / 12.92f : std::pow((a + 0.055f) / 1.055f, 2.4f);
+  return std::copysign(l, v);
 }
 
-std::shared_ptr<const Texture> LoadExr(const std::string& path) {
-  int width = 0, height = 0;
-  const std::vector<ImagePlane> planes = ReadExr(path, &width, &height);  // throws naming the path
-  auto find = [&](const char* name) -> const ImagePlane* {
-    for (const ImagePlane& p : planes)
-      if (p.name == name) return &p;
-    return nullptr;
-  };
-  std::array<const ImagePlane*, 3> rgb{find("R"), find("G"), find("B")};
-  if (!rgb[0] || !rgb[1] || !rgb[2]) {
-    // A luminance-only image (Y), or a file with a single channel of any name: gray.
-    const ImagePlane* gray = find("Y");
-    if (!gray && planes.size() == 1) gray = &planes[0];
-    if (!gray) Fail(path, "no R, G, B channels and no single gray channel");
-    rgb = {gray, gray, gray};
-  }
-  std::vector<glm::vec3> texels(std::size_t(width) * std::size_t(height));
-  for (std::size_t i = 0; i < texels.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const float v = rgb[std::size_t(c)]->pixels[i];
-      if (!std::isfinite(v)) Fail(path, "non-finite texel value");
-      texels[i][c] = v;
-    }
-  return std::make_shared<const Texture>(width, height, std::move(texels));
+/// The first line of OIIO's pending error (clearing it), shortened so a warning stays one line.
+std::string PendingError(const std::string& otherwise) {
+  std::string e = System()->geterror();
+  e = e.substr(0, e.find('\n'));
+  if (e.empty()) return otherwise;
+  return e.size() > 160 ? e.substr(0, 157) + "..." : e;
+}
+
+bool SaysLinear(const std::string& colorSpace) {
+  std::string s = colorSpace;
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s == "linear" || s == "scene_linear" || s == "lin_srgb" || s == "lin_rec709" || s == "raw";
+}
+
+/// Reads every texel of `file`'s coarsest MIP level (which OIIO builds from all of the finest, or reads
+/// from a .tx): "" if they decode, else why not.
+std::string DecodeAll(oiio::TextureSystem* ts, oiio::ustring file) {
+  int levels = 1;
+  ts->get_texture_info(file, 0, oiio::ustring("miplevels"), oiio::TypeInt, &levels);
+  const int level = std::max(0, levels - 1);
+  oiio::ImageCache* cache = ts->imagecache();
+  oiio::ImageSpec coarse;
+  if (!cache->get_imagespec(file, coarse, 0, level)) return PendingError("no MIP level");
+  std::vector<float> pixels(std::size_t(coarse.width) * coarse.height * std::size_t(coarse.nchannels));
+  if (!cache->get_pixels(file, 0, level, coarse.x, coarse.x + coarse.width, coarse.y, coarse.y + coarse.height, 0, 1,
+                         oiio::TypeFloat, pixels.data()))
+    return PendingError("its pixels cannot be decoded");
+  return "";
+}
+
+/// DecodeAll's answer for `file`, computed once per process: the shared cache keeps what it decoded, and
+/// a second read of a broken file need not fail again.
+std::string KnownDecodeError(oiio::TextureSystem* ts, oiio::ustring file) {
+  static std::mutex mutex;
+  static std::unordered_map<std::string, std::string> known;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto it = known.find(file.string());
+  if (it == known.end()) it = known.emplace(file.string(), DecodeAll(ts, file)).first;
+  return it->second;
 }
 
 }  // namespace
 
-std::shared_ptr<const Texture> Texture::Load(const std::string& path) {
-  if (EndsWithNoCase(path, ".exr")) return LoadExr(path);
-  if (EndsWithNoCase(path, ".png")) return LoadPng(path);
-  Fail(path, "unsupported file type (expected .png or .exr)");
+struct TextureThread {};  // only ever a reinterpreted OIIO::TextureSystem::Perthread
+
+TextureThread* CurrentTextureThread() { return reinterpret_cast<TextureThread*>(System()->get_perthread_info()); }
+
+TextureParams TextureParams::Image(std::string file, TextureWrap wrapT) {
+  TextureParams p;
+  p.file = std::move(file);
+  p.wrapS = TextureWrap::Repeat;
+  p.wrapT = wrapT;
+  return p;
 }
 
-Texture::Texture(int width, int height, std::vector<glm::vec3> texels)
-    : width_(width), height_(height), texels_(std::move(texels)) {
-  if (width_ <= 0 || height_ <= 0 || texels_.size() != std::size_t(width_) * std::size_t(height_))
-    throw std::runtime_error("texture of " + std::to_string(width_) + "x" + std::to_string(height_) +
-                             " has " + std::to_string(texels_.size()) + " texels");
+bool TextureParams::operator==(const TextureParams& o) const {
+  return file == o.file && wrapS == o.wrapS && wrapT == o.wrapT && colorSpace == o.colorSpace && scale == o.scale &&
+         bias == o.bias && fallback == o.fallback;
 }
 
-glm::vec3 Texture::Lookup(glm::vec2 uv) const {
-  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return Texel(0, 0);
-  // Texel centres sit at (x + 0.5) / width; v = 0 is the bottom edge, and row 0 is the top row.
-  const double fx = double(uv.x) * width_ - 0.5;
-  const double fy = (1.0 - double(uv.y)) * height_ - 0.5;
-  const double x0f = std::floor(fx), y0f = std::floor(fy);
-  const float tx = float(fx - x0f), ty = float(fy - y0f);
-  auto wrap = [](double i, int n) {
-    const double m = std::fmod(i, double(n));
-    return int(m < 0 ? m + n : m);
-  };
-  const int x0 = wrap(x0f, width_), x1 = wrap(x0f + 1, width_);
-  const int y0 = wrap(y0f, height_), y1 = wrap(y0f + 1, height_);
-  const glm::vec3 top = glm::mix(Texel(x0, y0), Texel(x1, y0), tx);
-  const glm::vec3 bottom = glm::mix(Texel(x0, y1), Texel(x1, y1), tx);
-  return glm::mix(top, bottom, ty);
-}
-
-std::shared_ptr<const Texture> TextureCache::Get(const std::string& path) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  auto it = textures_.find(path);
-  if (it != textures_.end()) return it->second;
-  std::shared_ptr<const Texture> texture = Texture::Load(path);  // throws: nothing is cached
-  textures_.emplace(path, texture);
+std::shared_ptr<const Texture> Texture::Open(const TextureParams& params) {
+  std::shared_ptr<Texture> texture(new Texture());
+  texture->params_ = params;
+  texture->OpenFile();
   return texture;
 }
+
+std::shared_ptr<const Texture> Texture::Load(const std::string& path) {
+  std::shared_ptr<const Texture> texture = Open(TextureParams::Image(path));
+  if (!texture->Valid()) throw std::runtime_error(texture->Error());
+  return texture;
+}
+
+Texture::~Texture() = default;  // the handle belongs to the shared TextureSystem
+
+void Texture::OpenFile() {
+  oiio::TextureSystem* ts = System();
+  const std::string& file = params_.file;
+  auto fail = [&](const std::string& reason) { error_ = "cannot read texture " + file + ": " + reason; };
+  if (file.empty()) return fail("no file name");
+  const oiio::ustring name(file);
+  udim_ = ts->is_udim(name);
+  std::vector<oiio::ustring> files{name};
+  if (udim_) {
+    int nu = 0, nv = 0;
+    files.clear();
+    ts->inventory_udim(name, files, nu, nv);
+    files.erase(std::remove(files.begin(), files.end(), oiio::ustring()), files.end());
+    if (files.empty()) return fail("no UDIM tile matches the pattern");
+  }
+  for (const oiio::ustring& f : files) {
+    std::error_code ec;
+    if (!std::filesystem::exists(f.string(), ec)) return fail(udim_ ? "tile " + f.string() + " not found" : "file not found");
+    int exists = 0;
+    ts->get_texture_info(f, 0, oiio::ustring("exists"), oiio::TypeInt, &exists);
+    if (!exists) return fail(PendingError("not an image OpenImageIO can read"));
+    const oiio::ImageSpec* spec = ts->imagespec(f, 0);
+    if (!spec || spec->width <= 0 || spec->height <= 0 || spec->nchannels <= 0) return fail(PendingError("no image in the file"));
+    if (f == files.front()) {
+      width_ = spec->width, height_ = spec->height, channels_ = std::min(4, spec->nchannels);
+      const bool eightBit = spec->format.basetype == oiio::TypeDesc::UINT8;
+      switch (params_.colorSpace) {
+        case TextureColorSpace::Raw: srgb_ = false; break;
+        case TextureColorSpace::Srgb: srgb_ = true; break;
+        case TextureColorSpace::Auto:
+          srgb_ = eightBit && channels_ >= 3 && !SaysLinear(spec->get_string_attribute("oiio:ColorSpace"));
+          break;
+      }
+    }
+    // Decode every texel now, so a truncated or corrupted file is found here rather than as holes at
+    // render time.
+    const std::string broken = KnownDecodeError(ts, f);
+    if (!broken.empty()) return fail(broken);
+  }
+  handle_ = ts->get_texture_handle(name);
+  if (!handle_) return fail(PendingError("OpenImageIO gave no handle"));
+}
+
+
+glm::vec4 Texture::Decode(const float raw[4]) const {
+  glm::vec4 c;
+  switch (channels_) {
+    case 1: c = glm::vec4(raw[0], raw[0], raw[0], 1); break;
+    case 2: c = glm::vec4(raw[0], raw[0], raw[0], raw[1]); break;
+    case 3: c = glm::vec4(raw[0], raw[1], raw[2], 1); break;
+    default: c = glm::vec4(raw[0], raw[1], raw[2], raw[3]); break;
+  }
+  if (srgb_)
+    for (int i = 0; i < 3; ++i) c[i] = SrgbToLinear(c[i]);
+  c = c * params_.scale + params_.bias;
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(c[i])) c[i] = 0;
+  return c;
+}
+
+glm::vec4 Texture::Lookup(glm::vec2 st, const TextureFootprint& footprint, TextureThread* thread) const {
+  if (!Valid() || !std::isfinite(st.x) || !std::isfinite(st.y)) return params_.fallback;
+  oiio::TextureSystem* ts = System();
+  oiio::TextureOpt opt;
+  // Bilinear within a level (OIIO's default bicubic is a B-spline, which blurs even at the finest level):
+  // a point lookup at a texel centre returns that texel, and the MIP filter does the averaging.
+  opt.interpmode = oiio::TextureOpt::InterpBilinear;
+  opt.anisotropic = kMaxAnisotropy;
+  opt.swrap = ToOiio(params_.wrapS);
+  opt.twrap = ToOiio(params_.wrapT);
+  // OIIO's t runs down the image, USD's up. A UDIM set flips within each tile so that the tile row
+  // stays floor(t) (tile 1011 holds USD t in [1, 2)); a single image flips about t = 1/2.
+  float t = 1 - st.y;
+  if (udim_) {
+    const float row = std::floor(st.y);
+    t = row + (1 - (st.y - row));
+  }
+  float raw[4] = {0, 0, 0, 1};
+  const bool ok = ts->texture(reinterpret_cast<oiio::TextureSystem::TextureHandle*>(handle_),
+                              reinterpret_cast<oiio::TextureSystem::Perthread*>(thread), opt, st.x, t,
+                              footprint.dstDx.x, -footprint.dstDx.y, footprint.dstDy.x, -footprint.dstDy.y,
+                              channels_, raw);
+  if (!ok) {  // a UDIM tile the set does not have, or a tile that failed to read
+    if (ts->has_error()) ts->geterror();
+    return params_.fallback;
+  }
+  return Decode(raw);
+}
+
+glm::vec3 Texture::Lookup(glm::vec2 st) const { return glm::vec3(Lookup(st, TextureFootprint{}, nullptr)); }
+
+std::vector<glm::vec3> Texture::Texels() const {
+  if (!Valid() || udim_) return {};
+  std::vector<float> raw(std::size_t(width_) * std::size_t(height_) * std::size_t(channels_));
+  oiio::ImageSpec spec;
+  const oiio::ustring name(params_.file);
+  if (!System()->imagecache()->get_imagespec(name, spec, 0, 0) ||
+      !System()->imagecache()->get_pixels(name, 0, 0, spec.x, spec.x + width_, spec.y, spec.y + height_, 0, 1, 0,
+                                          channels_, oiio::TypeFloat, raw.data())) {
+    PendingError("");
+    return {};
+  }
+  std::vector<glm::vec3> texels(std::size_t(width_) * std::size_t(height_));
+  float px[4] = {0, 0, 0, 1};
+  for (std::size_t i = 0; i < texels.size(); ++i) {
+    for (int c = 0; c < channels_; ++c) px[c] = raw[i * std::size_t(channels_) + std::size_t(c)];
+    texels[i] = glm::vec3(Decode(px));
+  }
+  return texels;
+}
+
+std::shared_ptr<const Texture> TextureCache::Get(const TextureParams& params) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::shared_ptr<const Texture>>& variants = textures_[params.file];
+  for (const auto& t : variants)
+    if (t->Params() == params) return t;
+  variants.push_back(Texture::Open(params));
+  return variants.back();
+}
+
+std::string TextureProblem(const std::string& file) { return Texture::Open(TextureParams::Image(file))->Error(); }
 
 }  // namespace hdeye

@@ -1,6 +1,14 @@
 #pragma once
-// Images the renderer looks up: material and iris textures by (u, v), dome lights by direction.
-// Loaded once per file (TextureCache) at sync time; lookups are read-only and thread-safe.
+// Every image the renderer reads (material inputs, the iris, the sclera, dome and rect lights) goes through
+// OpenImageIO's TextureSystem: any format OIIO reads (PNG, JPEG, TIFF, EXR, HDR, TGA, ... and tiled,
+// MIP-mapped .tx from maketx), MIP maps built in memory for files that have none, filtered lookups
+// sized by a footprint in (s, t), UDIM sets (`<UDIM>` in the file name), and UsdUVTexture's wrap modes,
+// scale, bias, fallback and sourceColorSpace. A file that cannot be read is not an error here: the
+// texture is invalid, says why (Error()), and every lookup returns its fallback. Callers warn.
+//
+// One process-wide TextureSystem (OIIO's shared one) caches tiles for every render delegate, so a
+// file is decoded once per process. Lookups are read-only, thread-safe and deterministic: the
+// result depends only on (st, footprint), never on the thread or on what the cache holds.
 #include <glm/glm.hpp>
 
 #include <memory>
@@ -11,32 +19,97 @@
 
 namespace hdeye {
 
-/// A linear RGB float image. PNG files are decoded from sRGB; EXR files are read as linear.
-class Texture {
- public:
-  /// Throws std::runtime_error with a one-line message naming the file if it cannot be read.
-  static std::shared_ptr<const Texture> Load(const std::string& path);
-  Texture(int width, int height, std::vector<glm::vec3> texels);
+/// UsdUVTexture's wrapS / wrapT. UseMetadata takes the file's own wrap metadata (OIIO's "wrapmodes",
+/// which maketx writes), black when the file has none.
+enum class TextureWrap { UseMetadata, Black, Clamp, Repeat, Mirror };
 
-  int Width() const { return width_; }
-  int Height() const { return height_; }
-  /// Bilinear lookup, wrapping (repeat) in u and v; v = 0 is the bottom row (USD's st convention).
-  glm::vec3 Lookup(glm::vec2 uv) const;
-  const glm::vec3& Texel(int x, int y) const { return texels_[std::size_t(y) * std::size_t(width_) + std::size_t(x)]; }
+/// UsdUVTexture's sourceColorSpace. Auto: the file's colour-space metadata if it says linear, else sRGB
+/// for 8-bit images of 3 or 4 channels and raw for everything else (single-channel masks, 16-bit and
+/// float images), as Hydra's Storm decides.
+enum class TextureColorSpace { Auto, Raw, Srgb };
 
- private:
-  int width_ = 0, height_ = 0;
-  std::vector<glm::vec3> texels_;  ///< row-major, row 0 at the top of the image
+/// How one texture is read: UsdUVTexture's inputs. Values are RGBA; a 1-channel file gives (g, g, g, 1),
+/// a 2-channel one (g, g, g, a), a 3-channel one alpha 1.
+struct TextureParams {
+  std::string file;  ///< an image path; "<UDIM>" in it names a UDIM set (tile 1001 + u + 10 v)
+  TextureWrap wrapS = TextureWrap::UseMetadata, wrapT = TextureWrap::UseMetadata;
+  TextureColorSpace colorSpace = TextureColorSpace::Auto;
+  glm::vec4 scale{1, 1, 1, 1};      ///< result = decoded texel * scale + bias
+  glm::vec4 bias{0, 0, 0, 0};
+  glm::vec4 fallback{1, 0, 1, 1};   ///< returned as is where the file cannot be read (magenta: visible)
+
+  /// A plain colour image (iris, dome): repeat in s, `wrapT` in t, colour space auto, magenta fallback.
+  static TextureParams Image(std::string file, TextureWrap wrapT = TextureWrap::Repeat);
+  bool operator==(const TextureParams& o) const;
 };
 
-/// Textures by file path, loaded on first use and shared.
+/// The area a lookup averages over: derivatives of (s, t) along two axes of the ray's footprint on the
+/// surface (st units per footprint width). Zero: the finest MIP level, bilinear.
+struct TextureFootprint {
+  glm::vec2 dstDx{0}, dstDy{0};
+};
+
+/// Opaque per-thread lookup state (OIIO's TextureSystem::Perthread). Fetch it once per render thread
+/// (CurrentTextureThread) and pass it to every lookup on that thread; null also works, a little slower.
+struct TextureThread;
+TextureThread* CurrentTextureThread();
+
+/// One file (or UDIM set) with its UsdUVTexture parameters. Made by TextureCache or Texture::Open.
+class Texture {
+ public:
+  /// Opens and checks the file: it must exist, be an image OIIO reads, and decode completely (its
+  /// coarsest MIP level is read, which reads every texel). Never throws; see Valid().
+  static std::shared_ptr<const Texture> Open(const TextureParams& params);
+  /// Opens a plain colour image (TextureParams::Image) and throws std::runtime_error with a one-line
+  /// message naming the file if it cannot be read (for callers that must have the pixels).
+  static std::shared_ptr<const Texture> Load(const std::string& path);
+  ~Texture();
+
+  bool Valid() const { return error_.empty(); }
+  /// Why the file cannot be used ("" when Valid()): "cannot read texture <file>: <reason>".
+  const std::string& Error() const { return error_; }
+  const TextureParams& Params() const { return params_; }
+  int Width() const { return width_; }    ///< texels of the finest level (UDIM: of the first tile)
+  int Height() const { return height_; }
+  int Channels() const { return channels_; }
+  bool Srgb() const { return srgb_; }     ///< whether lookups decode the sRGB transfer curve
+
+  /// RGBA at st (USD's convention: t = 0 is the image's bottom row) averaged over the footprint,
+  /// decoded to linear, then scaled and biased. The fallback where the texture is invalid. Finite.
+  glm::vec4 Lookup(glm::vec2 st, const TextureFootprint& footprint, TextureThread* thread) const;
+  /// Lookup at the finest level (bilinear), RGB: for callers with no footprint.
+  glm::vec3 Lookup(glm::vec2 st) const;
+  /// Every texel of the finest level, linear RGB after scale and bias, row 0 at the top (dome
+  /// importance sampling). Empty for an invalid texture or a UDIM set.
+  std::vector<glm::vec3> Texels() const;
+
+ private:
+  Texture() = default;
+  void OpenFile();
+  glm::vec4 Decode(const float raw[4]) const;
+
+  TextureParams params_;
+  std::string error_;
+  void* handle_ = nullptr;  ///< OIIO TextureSystem::TextureHandle of the file (the UDIM pattern for a set)
+  bool udim_ = false;
+  int width_ = 0, height_ = 0, channels_ = 0;
+  bool srgb_ = false;
+};
+
+/// Textures by parameters, opened on first use and shared by the prims that use them. Thread-safe.
 class TextureCache {
  public:
-  std::shared_ptr<const Texture> Get(const std::string& path);
+  std::shared_ptr<const Texture> Get(const TextureParams& params);
+  /// Get(TextureParams::Image(path)).
+  std::shared_ptr<const Texture> Get(const std::string& path) { return Get(TextureParams::Image(path)); }
 
  private:
   std::mutex mutex_;
-  std::unordered_map<std::string, std::shared_ptr<const Texture>> textures_;
+  std::unordered_map<std::string, std::vector<std::shared_ptr<const Texture>>> textures_;  ///< by file
 };
+
+/// Why `file` cannot be used as a texture ("" when it can): what a scene delegate asks before it binds
+/// a texture, so it can warn once naming the prim. Shares the process-wide cache with every lookup.
+std::string TextureProblem(const std::string& file);
 
 }  // namespace hdeye

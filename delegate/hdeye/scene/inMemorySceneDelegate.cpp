@@ -4,18 +4,58 @@
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace hdeye {
 
+namespace {
+/// Rejects a transform no prim can use, before a prim syncs it into Embree: NaN/Inf entries, a projective
+/// row or a linear part of determinant 0 (no inverse for rays and normals). Called first in every Add, so a
+/// rejected Add leaves nothing behind.
+void CheckTransform(const PrimId& id, const Matrix4d& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) throw std::invalid_argument("prim " + id + ": transform has NaN or Inf entries");
+  // A tolerance, as the Python front end's: a composed look-at matrix carries 1 + 2e-16 where 1 is meant.
+  constexpr double kAffineTolerance = 1e-9;
+  if (std::abs(m[0][3]) > kAffineTolerance || std::abs(m[1][3]) > kAffineTolerance ||
+      std::abs(m[2][3]) > kAffineTolerance || std::abs(m[3][3] - 1) > kAffineTolerance)
+    throw std::invalid_argument("prim " + id + ": transform is projective");
+  if (glm::determinant(glm::dmat3(m)) == 0) throw std::invalid_argument("prim " + id + ": transform is singular");
+}
+}  // namespace
+
 void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
-                                    const Matrix4d& transform, const PrimId& materialId) {
-  meshes_[id] = MeshData{topology, points, {}, materialId};
+                                    const Matrix4d& transform, const PrimId& materialId, const PrimId& instancerId) {
+  CheckTransform(id, transform);
+  meshes_[id] = MeshData{topology, points, {}, materialId, instancerId};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kMesh, this, id);
+  if (!instancerId.empty()) index_->GetChangeTracker().AddInstancerRprimDependency(instancerId, id);
+}
+
+void InMemorySceneDelegate::AddInstancer(const PrimId& id, const std::vector<Matrix4d>& transforms,
+                                         const std::vector<Vec3f>& colors) {
+  instancers_[id] = InstancerData{transforms, colors};
+  index_->InsertInstancer(this, id);
+}
+
+void InMemorySceneDelegate::SetInstanceTransforms(const PrimId& id, const std::vector<Matrix4d>& transforms,
+                                                  const std::vector<Vec3f>& colors) {
+  instancers_.at(id) = InstancerData{transforms, colors};
+  index_->GetChangeTracker().MarkInstancerDirty(id);
+}
+
+PrimId InMemorySceneDelegate::GetInstancerId(const PrimId& id) {
+  const auto mesh = meshes_.find(id);
+  return mesh == meshes_.end() ? PrimId{} : mesh->second.instancerId;
 }
 
 void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& topology,
                                        const std::vector<Vec3f>& points, const EyeParams& eyeParams,
                                        const Matrix4d& transform, const PrimId& materialId) {
+  CheckTransform(id, transform);
   meshes_[id] = MeshData{topology, points, {}, materialId};
   eyes_[id] = eyeParams;
   transforms_[id] = transform;
@@ -25,6 +65,7 @@ void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& top
 void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology,
                                            const std::vector<Vec3f>& points, const Matrix4d& transform,
                                            const PrimId& materialId) {
+  CheckTransform(id, transform);
   meshes_[id] = MeshData{{}, points, {}, materialId};
   curves_[id] = topology;
   transforms_[id] = transform;
@@ -33,12 +74,14 @@ void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTo
 
 void InMemorySceneDelegate::AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform,
                                       const PrimId& materialId) {
+  CheckTransform(id, transform);
   meshes_[id] = MeshData{{}, points, {}, materialId};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kPoints, this, id);
 }
 
 void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform) {
+  CheckTransform(id, transform);
   cameras_[id] = params;
   transforms_[id] = transform;
   index_->InsertSprim(primTypes::kCamera, this, id);
@@ -46,6 +89,7 @@ void InMemorySceneDelegate::AddCamera(const PrimId& id, const CameraParams& para
 
 void InMemorySceneDelegate::AddLight(const PrimId& id, const std::string& type, const LightParams& params,
                                      const Matrix4d& transform) {
+  CheckTransform(id, transform);
   lights_[id] = params;
   transforms_[id] = transform;
   index_->InsertSprim(type, this, id);
@@ -57,6 +101,7 @@ void InMemorySceneDelegate::AddMaterial(const PrimId& id, const MaterialParams& 
 }
 
 void InMemorySceneDelegate::AddAnalyticEye(const PrimId& id, const EyeParams& params, const Matrix4d& transform) {
+  CheckTransform(id, transform);
   eyes_[id] = params;
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kAnalyticEye, this, id);
@@ -93,6 +138,7 @@ void InMemorySceneDelegate::SetGeomSubsets(const PrimId& id, const std::vector<G
 }
 
 void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
+  CheckTransform(id, transform);
   transforms_.at(id) = transform;
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
 }
@@ -150,6 +196,9 @@ void InMemorySceneDelegate::SetMaterialId(const PrimId& id, const PrimId& materi
 
 void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
   index_->RemovePrim(id);
+  if (const auto mesh = meshes_.find(id); mesh != meshes_.end() && !mesh->second.instancerId.empty())
+    index_->GetChangeTracker().RemoveInstancerRprimDependency(mesh->second.instancerId, id);
+  instancers_.erase(id);
   meshes_.erase(id), curves_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
   materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
 }

@@ -16,14 +16,22 @@ class InMemorySceneDelegate final : public SceneDelegate {
  public:
   explicit InMemorySceneDelegate(RenderIndex* renderIndex) : index_(renderIndex) {}
 
+  /// instancerId: the instancer (AddInstancer, added first) whose instances draw this mesh, at
+  /// instanceTransform * transform each; empty: drawn once at `transform`.
   void AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
-               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
+               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "", const PrimId& instancerId = "");
   /// BasisCurves (primTypes::kBasisCurves) over `points`; widths and normals through SetPrimvar.
   void AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology, const std::vector<Vec3f>& points,
                       const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
   /// Points (primTypes::kPoints), spheres of SetPrimvar's "widths" (default 1).
   void AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform = Matrix4d(1.0),
                  const PrimId& materialId = "");
+  /// An instancer: per-instance transforms (instance to world, column vectors) and optional per-instance
+  /// displayColors (empty, or one per instance).
+  void AddInstancer(const PrimId& id, const std::vector<Matrix4d>& transforms, const std::vector<Vec3f>& colors = {});
+  /// New instances (count may change): marks the instancer dirty and its meshes DirtyInstancer only.
+  void SetInstanceTransforms(const PrimId& id, const std::vector<Matrix4d>& transforms,
+                             const std::vector<Vec3f>& colors = {});
   void AddCamera(const PrimId& id, const CameraParams& params, const Matrix4d& transform);
   /// type: one of the light prim types (sphereLight, distantLight, rectLight, diskLight, domeLight).
   void AddLight(const PrimId& id, const std::string& type, const LightParams& params,
@@ -59,6 +67,10 @@ class InMemorySceneDelegate final : public SceneDelegate {
   /// Removes a prim from the render index and forgets its data; unknown ids are ignored.
   void RemovePrim(const PrimId& id);
 
+  RenderIndex* GetRenderIndex() override { return index_; }
+  PrimId GetInstancerId(const PrimId& id) override;
+  std::vector<Matrix4d> GetInstanceTransforms(const PrimId& id) override { return instancers_.at(id).transforms; }
+  std::vector<Vec3f> GetInstanceColors(const PrimId& id) override { return instancers_.at(id).colors; }
   MeshTopology GetMeshTopology(const PrimId& id) override { return meshes_.at(id).topology; }
   std::vector<Vec3f> GetPoints(const PrimId& id) override { return meshes_.at(id).points; }
   BasisCurvesTopology GetBasisCurvesTopology(const PrimId& id) override { return curves_.at(id); }
@@ -77,6 +89,11 @@ class InMemorySceneDelegate final : public SceneDelegate {
     std::vector<Vec3f> points;
     std::map<std::string, Primvar> primvars;
     PrimId materialId;
+    PrimId instancerId;
+  };
+  struct InstancerData {
+    std::vector<Matrix4d> transforms;
+    std::vector<Vec3f> colors;
   };
   RenderIndex* index_;
   std::map<PrimId, MeshData> meshes_;  ///< meshes, and the points, primvars and material of curves and points
@@ -86,6 +103,7 @@ class InMemorySceneDelegate final : public SceneDelegate {
   std::map<PrimId, LightParams> lights_;
   std::map<PrimId, MaterialParams> materials_;
   std::map<PrimId, EyeParams> eyes_;
+  std::map<PrimId, InstancerData> instancers_;
   std::set<PrimId> hidden_;
 };
 

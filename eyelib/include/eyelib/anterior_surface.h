@@ -129,11 +129,17 @@ template <class T> class AnteriorSurface {
 
   /// h(x, y) = f(r) with its gradient and Hessian; smooth at the axis. MNEE's inner loop: f, f'/r and
   /// f'' come from one evaluation of the sag.
-  HeightDerivatives<T> Height(T x, T y) const {
+  HeightDerivatives<T> Height(T x, T y) const { return HeightOnPiece(PieceAt(std::sqrt(x * x + y * y)), x, y); }
+
+  /// The same on one piece's own analytic extension, whatever piece owns (x, y) (mm, 1, 1/mm): each piece
+  /// is smooth there, where the surface itself has a slope kink and a curvature jump at the junction.
+  /// The ellipsoid's extension ends where the ellipsoid does (r = 9.0 mm; its sag is clamped beyond), the
+  /// cone's at its apex (r = 0, where the derivatives are not finite).
+  HeightDerivatives<T> HeightOnPiece(SurfacePiece piece, T x, T y) const {
     const T r2 = x * x + y * y;
     const T r = std::sqrt(r2);
     T f, g, fpp;  // f, f'/r, f''
-    if (PieceAt(r) == SurfacePiece::Cone) {
+    if (piece == SurfacePiece::Cone) {
       f = ConeSag(r), g = -tanCone_ / r, fpp = 0;
     } else {
       f = PrimarySag(r);
@@ -152,6 +158,12 @@ template <class T> class AnteriorSurface {
     d.hxy = k * x * y;
     d.hyy = g + k * y * y;
     return d;
+  }
+
+  /// The other piece of the ellipsoid-cone model (the paraboloid is its own).
+  SurfacePiece OtherPiece(SurfacePiece piece) const {
+    if (model_ == CorneaModel::Paraboloid) return SurfacePiece::Paraboloid;
+    return piece == SurfacePiece::Cone ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
   }
 
   /// The radius where f(r) = z, for z in [Sag(rim), 0] (mm); clamps outside that range.

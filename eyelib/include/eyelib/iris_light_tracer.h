@@ -11,6 +11,7 @@
 #include "eyelib/mnee.h"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace eyelib {
@@ -38,9 +39,18 @@ struct IrradianceMap {
   double ErrorAt(int i, int j) const { return stdError[j * grid.cells + i]; }
 };
 
-/// Light-traces `rays` rays from the light into the chamber. Deterministic for a given seed.
+/// The radii (mm) of the anterior surface whose light is binned: the light one band of the cornea brings,
+/// for example the neighbourhood of the ellipsoid-cone junction. The default is the whole cap.
+struct CorneaBand {
+  double minRadius = 0;
+  double maxRadius = std::numeric_limits<double>::infinity();
+  bool Contains(double r) const { return r >= minRadius && r < maxRadius; }
+};
+
+/// Light-traces `rays` rays from the light into the chamber, binning those that enter the cornea inside
+/// `band`. Deterministic for a given seed.
 IrradianceMap LightTraceIris(const AnteriorChamber<double>& chamber, const EyeLight& light, const IrisGrid& grid,
-                             std::int64_t rays, std::uint64_t seed = 1);
+                             std::int64_t rays, std::uint64_t seed = 1, const CorneaBand& band = {});
 
 /// Whether cell (i, j) lies wholly on the iris (between the pupil and the iris edge).
 bool CellOnIris(const AnteriorChamber<double>& chamber, const IrisGrid& grid, int i, int j);

@@ -16,6 +16,7 @@
 #include "eyelib/vec.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace eyelib {
@@ -30,6 +31,7 @@ enum class MneeStatus : std::uint8_t {
   BeyondRim,         ///< converged to a point of the extended surface outside the 15.08 mm rim
   WrongSide,         ///< converged, but the light is not in front of the surface there (a light behind the eye)
   Occluded,          ///< the light is behind the sclera: below the rim plane
+  OffPiece,          ///< converged on a piece's analytic extension, outside the radii that piece owns
 };
 
 const char* ToString(MneeStatus status);
@@ -51,12 +53,17 @@ struct MneeOptions {
   /// Treat lights below the rim plane as hidden by the sclera (the analytic eye on its own, as the
   /// light-tracing reference models it). A renderer with its own shadow rays turns this off.
   bool scleraOccludes = true;
+  /// Solve on this piece's own analytic extension (smooth across the junction circle) and accept the
+  /// solution only if it lies in the piece's domain (else OffPiece). Unset: the piecewise surface, whose
+  /// slope kink at the junction Newton cannot cross reliably (FindRefractionPaths always sets it).
+  std::optional<SurfacePiece> piece;
 };
 
 struct MneeSolution {
   MneeStatus status = MneeStatus::InvalidInput;
   Vec3d p;            ///< cornea point, mm
   Vec3d normal;       ///< outward unit normal at p
+  SurfacePiece piece = SurfacePiece::Ellipsoid;  ///< the piece that owns p
   int iterations = 0;
   double residual = 0;  ///< max |C_i| at the end
   /// Irradiance transfer at x: for a point light, E = I * transfer (I in W/sr, E in W/mm^2), i.e.
@@ -79,15 +86,22 @@ struct SeedStrategy {
   /// false: one solution: the straight-line seed, then (if it fails and `fallback` is on) the
   /// meridian seeds until one converges; true: every seed below, keeping all distinct solutions.
   bool allSolutions = false;
-  /// With allSolutions off: retry a failed straight-line seed from the meridian seeds. Off gives the
-  /// straight-line seed alone, as Cycles' MNEE does (kept for comparison).
+  /// With allSolutions off: retry a failed straight-line seed from the meridian seeds. Off gives what
+  /// Cycles' MNEE does, kept for comparison: one Newton solve from the straight-line seed on the piecewise
+  /// surface (which stalls at the junction's kink where the path crosses it).
   bool fallback = true;
   /// Seeds along the light's azimuth through x (where a fold's second solution lies), spread
   /// across the cap. 0 turns them off.
   int meridianSeeds = 6;
   int rings = 0;              ///< optional polar grid over the cap: rings x segments seeds
   int segments = 8;
-  double uniqueDistance = 1e-6;  ///< mm; solutions closer than this are the same
+  double uniqueDistance = 1e-6;  ///< mm; solutions closer than this (on the same piece) are the same
+  /// Ellipsoid-cone model: a solution whose cornea point lies within this distance (mm, in radius) of the
+  /// junction circle is paired with a solve on the other piece: near the 0.3 degree slope kink an iris
+  /// point can have one path through each piece (where the two pieces' caustics overlap) or none (a gap).
+  /// Both paths of such a pair lie within 0.02 mm of the junction for point lights 12 mm to 1 km away at
+  /// 0-88 degrees (test "both paths of a junction pair ..."): the default has a margin of 5.
+  double junctionPairRadius = 0.1;
 };
 
 struct MneeResult {

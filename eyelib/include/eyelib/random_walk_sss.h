@@ -59,8 +59,11 @@ struct SssMedium {
 
 /// The albedo inversion above, channel by channel.
 SssMedium SssMediumFromArtist(const Vec3<double>& surfaceAlbedo, const Vec3<double>& meanFreePath);
-/// Empty if the artist's values are usable (finite, albedo in [0, 1], mean free path > 0 mm), else a
-/// one-line message naming the first offending value. SssMediumFromArtist clamps regardless.
+/// Mean free paths beyond this (mm) are rejected: the medium is transparent at any eye's scale, and the walk's
+/// steps (of that order) would leave the scene's float range.
+constexpr double kMaxMeanFreePathMm = 1000.0;
+/// Empty if the artist's values are usable (finite, albedo in [0, 1], mean free path in (0, kMaxMeanFreePathMm]
+/// mm), else a one-line message naming the first offending value. SssMediumFromArtist clamps regardless.
 std::string ValidateSssArtistParams(const Vec3<double>& surfaceAlbedo, const Vec3<double>& meanFreePath);
 
 struct RandomWalkSettings {

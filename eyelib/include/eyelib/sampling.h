@@ -26,6 +26,10 @@ template <class T> inline Vec3<T> SampleUniformCone(const Vec3<T>& w, T cosMax, 
 }
 template <class T> inline T UniformConePdf(T cosMax) { return 1 / (T(2 * paper::kPi) * (1 - cosMax)); }
 
+/// 1 - cos(theta) from sin^2(theta), theta <= 90 degrees, without the cancellation of 1 - sqrt(1 - s^2)
+/// (which loses 1 % of a cone of 1e-7 rad and all of one below 1e-8 rad in double).
+template <class T> inline T OneMinusCosFromSin2(T sin2) { return sin2 / (1 + std::sqrt(std::max(T(0), 1 - sin2))); }
+
 /// A cosine-weighted direction in the hemisphere around unit n; pdf = cos / pi.
 template <class T> inline Vec3<T> SampleCosineHemisphere(const Vec3<T>& n, T u1, T u2) {
   const T r = std::sqrt(u1), phi = T(2 * paper::kPi) * u2;

@@ -1,0 +1,242 @@
+"""Instancing for the USD scene delegate, as UsdImaging's instance adapters do it for Hydra: every PointInstancer
+prototype and every native-instance prototype becomes one hdeye instancer (per-instance transforms, optional
+displayColors) and its prims are added once, as prototype rprims drawn by that instancer, so memory grows with the
+unique prototypes, not with the instances.
+
+- PointInstancer: UsdGeom.PointInstancer.ComputeInstanceTransformsAtTime (prototype root transforms included) and
+  ComputeMaskAtTime (inactiveIds and invisibleIds); primvars:displayColor with one value per instance colours the
+  instances. Prototype prims get their transform relative to the prototype root.
+- Nested PointInstancers: Embree on Debian is built with RTC_MAX_INSTANCE_LEVEL_COUNT 1 (one instance level), so a
+  nested instancer's instances are flattened into a top-level list: every product of its transforms with its
+  outer instances'.
+- Native instances (instanceable prims): grouped by prototype and by the material bound at the instance root; the
+  prototype's prims are bound as the group's first instance sees them.
+- Eyes in a prototype are flattened (one eye prim per instance): MNEE needs each eye's own canonical frame and render
+  plan. Cameras and lights in prototypes are skipped with a warning.
+- flatten=True adds every instance as its own prims from the same instance lists: the reference instancing is tested
+  against, not the default.
+
+XXX: animated visibility of native instances and animated transforms of prims inside a prototype are read once.
+"""
+import dataclasses
+
+import numpy as np
+from pxr import Usd, UsdGeom, UsdShade
+
+from . import eyes, lights
+
+
+@dataclasses.dataclass
+class InstanceGroup:
+    """One prototype root and the world transforms (Gf.Matrix4d, row vectors: prototype-root space to world) of its
+    instances, with optional per-instance colours; instancer_id names the hdeye instancer."""
+    instancer_id: str
+    root: Usd.Prim
+    worlds: list
+    colors: list = None
+    first_instance: Usd.Prim = None  # native groups: the instance whose proxies bind the prototype's materials
+    instance_paths: list = dataclasses.field(default_factory=list)  # native groups: their instance prims' paths
+
+
+def _instance_colors(instancer, time, count):
+    """primvars:displayColor of a PointInstancer with one value per instance, else None."""
+    primvar = UsdGeom.PrimvarsAPI(instancer.GetPrim()).GetPrimvar("displayColor")
+    if not primvar or not primvar.HasValue():
+        return None
+    values = primvar.ComputeFlattened(time)
+    return [tuple(c) for c in values] if values is not None and len(values) == count else None
+
+
+def _is_point_instancer(prim):
+    return prim.IsA(UsdGeom.PointInstancer)
+
+
+def _nested_instancers(root):
+    """PointInstancers at or under a prototype root (not under one another: each is reached through its parent)."""
+    it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+    for prim in it:
+        if _is_point_instancer(prim):
+            it.PruneChildren()
+            yield prim
+
+
+def point_instancer_groups(prim, worlds, time, xforms, prefix=None):
+    """The instance groups of PointInstancer `prim`, whose local space is at each of `worlds` (Gf.Matrix4d, row
+    vectors), nested PointInstancers flattened into groups of their own."""
+    instancer = UsdGeom.PointInstancer(prim)
+    prototypes = instancer.GetPrototypesRel().GetTargets()
+    transforms = instancer.ComputeInstanceTransformsAtTime(time, time, UsdGeom.PointInstancer.IncludeProtoXform,
+                                                           UsdGeom.PointInstancer.IgnoreMask) or []
+    proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
+    mask = instancer.ComputeMaskAtTime(time) or []
+    colors = _instance_colors(instancer, time, len(proto_indices))
+    prefix = prefix or prim.GetPath().pathString
+    stage = prim.GetStage()
+    for p, target in enumerate(prototypes):
+        root = stage.GetPrimAtPath(target)
+        if not root or not root.IsValid():
+            continue
+        members = [k for k, index in enumerate(proto_indices[:len(transforms)])
+                   if index == p and (not mask or mask[k])]
+        group_worlds = [transforms[k] * w for w in worlds for k in members]
+        group_colors = [colors[k] for _ in worlds for k in members] if colors else None
+        group_id = f"{prefix}/__prototype{p}"
+        yield InstanceGroup(group_id, root, group_worlds, group_colors)
+        for nested in _nested_instancers(root):
+            relative, _ = xforms.ComputeRelativeTransform(nested, root)
+            yield from point_instancer_groups(nested, [relative * w for w in group_worlds], time, xforms,
+                                              f"{group_id}/{nested.GetPath().MakeRelativePath(root.GetPath().GetParentPath())}")
+
+
+def _matrices(worlds):
+    """Gf.Matrix4d list as an (n, 4, 4) float64 array in USD's layout (what the delegate's instancer takes)."""
+    return np.array([np.array(m, dtype=np.float64).reshape(4, 4) for m in worlds], dtype=np.float64).reshape(-1, 4, 4)
+
+
+def _colors(colors):
+    return None if colors is None else np.ascontiguousarray(np.array(colors, dtype=np.float32).reshape(-1, 3))
+
+
+class Instancing:
+    """Adds instance groups to a UsdSceneDelegate's store (the module doc says how)."""
+
+    def __init__(self, delegate, flatten=False):
+        self.delegate, self.flatten = delegate, flatten
+        self._native = {}  # (prototype path, material path) -> InstanceGroup, filled during traversal
+        self._instancers = set()  # the hdeye instancers added
+
+    # -- point instancers --------------------------------------------------------------------------------------
+
+    def add_point_instancer(self, prim):
+        d = self.delegate
+        groups = list(point_instancer_groups(prim, [d.world_of(prim)], d.time, d.xform_cache))
+        # The PointInstancer owns its instancers, prototype prims and updater; an edit to a prototype re-populates it.
+        with d.owning(prim.GetPath(), sources=[group.root.GetPath() for group in groups]):
+            for group in groups:
+                self._add_group(group, proxy_prefix=None)
+            if not self.flatten and self._point_instancer_varies(prim):
+                self._track_point_instancer(prim)
+
+    def _track_point_instancer(self, prim):
+        d = self.delegate
+
+        def update(t):
+            cache = UsdGeom.XformCache(t)
+            for group in point_instancer_groups(prim, [cache.GetLocalToWorldTransform(prim)], t, cache):
+                if group.instancer_id in self._instancers:  # eyes-only prototypes have none (flattened, static)
+                    d.store.set_instance_transforms(group.instancer_id, _matrices(group.worlds),
+                                                    _colors(group.colors))
+        d.add_updater("instancer", update)
+
+    def _point_instancer_varies(self, prim):
+        d = self.delegate
+        for p in [prim, *_nested_instancers_deep(prim)]:
+            pi = UsdGeom.PointInstancer(p)
+            attrs = [pi.GetPositionsAttr(), pi.GetOrientationsAttr(), pi.GetScalesAttr(), pi.GetProtoIndicesAttr(),
+                     pi.GetInvisibleIdsAttr(), pi.GetIdsAttr()]
+            if any(a and a.ValueMightBeTimeVarying() for a in attrs) or d.transform_varies(p):
+                return True
+        return False
+
+    # -- native instances --------------------------------------------------------------------------------------
+
+    def add_native_instance(self, prim):
+        """Records an instanceable prim met in traversal; its group is added by finish()."""
+        d = self.delegate
+        if UsdGeom.Imageable(prim) and UsdGeom.Imageable(prim).ComputeVisibility(d.time) == UsdGeom.Tokens.invisible:
+            with d.owning(prim.GetPath(), sources=[prim.GetPath()]):  # made visible: populated as its own group
+                return
+        material = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0]
+        prototype = prim.GetPrototype()
+        key = (prototype.GetPath().pathString, material.GetPath().pathString if material else "")
+        group = self._native.get(key)
+        if group is None:
+            group = self._native[key] = InstanceGroup(f"{prim.GetPath()}/__instances", prototype, [],
+                                                      first_instance=prim)
+        group.worlds.append(d.world_of(prim))
+        group.instance_paths.append(prim.GetPath())
+
+    def finish(self):
+        """Adds the native groups met since the last call, each owned by its instances' nearest common ancestor:
+        an edit to one instance re-populates the group's every instance (stage_notices.py)."""
+        d = self.delegate
+        for group in self._native.values():
+            # Its prototype is a source too: an instance added later re-populates the group it joins.
+            sources = [*group.instance_paths, group.root.GetPath()]
+            with d.owning(_common_ancestor(group.instance_paths), sources=sources):
+                self._add_group(group, proxy_prefix=group.first_instance.GetPath())
+        self._native.clear()
+
+    # -- groups --------------------------------------------------------------------------------------------------
+
+    def _leaves(self, root, proxy_prefix):
+        """The prims under a prototype root the delegate renders, nested PointInstancers pruned (they are groups of
+        their own) and cornea shells left out (eye_rigs.py; in a native prototype as the first instance's proxies
+        are); lights and cameras are skipped with a warning."""
+        d = self.delegate
+        it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        for prim in it:
+            imageable = UsdGeom.Imageable(prim)
+            proxy = prim if proxy_prefix is None else \
+                d.stage.GetPrimAtPath(proxy_prefix.AppendPath(prim.GetPath().MakeRelativePath(root.GetPath())))
+            if _is_point_instancer(prim) or d.is_cornea_shell(proxy):
+                it.PruneChildren()
+                continue
+            if imageable and (imageable.ComputePurpose() not in d.purposes or
+                              imageable.ComputeVisibility(d.time) == UsdGeom.Tokens.invisible):
+                it.PruneChildren()
+                continue
+            if prim.IsA(UsdGeom.Camera) or lights.light_type(prim):
+                d.warnings.append(f"{prim.GetPath()}: a {prim.GetTypeName()} inside an instance prototype is not "
+                                  f"rendered")
+            elif prim.IsA(UsdGeom.Gprim) or (eyes.is_eye(prim) and prim.IsA(UsdGeom.Xformable)):
+                yield prim
+
+    def _add_group(self, group, proxy_prefix):
+        """Adds a group's prototype prims once under its instancer, or (flatten, and eyes always) once per
+        instance. proxy_prefix: a native group's first instance, whose proxies give the prims' materials."""
+        d = self.delegate
+        leaves = list(self._leaves(group.root, proxy_prefix))
+        shared = [p for p in leaves if not eyes.is_eye(p)] if not self.flatten else []
+        if shared:
+            d.store.add_instancer(group.instancer_id, _matrices(group.worlds), _colors(group.colors))
+            d.own_prim(group.instancer_id)
+            self._instancers.add(group.instancer_id)
+        for prim in leaves:
+            relative, _ = d.xform_cache.ComputeRelativeTransform(prim, group.root)
+            # Named below the instancer as under the prototype's parent (PointInstancers: the prototype root is a
+            # prim of its own) or under the prototype (native: the root stands for the instance prim).
+            if proxy_prefix is None:
+                relative_path, binding = prim.GetPath().MakeRelativePath(group.root.GetPath().GetParentPath()), prim
+            else:
+                relative_path = prim.GetPath().MakeRelativePath(group.root.GetPath())
+                binding = d.stage.GetPrimAtPath(proxy_prefix.AppendPath(relative_path))
+            if prim in shared:
+                d.add_instanced_prim(prim, f"{group.instancer_id}/{relative_path}", relative, group.instancer_id,
+                                      binding)
+                continue
+            for k, world in enumerate(group.worlds):
+                prim_id = f"{group.instancer_id}/instance_{k}/{relative_path}"
+                d.add_instanced_prim(prim, prim_id, relative * world, "", binding)
+                if group.colors and prim.IsA(UsdGeom.Gprim):  # eyes keep their own colours
+                    color = np.array([group.colors[k]], dtype=np.float32)
+                    d.store.set_primvar(prim_id, "displayColor", "constant", color)
+
+
+def _nested_instancers_deep(prim):
+    """Every PointInstancer reachable through prim's prototypes (any depth)."""
+    stage = prim.GetStage()
+    for target in UsdGeom.PointInstancer(prim).GetPrototypesRel().GetTargets():
+        root = stage.GetPrimAtPath(target)
+        if root and root.IsValid():
+            for nested in _nested_instancers(root):
+                yield nested
+                yield from _nested_instancers_deep(nested)
+
+
+def _common_ancestor(paths):
+    """The nearest prim path at or above every one of `paths` (Sdf.Path)."""
+    common = paths[0]
+    for path in paths[1:]:
+        common = common.GetCommonPrefix(path)
+    return common
