@@ -23,8 +23,9 @@ PYTHON = $(shell [ -x .venv/bin/python ] && echo .venv/bin/python || echo python
 python: deps
 	@$(PYTHON) -m pip install --quiet --disable-pip-version-check --root-user-action=ignore --no-build-isolation .
 
-# ruff over the repository's Python (rules in pyproject.toml [tool.ruff]).
-LINT = $(PYTHON) -m ruff check --quiet .
+# ruff over the repository's Python (rules in pyproject.toml [tool.ruff]) and clang-format over its C++
+# (.clang-format; scripts/check_format.sh --fix applies it).
+LINT = $(PYTHON) -m ruff check --quiet . && bash scripts/check_format.sh
 
 lint: deps
 	@$(LINT)

@@ -32,7 +32,6 @@ namespace {
 
 using bench::Median;
 
-
 double Seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 std::vector<Vec3f> Pose(const test::Eyeball& ball, double s) {
@@ -42,8 +41,11 @@ std::vector<Vec3f> Pose(const test::Eyeball& ball, double s) {
 }
 
 void UpdateCost(int frames) {
-  std::printf("## 1. Per-frame update vs full rebuild (eyeball 48 rings x 48 segments, medians of %d frames)\n\n", frames);
-  std::printf("| level | triangles | frame update (ms) | stencil evals / frame | full rebuild (ms) | refinements / rebuild | rebuild / update |\n");
+  std::printf("## 1. Per-frame update vs full rebuild (eyeball 48 rings x 48 segments, medians of %d frames)\n\n",
+              frames);
+  std::printf(
+      "| level | triangles | frame update (ms) | stencil evals / frame | full rebuild (ms) | refinements / rebuild | "
+      "rebuild / update |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (int level = 1; level <= 3; ++level) {
     test::Eyeball ball(48, 24, 48, level);
@@ -83,12 +85,12 @@ void UpdateCost(int frames) {
 }
 
 void HitCost(int hits) {
-  std::printf("## 2. Per-hit cost of the mapping (single thread, %d random hits on a sheared, squashed level-2 eye)\n\n", hits);
+  std::printf(
+      "## 2. Per-hit cost of the mapping (single thread, %d random hits on a sheared, squashed level-2 eye)\n\n", hits);
   test::Eyeball ball(48, 24, 48, 2);
   const double zc = ball.zCentre;
-  const auto deformed = ball.Deformed([&](const glm::dvec3& p) {
-    return glm::dvec3(1.3 * p.x + 0.4 * (p.z - zc), 0.9 * p.y, zc + 0.6 * (p.z - zc));
-  });
+  const auto deformed = ball.Deformed(
+      [&](const glm::dvec3& p) { return glm::dvec3(1.3 * p.x + 0.4 * (p.z - zc), 0.9 * p.y, zc + 0.6 * (p.z - zc)); });
   std::printf("| mapping | ns / hit | cornea hits |\n|---|---|---|\n");
   double nsOn = 0, nsOff = 0;
   for (bool reprojection : {true, false}) {
@@ -103,7 +105,11 @@ void HitCost(int hits) {
     auto* mesh = static_cast<EyeMesh*>(index.GetRprim("/eye"));
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> uni(0, 1);
-    struct Query { unsigned tri; double u, v; glm::dvec3 d; };
+    struct Query {
+      unsigned tri;
+      double u, v;
+      glm::dvec3 d;
+    };
     std::vector<Query> queries(hits);
     for (Query& q : queries) {
       q.tri = unsigned(uni(rng) * mesh->TriangleCount()) % unsigned(mesh->TriangleCount());
@@ -125,12 +131,14 @@ void HitCost(int hits) {
     }
     const double ns = 1e9 * Median(runs) / hits;
     (reprojection ? nsOn : nsOff) = ns;
-    std::printf("| %s | %.0f | %d%s |\n", reprojection ? "re-projection (projection, local rotation)" : "baseline (affine frame)", ns,
-                cornea, sink == 12345.678 ? " " : "");
+    std::printf("| %s | %.0f | %d%s |\n",
+                reprojection ? "re-projection (projection, local rotation)" : "baseline (affine frame)", ns, cornea,
+                sink == 12345.678 ? " " : "");
   }
   std::printf("\nRe-projection costs %.0f ns more per hit than the baseline's affine mapping.\n\n", nsOn - nsOff);
 
-  std::printf("### A whole render for scale (64 x 64, 16 spp, all threads, sclera walk off; the tests' stretched eye)\n\n");
+  std::printf(
+      "### A whole render for scale (64 x 64, 16 spp, all threads, sclera walk off; the tests' stretched eye)\n\n");
   std::printf("| mapping | seconds | camera samples / s |\n|---|---|---|\n");
   test::Eyeball coarse(32, 16, 32, 1);
   const auto stretched = Pose(coarse, 2.0);
@@ -145,7 +153,8 @@ void HitCost(int hits) {
       s.scene.SetPrimvar("/eye", "rest", coarse.Rest());
       secs.push_back(s.Render(16).seconds);
     }
-    std::printf("| %s | %.3f | %.0f |\n", reprojection ? "re-projection" : "baseline", Median(secs), 64 * 64 * 16 / Median(secs));
+    std::printf("| %s | %.3f | %.0f |\n", reprojection ? "re-projection" : "baseline", Median(secs),
+                64 * 64 * 16 / Median(secs));
   }
   std::printf("\n");
 }
@@ -155,8 +164,10 @@ void HitCost(int hits) {
 int main(int argc, char** argv) {
   int frames = 40, hits = 200000;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::max(3, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--hits") && i + 1 < argc) hits = std::max(1000, std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc)
+      frames = std::max(3, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--hits") && i + 1 < argc)
+      hits = std::max(1000, std::atoi(argv[++i]));
     else {
       std::fprintf(stderr, "usage: bench_deformed_eye [--frames N] [--hits N]\n");
       return 2;

@@ -74,7 +74,6 @@ namespace {
 
 using bench::Median;
 
-
 std::atomic<bool> gCountRays{false};
 std::atomic<std::int64_t> gClosestHitRays{0}, gShadowRays{0};
 
@@ -136,10 +135,14 @@ struct Options {
 Options ParseOptions(int argc, char** argv) {
   Options opt;
   bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
-    if (arg == "--quick") opt.quick = true;
-    else if (arg == "--csv") opt.csvPrefix = value();
-    else if (arg == "--threads") opt.threads = std::stoi(value());
-    else return false;
+    if (arg == "--quick")
+      opt.quick = true;
+    else if (arg == "--csv")
+      opt.csvPrefix = value();
+    else if (arg == "--threads")
+      opt.threads = std::stoi(value());
+    else
+      return false;
     return true;
   });
   if (opt.threads < 1) Usage(argv[0], 2);
@@ -234,7 +237,7 @@ struct RenderCase {
 struct RenderResult {
   std::string scene;
   int threads = 0;
-  RenderStats stats;      ///< of the first timed run (every run traces the same rays)
+  RenderStats stats;  ///< of the first timed run (every run traces the same rays)
   double medianSeconds = 0;
   std::int64_t nonFiniteSamples = 0;  ///< summed over the runs
   double RaysPerSecond() const { return double(stats.rays) / medianSeconds; }
@@ -307,8 +310,8 @@ WorldRay RandomCameraRay(const CameraView& view, double aspect, std::mt19937_64&
 /// Points the camera sees, found by tracing random camera rays. The geometric normal Embree
 /// returns for an instanced mesh is in the instance's object space; the ball scene's instances are
 /// translations only, so it is the world normal.
-std::vector<SurfacePoint> VisibleSurfacePoints(RTCScene scene, const CameraView& view, double aspect,
-                                               std::size_t count, std::mt19937_64& rng) {
+std::vector<SurfacePoint> VisibleSurfacePoints(RTCScene scene, const CameraView& view, double aspect, std::size_t count,
+                                               std::mt19937_64& rng) {
   std::vector<SurfacePoint> points;
   while (points.size() < count) {
     const WorldRay w = RandomCameraRay(view, aspect, rng);
@@ -343,7 +346,8 @@ std::vector<BareRay> ClosestHitBatch(std::size_t count, std::size_t cameraRays, 
     }
     const SurfacePoint& s = surface[rng() % surface.size()];
     const double u1 = Uniform01(rng);
-    rays.push_back(MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, Uniform01(rng)), std::numeric_limits<double>::infinity()));
+    rays.push_back(
+        MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, Uniform01(rng)), std::numeric_limits<double>::infinity()));
   }
   std::shuffle(rays.begin(), rays.end(), rng);  // incoherent: camera and bounce rays interleaved
   return rays;
@@ -358,13 +362,15 @@ std::vector<BareRay> ShadowBatch(std::size_t count, const std::vector<SurfacePoi
     const SurfacePoint& s = surface[rng() % surface.size()];
     const double pick = Uniform01(rng), u1 = Uniform01(rng), u2 = Uniform01(rng);
     if (pick < 0.5) {
-      const glm::dvec3 target = sampleScenes::kBallKeyPosition + double(sampleScenes::kBallKeyRadius) * UniformSphere(u1, u2);
+      const glm::dvec3 target =
+          sampleScenes::kBallKeyPosition + double(sampleScenes::kBallKeyRadius) * UniformSphere(u1, u2);
       const glm::dvec3 d = target - s.p;
       const double distance = glm::length(d);
       if (glm::dot(d, s.n) <= 0) continue;
       rays.push_back(MakeRay(s.p, d / distance, distance * (1 - 1e-6)));
     } else {
-      rays.push_back(MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, u2), std::numeric_limits<double>::infinity()));
+      rays.push_back(
+          MakeRay(s.p, eyelib::SampleCosineHemisphere(s.n, u1, u2), std::numeric_limits<double>::infinity()));
     }
   }
   return rays;
@@ -526,15 +532,15 @@ struct SyncResult {
   MeshSyncStats perFrame;  ///< Mesh::Stats() change over one frame (every frame did the same)
 };
 
-SyncResult Summarize(const std::string& kind, const Torus& torus, int triangles,
-                     const std::vector<SyncTiming>& timings, const MeshSyncStats& perFrame) {
+SyncResult Summarize(const std::string& kind, const Torus& torus, int triangles, const std::vector<SyncTiming>& timings,
+                     const MeshSyncStats& perFrame) {
   std::vector<double> sync, commit, total;
   for (const SyncTiming& t : timings) {
     sync.push_back(t.syncSeconds), commit.push_back(t.commitSeconds);
     total.push_back(t.syncSeconds + t.commitSeconds);
   }
-  return {kind, torus.refineLevel, torus.nu * torus.nv, triangles, int(timings.size()),
-          Median(sync), Median(commit), Median(total), perFrame};
+  return {kind,         torus.refineLevel, torus.nu * torus.nv, triangles, int(timings.size()),
+          Median(sync), Median(commit),    Median(total),       perFrame};
 }
 
 /// First sync: a new render delegate and index each frame, the mesh added, then synced.
@@ -679,9 +685,9 @@ BareBuild MeasureBareBuild(RTCDevice device, const Torus& torus, int runs) {
 
 Table RenderTable(const std::vector<RenderResult>& results, const std::vector<RayMix>& mixes,
                   const std::vector<RenderCase>& cases) {
-  Table t{{"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s",
-           "Msamples/s"},
-          {}};
+  Table t{
+      {"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s", "Msamples/s"},
+      {}};
   for (const RenderResult& r : results) {
     const auto c = std::find_if(cases.begin(), cases.end(), [&](const RenderCase& k) { return k.name == r.scene; });
     const RayMix& mix = mixes[std::size_t(c - cases.begin())];
@@ -698,14 +704,17 @@ Table RenderTable(const std::vector<RenderResult>& results, const std::vector<Ra
 Table EmbreeTable(const BareResult& bare, const RenderResult ours[2], int threads) {
   Table t{{"what", "rays", "Mrays/s 1 thread", "Mrays/s " + std::to_string(threads) + " threads"}, {}};
   auto rate = [](double rays, double seconds) { return Format("%.3f", rays / seconds * 1e-6); };
-  std::vector<std::string> closest{"bare rtcIntersect1 (camera + cosine bounce rays)", std::to_string(bare.closestRays)};
+  std::vector<std::string> closest{"bare rtcIntersect1 (camera + cosine bounce rays)",
+                                   std::to_string(bare.closestRays)};
   std::vector<std::string> shadow{"bare rtcOccluded1 (to sphere light / dome)", std::to_string(bare.shadowRays)};
-  std::vector<std::string> blend{"bare Embree, blended at the render's mix", std::to_string(bare.closestRays + bare.shadowRays)};
+  std::vector<std::string> blend{"bare Embree, blended at the render's mix",
+                                 std::to_string(bare.closestRays + bare.shadowRays)};
   std::vector<std::string> render{"hdeye renderer (RenderStats::rays / seconds)", std::to_string(ours[0].stats.rays)};
   std::vector<std::string> fractionBlend{"**renderer / blended bare Embree**", ""};
   std::vector<std::string> fractionClosest{"renderer / bare rtcIntersect1 only", ""};
   for (int k = 0; k < 2; ++k) {
-    const double blended = double(bare.closestRays + bare.shadowRays) / (bare.closestSeconds[k] + bare.shadowSeconds[k]);
+    const double blended =
+        double(bare.closestRays + bare.shadowRays) / (bare.closestSeconds[k] + bare.shadowSeconds[k]);
     const double closestRate = double(bare.closestRays) / bare.closestSeconds[k];
     closest.push_back(rate(double(bare.closestRays), bare.closestSeconds[k]));
     shadow.push_back(rate(double(bare.shadowRays), bare.shadowSeconds[k]));
@@ -751,9 +760,10 @@ std::vector<RenderCase> RenderCases(bool quick) {
 
 void Run(const Options& opt) {
   std::printf("# bench_delegate: hdeye renderer throughput, bare Embree ceiling, per-frame mesh sync\n\n");
-  std::printf("%s run; this machine has %u cores (std::thread::hardware_concurrency); \"all threads\" = %d;\n"
-              "load average %.2f at the start.\n\n",
-              opt.quick ? "--quick" : "default", std::thread::hardware_concurrency(), opt.threads, LoadAverage());
+  std::printf(
+      "%s run; this machine has %u cores (std::thread::hardware_concurrency); \"all threads\" = %d;\n"
+      "load average %.2f at the start.\n\n",
+      opt.quick ? "--quick" : "default", std::thread::hardware_concurrency(), opt.threads, LoadAverage());
 
   // 1 and 2: renders, then bare Embree against the ball scene's root scene.
   const std::vector<RenderCase> cases = RenderCases(opt.quick);
@@ -782,17 +792,19 @@ void Run(const Options& opt) {
   Emit(RenderTable(results, mixes, cases), opt, "render");
   std::int64_t nonFinite = 0;
   for (const RenderResult& r : results) nonFinite += r.nonFiniteSamples;
-  std::printf("rays: RenderStats::rays, closest-hit (camera and bounce) plus shadow rays; \"shadow rays\" is the\n"
-              "share of rtcOccluded1 calls among them, counted in one extra untimed render. Non-finite samples\n"
-              "dropped over all timed renders (RenderStats::nonFiniteSamples): %lld.\n\n",
-              (long long)nonFinite);
+  std::printf(
+      "rays: RenderStats::rays, closest-hit (camera and bounce) plus shadow rays; \"shadow rays\" is the\n"
+      "share of rtcOccluded1 calls among them, counted in one extra untimed render. Non-finite samples\n"
+      "dropped over all timed renders (RenderStats::nonFiniteSamples): %lld.\n\n",
+      (long long)nonFinite);
 
   std::printf("## 2. Ball scene: bare Embree on the delegate's committed root scene (median of %d passes)\n\n",
               opt.bareRuns);
   Emit(EmbreeTable(bare, ballResults, opt.threads), opt, "embree");
-  std::printf("The bare batches have the render's ray counts: %lld closest-hit rays (%lld of them camera rays) and\n"
-              "%lld shadow rays. Blended = all bare rays / (intersect time + occluded time).\n\n",
-              (long long)mixes[0].closestHit, (long long)mixes[0].samples, (long long)mixes[0].shadow);
+  std::printf(
+      "The bare batches have the render's ray counts: %lld closest-hit rays (%lld of them camera rays) and\n"
+      "%lld shadow rays. Blended = all bare rays / (intersect time + occluded time).\n\n",
+      (long long)mixes[0].closestHit, (long long)mixes[0].samples, (long long)mixes[0].shadow);
 
   // 3: sync.
   std::vector<SyncResult> sync;
@@ -804,13 +816,15 @@ void Run(const Options& opt) {
     sync.push_back(MeasurePointsOnly(torus, opt.syncFrames));
     sync.push_back(MeasureTopologyChange(torus, opt.syncFrames));
   }
-  std::printf("## 3. Per-frame sync of an animated Catmull-Clark torus (medians; RenderIndex::SyncAll + root commit)\n\n");
+  std::printf(
+      "## 3. Per-frame sync of an animated Catmull-Clark torus (medians; RenderIndex::SyncAll + root commit)\n\n");
   Emit(SyncTable(sync), opt, "sync");
   std::printf("Counters: Mesh::Stats() change over one frame. Embree builds use all cores (TBB).\n\n");
 
-  std::printf("Reference, the parts alone (median of %d): OpenSubdiv on the same torus; bare Embree on a triangle\n"
-              "mesh of the same size (a grid torus of (%d 2^L) x (%d 2^L) quads, two triangles each).\n\n",
-              opt.syncFrames, nu, nv);
+  std::printf(
+      "Reference, the parts alone (median of %d): OpenSubdiv on the same torus; bare Embree on a triangle\n"
+      "mesh of the same size (a grid torus of (%d 2^L) x (%d 2^L) quads, two triangles each).\n\n",
+      opt.syncFrames, nu, nv);
   RTCDevice device = rtcNewDevice(nullptr);
   Table reference{{"level", "triangles", "SubdivRefiner build ms", "EvaluatePoints ms", "EvaluateLimit ms",
                    "Embree BVH build ms (new scene)", "Embree refit ms (geometry REFIT, scene LOW + DYNAMIC)"},

@@ -85,11 +85,16 @@ Options ParseOptions(int argc, char** argv) {
   std::optional<long long> rays;
   bool quick = false;
   bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
-    if (arg == "--rays") rays = std::stoll(value());
-    else if (arg == "--reps") opt.reps = std::stoi(value());
-    else if (arg == "--csv") opt.csvPath = value();
-    else if (arg == "--quick") quick = true;
-    else return false;
+    if (arg == "--rays")
+      rays = std::stoll(value());
+    else if (arg == "--reps")
+      opt.reps = std::stoi(value());
+    else if (arg == "--csv")
+      opt.csvPath = value();
+    else if (arg == "--quick")
+      quick = true;
+    else
+      return false;
     return true;
   });
   if (quick) {
@@ -111,8 +116,10 @@ struct RayBatch {
   std::vector<Ray<double>> d;
 
   template <class T> const std::vector<Ray<T>>& In() const {
-    if constexpr (std::is_same_v<T, float>) return f;
-    else return d;
+    if constexpr (std::is_same_v<T, float>)
+      return f;
+    else
+      return d;
   }
 };
 
@@ -127,8 +134,7 @@ Ray<double> CameraRay(std::mt19937_64& rng) {
   const double cosTheta = 1 - Uniform01(rng);  // (0, 1]: uniform in solid angle
   const double sinTheta = std::sqrt(1 - cosTheta * cosTheta);
   const double phi = 2 * kPi * Uniform01(rng);
-  const Vec3d origin =
-      center + kSphereRadius * Vec3d(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+  const Vec3d origin = center + kSphereRadius * Vec3d(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
   const double rho = kDiscRadius * std::sqrt(Uniform01(rng));
   const double psi = 2 * kPi * Uniform01(rng);
   const Vec3d target(rho * std::cos(psi), rho * std::sin(psi), kDiscZ);
@@ -177,12 +183,9 @@ class Method {
 /// eyelib's exact intersection in precision T.
 template <class T> class AnalyticMethod final : public Method {
  public:
-  AnalyticMethod(CorneaModel model, const RayBatch& rays)
-      : surface_(model), rays_(rays.In<T>()), hits_(rays_.size()) {}
+  AnalyticMethod(CorneaModel model, const RayBatch& rays) : surface_(model), rays_(rays.In<T>()), hits_(rays_.size()) {}
 
-  std::string Name() const override {
-    return std::is_same_v<T, float> ? "analytic float" : "analytic double";
-  }
+  std::string Name() const override { return std::is_same_v<T, float> ? "analytic float" : "analytic double"; }
 
   void Trace() override {
     for (std::size_t i = 0; i < rays_.size(); ++i) hits_[i] = surface_.Intersect(rays_[i]);
@@ -221,8 +224,7 @@ struct Ring {
 std::vector<Ring> CapRings(const AnteriorSurface<double>& surface, int rings) {
   const double rim = surface.RimRadius(), junction = surface.JunctionRadius();
   const SurfacePiece inner = surface.PieceAt(0), outer = surface.PieceAt(rim);
-  const int innerRings =
-      junction < rim ? std::clamp(int(std::lround(rings * junction / rim)), 1, rings - 1) : rings;
+  const int innerRings = junction < rim ? std::clamp(int(std::lround(rings * junction / rim)), 1, rings - 1) : rings;
   std::vector<Ring> out;
   auto appendUniform = [&](double r0, double r1, int count, SurfacePiece piece, bool includeStart) {
     for (int i = includeStart ? 0 : 1; i <= count; ++i)
@@ -234,8 +236,8 @@ std::vector<Ring> CapRings(const AnteriorSurface<double>& surface, int rings) {
 }
 
 /// Appends a vertex on the surface at polar (r, phi) with the normal of `piece`; returns its index.
-std::uint32_t AddVertex(CapMesh& mesh, const AnteriorSurface<double>& surface, SurfacePiece piece,
-                        double r, double phi) {
+std::uint32_t AddVertex(CapMesh& mesh, const AnteriorSurface<double>& surface, SurfacePiece piece, double r,
+                        double phi) {
   const Vec3d p(r * std::cos(phi), r * std::sin(phi), surface.Sag(r));
   mesh.positions.emplace_back(p);
   mesh.normals.push_back(glm::normalize(surface.Quadric(piece).Gradient(p)));
@@ -243,18 +245,15 @@ std::uint32_t AddVertex(CapMesh& mesh, const AnteriorSurface<double>& surface, S
 }
 
 /// Appends `segments` vertices evenly around a ring; returns the index of the first.
-std::uint32_t AddRing(CapMesh& mesh, const AnteriorSurface<double>& surface, const Ring& ring,
-                      int segments) {
+std::uint32_t AddRing(CapMesh& mesh, const AnteriorSurface<double>& surface, const Ring& ring, int segments) {
   const std::uint32_t first = std::uint32_t(mesh.positions.size());
-  for (int j = 0; j < segments; ++j)
-    AddVertex(mesh, surface, ring.piece, ring.radius, 2 * kPi * j / segments);
+  for (int j = 0; j < segments; ++j) AddVertex(mesh, surface, ring.piece, ring.radius, 2 * kPi * j / segments);
   return first;
 }
 
 // Triangles wind counter-clockwise seen from +z (outside the eye).
 void AddApexFan(CapMesh& mesh, std::uint32_t apex, std::uint32_t ring, int segments) {
-  for (int j = 0; j < segments; ++j)
-    mesh.triangles.push_back({apex, ring + j, ring + (j + 1) % segments});
+  for (int j = 0; j < segments; ++j) mesh.triangles.push_back({apex, ring + j, ring + (j + 1) % segments});
 }
 
 void StitchRings(CapMesh& mesh, std::uint32_t inner, std::uint32_t outer, int segments) {
@@ -273,8 +272,10 @@ CapMesh TessellateCap(const AnteriorSurface<double>& surface, int rings) {
   std::optional<std::pair<std::uint32_t, SurfacePiece>> previous;  // first vertex, piece
   for (const Ring& ring : CapRings(surface, rings)) {
     const std::uint32_t first = AddRing(mesh, surface, ring, segments);
-    if (!previous) AddApexFan(mesh, apex, first, segments);
-    else if (previous->second == ring.piece) StitchRings(mesh, previous->first, first, segments);
+    if (!previous)
+      AddApexFan(mesh, apex, first, segments);
+    else if (previous->second == ring.piece)
+      StitchRings(mesh, previous->first, first, segments);
     previous = {first, ring.piece};
   }
   return mesh;
@@ -325,12 +326,12 @@ EmbreeScene BuildScene(const EmbreeDevice& embree, const CapMesh& mesh) {
   EmbreeScene scene(rtcNewScene(device), &rtcReleaseScene);
   rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), mesh.positions.size()));
   for (std::size_t i = 0; i < mesh.positions.size(); ++i)
     for (int c = 0; c < 3; ++c) vertices[3 * i + c] = mesh.positions[i][c];
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
     for (int c = 0; c < 3; ++c) indices[3 * i + c] = mesh.triangles[i][c];
   rtcCommitGeometry(geometry);
@@ -370,8 +371,7 @@ struct MeshHit {
 /// Embree single-ray intersection against a tessellation of the cap.
 class EmbreeMeshMethod final : public Method {
  public:
-  EmbreeMeshMethod(const EmbreeDevice& device, const AnteriorSurface<double>& surface, int rings,
-                   const RayBatch& rays)
+  EmbreeMeshMethod(const EmbreeDevice& device, const AnteriorSurface<double>& surface, int rings, const RayBatch& rays)
       : rings_(rings),
         mesh_(TessellateCap(surface, rings)),
         bytesBefore_(device.BytesInUse()),
@@ -381,9 +381,7 @@ class EmbreeMeshMethod final : public Method {
         hits_(rays_.size()) {}
 
   std::string Name() const override { return "embree rtcIntersect1"; }
-  std::string Tessellation() const override {
-    return std::to_string(rings_) + " x " + std::to_string(4 * rings_);
-  }
+  std::string Tessellation() const override { return std::to_string(rings_) + " x " + std::to_string(4 * rings_); }
   std::size_t Triangles() const override { return mesh_.triangles.size(); }
   double SceneMegabytes() const override { return double(sceneBytes_) / (1 << 20); }
 
@@ -393,8 +391,12 @@ class EmbreeMeshMethod final : public Method {
     for (std::size_t i = 0; i < rays_.size(); ++i) {
       RTCRayHit rh = MakeRayHit(rays_[i]);
       rtcIntersect1(scene_.get(), &context, &rh);
-      hits_[i] = {rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID,
-                  Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.hit.geomID != RTC_INVALID_GEOMETRY_ID};
+      hits_[i] = {rh.ray.tfar,
+                  rh.hit.u,
+                  rh.hit.v,
+                  rh.hit.primID,
+                  Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+                  rh.hit.geomID != RTC_INVALID_GEOMETRY_ID};
     }
   }
 
@@ -488,8 +490,7 @@ double TimeNsPerRay(Method& method, std::size_t rays) {
 /// a burst of load from elsewhere on the machine costs each method one sample, not all of them;
 /// each timed pass follows an untimed pass of the same method, so that its data are as warm in the
 /// caches as they would be if it ran alone.
-std::vector<double> MedianNsPerRay(const std::vector<std::unique_ptr<Method>>& methods, int reps,
-                                   std::size_t rays) {
+std::vector<double> MedianNsPerRay(const std::vector<std::unique_ptr<Method>>& methods, int reps, std::size_t rays) {
   std::vector<std::vector<double>> samples(methods.size());
   for (int r = 0; r < reps; ++r)
     for (std::size_t m = 0; m < methods.size(); ++m) {
@@ -509,19 +510,17 @@ struct Row {
   Accuracy acc;
 };
 
-std::vector<std::unique_ptr<Method>> MakeMethods(CorneaModel model, const RayBatch& rays,
-                                                 const EmbreeDevice& device, const Options& opt) {
+std::vector<std::unique_ptr<Method>> MakeMethods(CorneaModel model, const RayBatch& rays, const EmbreeDevice& device,
+                                                 const Options& opt) {
   const AnteriorSurface<double> exact(model);
   std::vector<std::unique_ptr<Method>> methods;
   methods.push_back(std::make_unique<AnalyticMethod<float>>(model, rays));
   methods.push_back(std::make_unique<AnalyticMethod<double>>(model, rays));
-  for (int rings : opt.rings)
-    methods.push_back(std::make_unique<EmbreeMeshMethod>(device, exact, rings, rays));
+  for (int rings : opt.rings) methods.push_back(std::make_unique<EmbreeMeshMethod>(device, exact, rings, rays));
   return methods;
 }
 
-std::vector<Row> BenchModel(CorneaModel model, const RayBatch& rays, const EmbreeDevice& device,
-                            const Options& opt) {
+std::vector<Row> BenchModel(CorneaModel model, const RayBatch& rays, const EmbreeDevice& device, const Options& opt) {
   const AnteriorSurface<double> exact(model);
   AnalyticMethod<double> referenceMethod(model, rays);
   referenceMethod.Trace();
@@ -538,8 +537,8 @@ std::vector<Row> BenchModel(CorneaModel model, const RayBatch& rays, const Embre
   std::vector<Row> rows;
   for (std::size_t m = 0; m < methods.size(); ++m) {
     const Method& method = *methods[m];
-    rows.push_back({eyelib::ToString(model), method.Name(), method.Tessellation(), method.Triangles(),
-                    ns[m], method.SceneMegabytes(), accuracy[m]});
+    rows.push_back({eyelib::ToString(model), method.Name(), method.Tessellation(), method.Triangles(), ns[m],
+                    method.SceneMegabytes(), accuracy[m]});
   }
   return rows;
 }
@@ -555,13 +554,14 @@ std::string Format(const char* format, double value) {
 void PrintPreamble(const Options& opt) {
   std::printf("# bench_intersect: rays against the anterior surface, eyelib analytic vs Embree %s mesh\n\n",
               RTC_VERSION_STRING);
-  std::printf("%zu camera-like rays (seed %#llx), %d timed passes per method; this machine has %u cores\n"
-              "(std::thread::hardware_concurrency).\n",
-              opt.rays, static_cast<unsigned long long>(kRaySeed), opt.reps,
-              std::thread::hardware_concurrency());
-  std::printf("Times are single-threaded: medians of whole-batch passes, each after a warm-up pass,\n"
-              "in ns per ray. Errors are against the double analytic hit of the same ray (pos, normal)\n"
-              "and the double analytic sag (sag).\n\n");
+  std::printf(
+      "%zu camera-like rays (seed %#llx), %d timed passes per method; this machine has %u cores\n"
+      "(std::thread::hardware_concurrency).\n",
+      opt.rays, static_cast<unsigned long long>(kRaySeed), opt.reps, std::thread::hardware_concurrency());
+  std::printf(
+      "Times are single-threaded: medians of whole-batch passes, each after a warm-up pass,\n"
+      "in ns per ray. Errors are against the double analytic hit of the same ray (pos, normal)\n"
+      "and the double analytic sag (sag).\n\n");
 }
 
 std::string Join(const std::vector<std::string>& cells, const std::string& separator) {
@@ -570,13 +570,32 @@ std::string Join(const std::vector<std::string>& cells, const std::string& separ
   return out;
 }
 
-const std::vector<std::string> kMarkdownHeader = {
-    "model", "method", "tessellation", "triangles", "Embree MiB", "ns/ray", "hits", "hit/miss mismatches",
-    "sag err max (um)", "pos err max (um)", "pos err p99 (um)", "normal err max (deg) flat",
-    "normal err max (deg) interp."};
-const std::vector<std::string> kCsvHeader = {
-    "model", "method", "tessellation", "triangles", "scene_mib", "ns_per_ray", "hits", "mismatches",
-    "sag_err_max_um", "pos_err_max_um", "pos_err_p99_um", "normal_err_max_deg", "interp_normal_err_max_deg"};
+const std::vector<std::string> kMarkdownHeader = {"model",
+                                                  "method",
+                                                  "tessellation",
+                                                  "triangles",
+                                                  "Embree MiB",
+                                                  "ns/ray",
+                                                  "hits",
+                                                  "hit/miss mismatches",
+                                                  "sag err max (um)",
+                                                  "pos err max (um)",
+                                                  "pos err p99 (um)",
+                                                  "normal err max (deg) flat",
+                                                  "normal err max (deg) interp."};
+const std::vector<std::string> kCsvHeader = {"model",
+                                             "method",
+                                             "tessellation",
+                                             "triangles",
+                                             "scene_mib",
+                                             "ns_per_ray",
+                                             "hits",
+                                             "mismatches",
+                                             "sag_err_max_um",
+                                             "pos_err_max_um",
+                                             "pos_err_p99_um",
+                                             "normal_err_max_deg",
+                                             "interp_normal_err_max_deg"};
 
 /// One row's cells in the header's column order; `errorFormat` for the error columns, `none` where
 /// a column does not apply to the method.
@@ -603,8 +622,9 @@ void PrintMarkdown(const std::vector<Row>& rows) {
   for (std::size_t i = 0; i < kMarkdownHeader.size(); ++i) rule += i < 3 ? "---|" : "--:|";
   std::printf("%s\n", rule.c_str());
   for (const Row& r : rows) std::printf("| %s |\n", Join(Cells(r, "%.3g", "-"), " | ").c_str());
-  std::printf("\nflat: the analytic normal (analytic rows) or the triangle's geometric normal (mesh rows);\n"
-              "interp.: barycentric blend of the analytic vertex normals (mesh rows only).\n");
+  std::printf(
+      "\nflat: the analytic normal (analytic rows) or the triangle's geometric normal (mesh rows);\n"
+      "interp.: barycentric blend of the analytic vertex normals (mesh rows only).\n");
 }
 
 bool WriteCsv(const std::string& path, const std::vector<Row>& rows) {

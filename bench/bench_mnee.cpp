@@ -52,7 +52,6 @@ namespace {
 
 using bench::Median;
 
-
 using eyelib::AnteriorChamber;
 using eyelib::ChamberParams;
 using eyelib::CorneaModel;
@@ -69,8 +68,8 @@ using Chamber = AnteriorChamber<double>;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kPi = eyelib::paper::kPi;
-constexpr double kLightDistance = 100;  // mm, from the apex to the light (centre)
-constexpr double kSphereRadius = 5;     // mm
+constexpr double kLightDistance = 100;       // mm, from the apex to the light (centre)
+constexpr double kSphereRadius = 5;          // mm
 constexpr std::uint64_t kSeed = 0x6d6e6565;  // "mnee"
 
 // ------------------------------------------------------------------------------------- options
@@ -78,14 +77,14 @@ constexpr std::uint64_t kSeed = 0x6d6e6565;  // "mnee"
 struct Options {
   bool quick = false;
   std::string csvPrefix;
-  std::int64_t refRays = 40'000'000;     ///< light-tracing rays for the section-2 reference
-  std::int64_t fluxRefRays = 10'000'000; ///< light-tracing rays per angle in section 3
-  int reps = 5;                          ///< timed passes in section 1 (median reported)
-  int solveGrid = 24;                    ///< section 1: iris points on a solveGrid^2 grid
-  int maxLog2SppSingle = 14;             ///< section 2: MNEE single-seed at 1 ... 2^this samples per cell
-  int maxLog2SppAll = 12;                ///< section 2: MNEE all-solutions at 1 ... 2^this samples per cell
-  int maxLog2SppPt = 18;                 ///< section 2: path tracing at 1 ... 2^this samples per cell
-  int fluxRadial = 96, fluxAngular = 192; ///< section 3: polar midpoint grid over the iris annulus
+  std::int64_t refRays = 40'000'000;       ///< light-tracing rays for the section-2 reference
+  std::int64_t fluxRefRays = 10'000'000;   ///< light-tracing rays per angle in section 3
+  int reps = 5;                            ///< timed passes in section 1 (median reported)
+  int solveGrid = 24;                      ///< section 1: iris points on a solveGrid^2 grid
+  int maxLog2SppSingle = 14;               ///< section 2: MNEE single-seed at 1 ... 2^this samples per cell
+  int maxLog2SppAll = 12;                  ///< section 2: MNEE all-solutions at 1 ... 2^this samples per cell
+  int maxLog2SppPt = 18;                   ///< section 2: path tracing at 1 ... 2^this samples per cell
+  int fluxRadial = 96, fluxAngular = 192;  ///< section 3: polar midpoint grid over the iris annulus
 };
 
 [[noreturn]] void Usage(const char* argv0, int exitCode) {
@@ -105,11 +104,16 @@ Options ParseOptions(int argc, char** argv) {
   std::optional<long long> refRays;
   std::optional<int> reps;
   bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
-    if (arg == "--quick") opt.quick = true;
-    else if (arg == "--csv") opt.csvPrefix = value();
-    else if (arg == "--ref-rays") refRays = std::llround(std::stod(value()));
-    else if (arg == "--reps") reps = std::stoi(value());
-    else return false;
+    if (arg == "--quick")
+      opt.quick = true;
+    else if (arg == "--csv")
+      opt.csvPrefix = value();
+    else if (arg == "--ref-rays")
+      refRays = std::llround(std::stod(value()));
+    else if (arg == "--reps")
+      reps = std::stoi(value());
+    else
+      return false;
     return true;
   });
   if (opt.quick) {
@@ -268,8 +272,8 @@ int SelfTestRefraction() {
     const Chamber chamber(ChamberParams{model});
     const double ior = chamber.CorneaIor();
     for (int k = 0; k < 20000; ++k) {
-      const double rho = chamber.PupilRadius() +
-                         (chamber.IrisRadius() - chamber.PupilRadius()) * UniformAt(kSeed, 100, k);
+      const double rho =
+          chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * UniformAt(kSeed, 100, k);
       const double psi = 2 * kPi * UniformAt(kSeed, 101, k);
       const Vec3d x(rho * std::cos(psi), rho * std::sin(psi), chamber.IrisZ());
       const double u1 = UniformAt(kSeed, 102, k), phi = 2 * kPi * UniformAt(kSeed, 103, k);
@@ -315,8 +319,8 @@ int SelfTestRefraction() {
         std::fprintf(stderr,
                      "self-test failed (%s, ray %d): ior sin_in %.12g sin_out %.12g coplanar %.3g "
                      "|back + dir| %.3g T %.12g T(inside) %.12g\n",
-                     ModelName(model), k, ior * sinIn, sinOut, coplanar, glm::length(back + dir),
-                     exit->transmittance, tInside);
+                     ModelName(model), k, ior * sinIn, sinOut, coplanar, glm::length(back + dir), exit->transmittance,
+                     tInside);
         std::abort();
       }
     }
@@ -402,18 +406,19 @@ void SectionSolveCost(const Options& opt) {
   const Chamber probe;
   const MneeOptions mnee;
   const SeedStrategy all = Strategy(true);
-  std::printf("Point light %.0f mm from the apex; iris points at the centres of a %d x %d grid over the iris disk\n"
-              "(pupil radius %.2f mm < r < iris radius %.3f mm, ellipsoid-cone). One FindRefractionPaths call per\n"
-              "point, default MneeOptions (tolerance %.0e, at most %d iterations, max step %.2g mm) and\n"
-              "SeedStrategy (single: the straight-line seed; all solutions: it + %d seeds along the light's\n"
-              "azimuth + %s). ns/call: median of %d timed passes over all points (each after\n"
-              "a warm-up pass), one thread. Iterations: Newton iterations per solve (all) and per distinct\n"
-              "solution found (solutions), from FindRefractionPaths' counts. Failed solves include points no path reaches.\n\n",
-              kLightDistance, opt.solveGrid, opt.solveGrid, probe.PupilRadius(), probe.IrisRadius(), mnee.tolerance,
-              mnee.maxIterations, mnee.maxStep, all.meridianSeeds,
-              all.rings > 0 ? (std::to_string(all.rings) + " x " + std::to_string(all.segments) + " polar grid seeds").c_str()
-                            : "no polar grid",
-              opt.reps);
+  std::printf(
+      "Point light %.0f mm from the apex; iris points at the centres of a %d x %d grid over the iris disk\n"
+      "(pupil radius %.2f mm < r < iris radius %.3f mm, ellipsoid-cone). One FindRefractionPaths call per\n"
+      "point, default MneeOptions (tolerance %.0e, at most %d iterations, max step %.2g mm) and\n"
+      "SeedStrategy (single: the straight-line seed; all solutions: it + %d seeds along the light's\n"
+      "azimuth + %s). ns/call: median of %d timed passes over all points (each after\n"
+      "a warm-up pass), one thread. Iterations: Newton iterations per solve (all) and per distinct\n"
+      "solution found (solutions), from FindRefractionPaths' counts. Failed solves include points no path reaches.\n\n",
+      kLightDistance, opt.solveGrid, opt.solveGrid, probe.PupilRadius(), probe.IrisRadius(), mnee.tolerance,
+      mnee.maxIterations, mnee.maxStep, all.meridianSeeds,
+      all.rings > 0 ? (std::to_string(all.rings) + " x " + std::to_string(all.segments) + " polar grid seeds").c_str()
+                    : "no polar grid",
+      opt.reps);
   Table table{{"model", "light (deg)", "method", "points", "ns/call", "solves/call", "ns/solve", "solutions/call",
                "points with >1 solution", "failed solves", "iterations mean (solutions)", "iterations mean (all)",
                "iterations max"},
@@ -429,13 +434,12 @@ void SectionSolveCost(const Options& opt) {
                               Format("%.0f", r.nsPerCall), Format("%.1f", r.solvesPerCall),
                               Format("%.0f", r.nsPerSolve), Format("%.3f", r.solutionsPerCall),
                               std::to_string(r.callsWithMultiple), Format("%.1f %%", 100 * r.failureRate),
-                              Format("%.2f", r.itMeanSolutions), Format("%.2f", r.itMeanAll),
-                              std::to_string(r.itMax)});
+                              Format("%.2f", r.itMeanSolutions), Format("%.2f", r.itMeanAll), std::to_string(r.itMax)});
         csv.push_back({r.model, Format("%.0f", r.degrees), r.method, std::to_string(r.points),
                        Format("%.6g", r.nsPerCall), Format("%.6g", r.solvesPerCall), Format("%.6g", r.nsPerSolve),
                        Format("%.6g", r.solutionsPerCall), std::to_string(r.callsWithMultiple),
-                       Format("%.6g", r.failureRate), Format("%.6g", r.itMeanSolutions),
-                       Format("%.6g", r.itMeanAll), std::to_string(r.itMax)});
+                       Format("%.6g", r.failureRate), Format("%.6g", r.itMeanSolutions), Format("%.6g", r.itMeanAll),
+                       std::to_string(r.itMax)});
       }
   table.Print();
   WriteCsv(CsvPath(opt, "solve"),
@@ -488,11 +492,11 @@ struct Level {
   Method method;
   long spp;
   double seconds;
-  double relRmse;       ///< over the scored cells, against the reference
-  double relRmseExcess; ///< sqrt(max(0, relMSE - mean relative reference variance))
-  double bias;          ///< mean of (E - E_ref) / E_ref over the scored cells
-  double maxAbsRel;     ///< worst |E - E_ref| / E_ref
-  bool finite;          ///< every estimate was finite
+  double relRmse;        ///< over the scored cells, against the reference
+  double relRmseExcess;  ///< sqrt(max(0, relMSE - mean relative reference variance))
+  double bias;           ///< mean of (E - E_ref) / E_ref over the scored cells
+  double maxAbsRel;      ///< worst |E - E_ref| / E_ref
+  bool finite;           ///< every estimate was finite
 };
 
 /// The cell-averaged irradiance of every cell in `cells` with `spp` jittered samples per cell (a
@@ -531,7 +535,9 @@ std::vector<double> EstimateMap(const Chamber& chamber, const IrisGrid& grid, co
 struct Config {
   CorneaModel model;
   double degrees;
-  std::string Name() const { return std::string(ModelName(model)) + ", sphere light at " + Format("%.0f", degrees) + " deg"; }
+  std::string Name() const {
+    return std::string(ModelName(model)) + ", sphere light at " + Format("%.0f", degrees) + " deg";
+  }
 };
 
 struct ReferenceStats {
@@ -664,18 +670,19 @@ void SectionSpeedVersusError(const Options& opt) {
       ref.rmsRelSigma = std::sqrt(relVar);
 
       std::printf("### %s\n\n", config.Name().c_str());
-      std::printf("Reference: %.1f s; max E_ref %.4g W/mm^2 (unit radiance); %zu cells on the iris, %zu scored;\n"
-                  "its noise: median relative std error %.3f %%, rms %.3f %% over the scored cells. A rel RMSE\n"
-                  "below about %.2f %% is not measurable against this reference.\n\n",
-                  ref.seconds, ref.maxE, ref.onIris, ref.scored, 100 * ref.medianRelSigma, 100 * ref.rmsRelSigma,
-                  100 * 2 * ref.rmsRelSigma);
+      std::printf(
+          "Reference: %.1f s; max E_ref %.4g W/mm^2 (unit radiance); %zu cells on the iris, %zu scored;\n"
+          "its noise: median relative std error %.3f %%, rms %.3f %% over the scored cells. A rel RMSE\n"
+          "below about %.2f %% is not measurable against this reference.\n\n",
+          ref.seconds, ref.maxE, ref.onIris, ref.scored, 100 * ref.medianRelSigma, 100 * ref.rmsRelSigma,
+          100 * 2 * ref.rmsRelSigma);
 
       std::vector<std::vector<Level>> levelsByMethod;
       Table table{{"method", "spp", "time (s)", "rel RMSE", "rel RMSE excess", "bias", "max |rel err|"},
                   {false, true, true, true, true, true, true},
                   {}};
       for (Method method : kMethods) {
-        const int maxLog2 = method == Method::PathTrace  ? opt.maxLog2SppPt
+        const int maxLog2 = method == Method::PathTrace ? opt.maxLog2SppPt
                             : method == Method::MneeAll ? opt.maxLog2SppAll
                                                         : opt.maxLog2SppSingle;
         std::vector<Level> levels;
@@ -699,19 +706,20 @@ void SectionSpeedVersusError(const Options& opt) {
           lv.relRmseExcess = std::sqrt(std::max(0.0, lv.relRmse / double(ref.scored) - relVar));
           lv.relRmse = std::sqrt(lv.relRmse / double(ref.scored));
           lv.bias /= double(ref.scored);
-          if (!finite) std::fprintf(stderr, "warning: non-finite estimate (%s, %s, spp %ld)\n",
-                                    config.Name().c_str(), MethodName(method), spp);
+          if (!finite)
+            std::fprintf(stderr, "warning: non-finite estimate (%s, %s, spp %ld)\n", config.Name().c_str(),
+                         MethodName(method), spp);
           levels.push_back(lv);
           std::fprintf(stderr, "[2]   %-18s spp %7ld  %8.3f s  rel RMSE %.4f  bias %+.4f\n", MethodName(method), spp,
                        seconds, lv.relRmse, lv.bias);
           if (l % 2 == 0 || l == maxLog2)  // the CSV has every level
-            table.rows.push_back({MethodName(method), std::to_string(spp), Format("%.3g", seconds),
-                                  Format("%.4f", lv.relRmse), Format("%.4f", lv.relRmseExcess),
-                                  Format("%+.4f", lv.bias) + " +- " +
-                                      Format("%.4f", lv.relRmse / std::sqrt(double(ref.scored))),
-                                  Format("%.3f", lv.maxAbsRel) + (finite ? "" : " NaN!")});
-          convergenceCsv.push_back({ModelName(model), Format("%.0f", degrees), MethodName(method),
-                                    std::to_string(spp), Format("%.6g", seconds), Format("%.6g", lv.relRmse),
+            table.rows.push_back(
+                {MethodName(method), std::to_string(spp), Format("%.3g", seconds), Format("%.4f", lv.relRmse),
+                 Format("%.4f", lv.relRmseExcess),
+                 Format("%+.4f", lv.bias) + " +- " + Format("%.4f", lv.relRmse / std::sqrt(double(ref.scored))),
+                 Format("%.3f", lv.maxAbsRel) + (finite ? "" : " NaN!")});
+          convergenceCsv.push_back({ModelName(model), Format("%.0f", degrees), MethodName(method), std::to_string(spp),
+                                    Format("%.6g", seconds), Format("%.6g", lv.relRmse),
                                     Format("%.6g", lv.relRmseExcess), Format("%.6g", lv.bias),
                                     Format("%.6g", lv.maxAbsRel), Format("%.6g", ref.rmsRelSigma),
                                     Format("%.6g", ref.medianRelSigma)});
@@ -730,8 +738,7 @@ void SectionSpeedVersusError(const Options& opt) {
                                 FormatRatio(pt, all)});
         timeCsv.push_back({ModelName(model), Format("%.0f", degrees), Format("%.3g", target),
                            Format("%.6g", single.seconds), Format("%.6g", all.seconds), Format("%.6g", pt.seconds),
-                           single.extrapolated ? "1" : "0", all.extrapolated ? "1" : "0",
-                           pt.extrapolated ? "1" : "0"});
+                           single.extrapolated ? "1" : "0", all.extrapolated ? "1" : "0", pt.extrapolated ? "1" : "0"});
       }
       const double effSingle = Efficiency(levelsByMethod[0], floor), effAll = Efficiency(levelsByMethod[1], floor),
                    effPt = Efficiency(levelsByMethod[2], floor);
@@ -743,16 +750,18 @@ void SectionSpeedVersusError(const Options& opt) {
     }
 
   std::printf("### Time to reach a relative RMSE, and the path-tracing / MNEE time ratio at equal error\n\n");
-  std::printf("On rel RMSE excess (the reference's noise subtracted). Interpolated (log-log) between measured\n"
-              "sample counts; * = extrapolated from the last (or first) level with RMSE proportional to\n"
-              "1/sqrt(time), which holds for an unbiased estimator. \"below ref. noise\": the target is under\n"
-              "twice the reference's rms relative noise, not measurable. \"not reached (bias)\": the estimator's\n"
-              "bias is significant (3 standard errors) and above half the target.\n\n");
+  std::printf(
+      "On rel RMSE excess (the reference's noise subtracted). Interpolated (log-log) between measured\n"
+      "sample counts; * = extrapolated from the last (or first) level with RMSE proportional to\n"
+      "1/sqrt(time), which holds for an unbiased estimator. \"below ref. noise\": the target is under\n"
+      "twice the reference's rms relative noise, not measurable. \"not reached (bias)\": the estimator's\n"
+      "bias is significant (3 standard errors) and above half the target.\n\n");
   summary.Print();
-  std::printf("Efficiency 1/(relMSE x time) (relMSE with the reference's variance subtracted), averaged over the\n"
-              "levels above twice the reference noise that take at least 20 ms. For unbiased estimators the\n"
-              "ratio of efficiencies is the ratio of times to any equal error; a biased estimator's efficiency\n"
-              "is only meaningful while its noise dominates its bias.\n\n");
+  std::printf(
+      "Efficiency 1/(relMSE x time) (relMSE with the reference's variance subtracted), averaged over the\n"
+      "levels above twice the reference noise that take at least 20 ms. For unbiased estimators the\n"
+      "ratio of efficiencies is the ratio of times to any equal error; a biased estimator's efficiency\n"
+      "is only meaningful while its noise dominates its bias.\n\n");
   efficiency.Print();
   WriteCsv(CsvPath(opt, "convergence"),
            {"model", "light_deg", "method", "spp", "seconds", "rel_rmse", "rel_rmse_excess", "bias", "max_abs_rel",
@@ -776,13 +785,14 @@ struct FluxRow {
 
 void SectionMissedEnergy(const Options& opt) {
   std::printf("## 3. Energy a single-solution solver misses (point light)\n\n");
-  std::printf("Point light, 1 W/sr, %.0f mm from the apex at each angle. MNEE flux onto the iris annulus\n"
-              "(pupil < r < iris radius) = sum of FindRefractionPaths transfer x area over a %d (radial) x %d\n"
-              "(angular) midpoint grid in polar coordinates. Light tracing: LightTraceIris with %lld rays (2 threads) on a\n"
-              "64 x 64 grid, summed over all cells (the tracer bins only hits on the iris annulus); +- its standard\n"
-              "error. missed = 1 - single / all. \"only extra seeds\": points where the straight-line seed found no\n"
-              "solution but the extra all-solutions seeds found one.\n\n",
-              kLightDistance, opt.fluxRadial, opt.fluxAngular, static_cast<long long>(opt.fluxRefRays));
+  std::printf(
+      "Point light, 1 W/sr, %.0f mm from the apex at each angle. MNEE flux onto the iris annulus\n"
+      "(pupil < r < iris radius) = sum of FindRefractionPaths transfer x area over a %d (radial) x %d\n"
+      "(angular) midpoint grid in polar coordinates. Light tracing: LightTraceIris with %lld rays (2 threads) on a\n"
+      "64 x 64 grid, summed over all cells (the tracer bins only hits on the iris annulus); +- its standard\n"
+      "error. missed = 1 - single / all. \"only extra seeds\": points where the straight-line seed found no\n"
+      "solution but the extra all-solutions seeds found one.\n\n",
+      kLightDistance, opt.fluxRadial, opt.fluxAngular, static_cast<long long>(opt.fluxRefRays));
   Table table{{"model", "light (deg)", "flux LT (uW)", "flux MNEE all (uW)", "flux MNEE single (uW)",
                "missed by single-seed", "all vs LT", "single vs LT", "points with >1 solution", "only extra seeds",
                "failed solves single", "failed solves all"},
@@ -861,9 +871,10 @@ int main(int argc, char** argv) {
   std::printf("Single-threaded timings (std::chrono::steady_clock); this machine has %u hardware threads.%s\n\n",
               std::thread::hardware_concurrency(), opt.quick ? " --quick: small sizes, numbers are a smoke test." : "");
   const int checked = SelfTestRefraction();
-  std::printf("Self-test of the path tracer's exit refraction: Snell, coplanarity, reversibility and Fresnel\n"
-              "reciprocity hold to 1e-9 on %d random iris-to-cornea rays (both models).\n\n",
-              checked);
+  std::printf(
+      "Self-test of the path tracer's exit refraction: Snell, coplanarity, reversibility and Fresnel\n"
+      "reciprocity hold to 1e-9 on %d random iris-to-cornea rays (both models).\n\n",
+      checked);
   SectionSolveCost(opt);
   SectionSpeedVersusError(opt);
   SectionMissedEnergy(opt);

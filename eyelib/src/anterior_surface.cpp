@@ -1,14 +1,12 @@
-#include "eyelib/anterior_chamber.h"
 #include "eyelib/anterior_surface.h"
+#include "eyelib/anterior_chamber.h"
 
 #include <cmath>
 #include <sstream>
 
 namespace eyelib {
 
-const char* ToString(CorneaModel model) {
-  return model == CorneaModel::Paraboloid ? "paraboloid" : "ellipsoidCone";
-}
+const char* ToString(CorneaModel model) { return model == CorneaModel::Paraboloid ? "paraboloid" : "ellipsoidCone"; }
 
 const char* ToString(SurfacePiece piece) {
   switch (piece) {
@@ -24,14 +22,16 @@ std::string ValidateChamberParams(const ChamberParams& p) {
   auto bad = [&](const char* name, double value, const char* rule) {
     err << name << " = " << value << " is out of range: " << rule;
   };
-  if (!(p.irisDepth > 0) || !std::isfinite(p.irisDepth)) bad("irisDepth", p.irisDepth, "must be > 0 mm");
+  if (!(p.irisDepth > 0) || !std::isfinite(p.irisDepth))
+    bad("irisDepth", p.irisDepth, "must be > 0 mm");
   else if (!(p.limbusInnerRatio > 0 && p.limbusInnerRatio <= 1))
     bad("limbusInnerRatio", p.limbusInnerRatio, "must be in (0, 1]");
   else if (!(p.limbusOuterRatio > 0 && p.limbusOuterRatio <= 1))
     bad("limbusOuterRatio", p.limbusOuterRatio, "must be in (0, 1]");
   else if (!(p.limbusInnerRatio <= p.limbusOuterRatio))
     bad("limbusInnerRatio", p.limbusInnerRatio, "must not exceed limbusOuterRatio");
-  else if (!(p.corneaIor >= 1) || !std::isfinite(p.corneaIor)) bad("corneaIor", p.corneaIor, "must be >= 1");
+  else if (!(p.corneaIor >= 1) || !std::isfinite(p.corneaIor))
+    bad("corneaIor", p.corneaIor, "must be >= 1");
   else if (!(p.pupilDiameter >= 0) || !(p.pupilDiameter < paper::kIrisDiameter))
     bad("pupilDiameter", p.pupilDiameter, "must be in [0, 15.08) mm");
   return err.str();

@@ -65,8 +65,8 @@ LightSample SampleLight(const EyeLight& light, double u1, double u2) {
 }
 
 IrisIrradianceEstimate EstimateIrisIrradiance(const AnteriorChamber<double>& chamber, const Vec3d& x,
-                                              const EyeLight& light, double u1, double u2,
-                                              const SeedStrategy& seeds, const MneeOptions& options) {
+                                              const EyeLight& light, double u1, double u2, const SeedStrategy& seeds,
+                                              const MneeOptions& options) {
   IrisIrradianceEstimate est;
   const LightSample sample = SampleLight(light, u1, u2);
   const MneeResult paths = FindRefractionPaths(chamber, x, sample.end, seeds, options);

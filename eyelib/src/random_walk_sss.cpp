@@ -24,7 +24,7 @@ double Clamp01(double a) { return std::isnan(a) ? 0.0 : std::clamp(a, 0.0, 1.0);
 // produce an infinite free flight.
 double Draw(const SssRandom& random) {
   const double u = random();
-  if (!(u >= 0)) return 0;                     // NaN or negative
+  if (!(u >= 0)) return 0;                      // NaN or negative
   return u < 1 ? u : std::nextafter(1.0, 0.0);  // -log1p(-u) <= 36.7
 }
 
@@ -67,9 +67,7 @@ bool ValidMedium(const SssMedium& m) {
   return true;
 }
 
-bool FiniteNonNegative(const V3& w) {
-  return IsFinite(w) && w.x >= 0 && w.y >= 0 && w.z >= 0;
-}
+bool FiniteNonNegative(const V3& w) { return IsFinite(w) && w.x >= 0 && w.y >= 0 && w.z >= 0; }
 
 }  // namespace
 

@@ -109,7 +109,8 @@ void BindImage(nb::module_& m) {
         auto* copy = new float[data.size()];
         std::memcpy(copy, data.data(), data.size() * sizeof(float));
         nb::capsule owner(copy, [](void* d) noexcept { delete[] static_cast<float*>(d); });
-        return nb::ndarray<nb::numpy, float, nb::ndim<3>>(copy, {std::size_t(h), std::size_t(w), std::size_t(c)}, owner);
+        return nb::ndarray<nb::numpy, float, nb::ndim<3>>(copy, {std::size_t(h), std::size_t(w), std::size_t(c)},
+                                                          owner);
       },
       nb::arg("path"), "An image's pixels as float32 (height, width, channels), as stored (no colour transform).");
 }

@@ -38,11 +38,16 @@ void ChamberProperty(nb::class_<EyeParams>& cls, const char* name, const char* d
 /// The MaterialInput of a UsdPreviewSurface input name; throws std::invalid_argument for one no texture drives.
 MaterialInput MaterialInputNamed(const std::string& name) {
   static const std::pair<const char*, MaterialInput> kNames[] = {
-      {"diffuseColor", MaterialInput::DiffuseColor}, {"emissiveColor", MaterialInput::EmissiveColor},
-      {"roughness", MaterialInput::Roughness},       {"metallic", MaterialInput::Metallic},
-      {"opacity", MaterialInput::Opacity},           {"ior", MaterialInput::Ior},
-      {"normal", MaterialInput::Normal},             {"specularColor", MaterialInput::SpecularColor},
-      {"clearcoat", MaterialInput::Clearcoat},       {"clearcoatRoughness", MaterialInput::ClearcoatRoughness}};
+      {"diffuseColor", MaterialInput::DiffuseColor},
+      {"emissiveColor", MaterialInput::EmissiveColor},
+      {"roughness", MaterialInput::Roughness},
+      {"metallic", MaterialInput::Metallic},
+      {"opacity", MaterialInput::Opacity},
+      {"ior", MaterialInput::Ior},
+      {"normal", MaterialInput::Normal},
+      {"specularColor", MaterialInput::SpecularColor},
+      {"clearcoat", MaterialInput::Clearcoat},
+      {"clearcoatRoughness", MaterialInput::ClearcoatRoughness}};
   for (const auto& [n, input] : kNames)
     if (name == n) return input;
   throw std::invalid_argument("'" + name + "' is not a texturable UsdPreviewSurface input");

@@ -48,8 +48,9 @@ void BindRender(nb::module_& m) {
       .def_prop_ro(
           "settings", [](RenderDelegate& d) -> RenderSettings& { return d.Settings(); },
           nb::rv_policy::reference_internal)
-      .def("warnings", [](RenderDelegate& d) { return d.GetRenderParam()->Warnings(); },
-           "Problems found at sync that did not stop the render (textures that cannot be read), one line each.")
+      .def(
+          "warnings", [](RenderDelegate& d) { return d.GetRenderParam()->Warnings(); },
+          "Problems found at sync that did not stop the render (textures that cannot be read), one line each.")
       .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
       .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
 

@@ -190,14 +190,14 @@ void BindScene(nb::module_& m) {
           "A mesh; instancer_id: drawn at every instance of that instancer (add_instancer first).")
       .def(
           "add_instancer",
-          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms, const std::optional<Points>& colors) {
-            s.AddInstancer(id, ToMatrices(transforms), ToColors(colors));
-          },
+          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms,
+             const std::optional<Points>& colors) { s.AddInstancer(id, ToMatrices(transforms), ToColors(colors)); },
           nb::arg("id"), nb::arg("transforms"), nb::arg("colors") = nb::none(),
           "An instancer: (n, 4, 4) float64 instance-to-world transforms in USD's layout, optional (n, 3) colours.")
       .def(
           "set_instance_transforms",
-          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms, const std::optional<Points>& colors) {
+          [](InMemorySceneDelegate& s, const PrimId& id, const Matrices& transforms,
+             const std::optional<Points>& colors) {
             s.SetInstanceTransforms(id, ToMatrices(transforms), ToColors(colors));
           },
           nb::arg("id"), nb::arg("transforms"), nb::arg("colors") = nb::none(),
@@ -277,13 +277,14 @@ void BindScene(nb::module_& m) {
                              ToInts(holeIndices));
           },
           nb::arg("id"), nb::arg("scheme"), nb::arg("interpolate_boundary"),
-          nb::arg("face_varying_linear_interpolation"), nb::arg("triangle_subdivision_rule"),
-          nb::arg("crease_indices"), nb::arg("crease_lengths"), nb::arg("crease_sharpnesses"),
-          nb::arg("corner_indices"), nb::arg("corner_sharpnesses"), nb::arg("hole_indices"),
+          nb::arg("face_varying_linear_interpolation"), nb::arg("triangle_subdivision_rule"), nb::arg("crease_indices"),
+          nb::arg("crease_lengths"), nb::arg("crease_sharpnesses"), nb::arg("corner_indices"),
+          nb::arg("corner_sharpnesses"), nb::arg("hole_indices"),
           "A mesh's subdivision scheme, tags (UsdGeom tokens; sharpness 10 is infinitely sharp) and holes.")
       .def(
           "set_geom_subsets",
-          [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<std::tuple<PrimId, std::vector<int>>>& subsets) {
+          [](InMemorySceneDelegate& s, const PrimId& id,
+             const std::vector<std::tuple<PrimId, std::vector<int>>>& subsets) {
             std::vector<GeomSubset> out;
             for (const auto& [material, faces] : subsets) out.push_back(GeomSubset{material, faces});
             s.SetGeomSubsets(id, out);

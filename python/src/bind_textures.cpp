@@ -50,17 +50,27 @@ void BindTextures(nb::module_& m) {
       .def_rw("texture", &TextureInput::texture)
       .def_rw("channel", &TextureInput::channel, "-1: rgb; 0..3: r, g, b, a")
       .def_prop_rw(
-          "scale", [](const TextureInput& t) { return std::array<float, 2>{t.scale.x, t.scale.y}; },
-          [](TextureInput& t, const std::array<float, 2>& v) { t.scale = {v[0], v[1]}; }, "UsdTransform2d scale")
+          "scale",
+          [](const TextureInput& t) {
+            return std::array<float, 2>{t.scale.x, t.scale.y};
+          },
+          [](TextureInput& t, const std::array<float, 2>& v) {
+            t.scale = {v[0], v[1]};
+          },
+          "UsdTransform2d scale")
       .def_rw("rotation", &TextureInput::rotation, "UsdTransform2d rotation, degrees counter-clockwise")
       .def_prop_rw(
-          "translation", [](const TextureInput& t) { return std::array<float, 2>{t.translation.x, t.translation.y}; },
-          [](TextureInput& t, const std::array<float, 2>& v) { t.translation = {v[0], v[1]}; },
+          "translation",
+          [](const TextureInput& t) {
+            return std::array<float, 2>{t.translation.x, t.translation.y};
+          },
+          [](TextureInput& t, const std::array<float, 2>& v) {
+            t.translation = {v[0], v[1]};
+          },
           "UsdTransform2d translation");
 
   m.def("texture_problem", &TextureProblem, nb::arg("file"), nb::call_guard<nb::gil_scoped_release>(),
         "Why the file cannot be used as a texture (one line naming it), or '' if it can.");
-
 }
 
 }  // namespace hdeye::python

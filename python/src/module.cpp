@@ -5,7 +5,8 @@
 
 NB_MODULE(_hdeye, m) {
   using namespace hdeye::python;
-  m.doc() = "The hdeye render delegate: render index, scene store, render pass, render buffers, textures, image output.";
+  m.doc() =
+      "The hdeye render delegate: render index, scene store, render pass, render buffers, textures, image output.";
   // Types before the signatures that use them as defaults (RenderPass.plan's PlanRules()).
   BindTextures(m);
   BindParams(m);

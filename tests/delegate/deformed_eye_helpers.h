@@ -180,9 +180,9 @@ inline IrisMap ReadIris(DeformedEyeScene& s, int bins) {
 /// limbus blend and the entry angle (which follows the deformed surface) decide how much of a pixel is
 /// iris, a view effect, not the caustic (measured separately, docs/deformed_eyes.md).
 struct CausticDifference {
-  double relativeRms = 0;     ///< sqrt(sum (m - m_ref)^2 / sum m_ref^2) over the bins' (median) radiance
-  double centroidShift = 0;   ///< mm: distance between the radiance-weighted centroids of the two
-  int bins = 0;               ///< bins compared
+  double relativeRms = 0;    ///< sqrt(sum (m - m_ref)^2 / sum m_ref^2) over the bins' (median) radiance
+  double centroidShift = 0;  ///< mm: distance between the radiance-weighted centroids of the two
+  int bins = 0;              ///< bins compared
 };
 
 inline CausticDifference Compare(const IrisMap& a, const IrisMap& ref, double innerMm = 2.6, double outerMm = 4.4,

@@ -25,8 +25,8 @@ inline void UvSphere(double radius, int rings, int segments, hdeye::MeshTopology
   for (int r = 1; r < rings; ++r)
     for (int s = 0; s < segments; ++s) {
       const double th = pi * r / rings, ph = 2 * pi * s / segments;
-      points->push_back(hdeye::Vec3f(float(radius * std::sin(th) * std::cos(ph)), float(radius * std::sin(th) * std::sin(ph)),
-                                     float(radius * std::cos(th))));
+      points->push_back(hdeye::Vec3f(float(radius * std::sin(th) * std::cos(ph)),
+                                     float(radius * std::sin(th) * std::sin(ph)), float(radius * std::cos(th))));
     }
   points->push_back({0, 0, float(-radius)});
   const int south = int(points->size()) - 1;
@@ -43,7 +43,8 @@ inline void UvSphere(double radius, int rings, int segments, hdeye::MeshTopology
     }
   for (int s = 0; s < segments; ++s) {
     topology->faceVertexCounts.push_back(3);
-    topology->faceVertexIndices.insert(topology->faceVertexIndices.end(), {south, ring(rings - 1, s + 1), ring(rings - 1, s)});
+    topology->faceVertexIndices.insert(topology->faceVertexIndices.end(),
+                                       {south, ring(rings - 1, s + 1), ring(rings - 1, s)});
   }
 }
 
@@ -121,7 +122,9 @@ struct RenderStack {
   hdeye::RenderPass pass{&index};
 
   /// The render buffer bprim `id` (it must exist).
-  hdeye::RenderBuffer& Buffer(const hdeye::PrimId& id) { return *static_cast<hdeye::RenderBuffer*>(index.GetBprim(id)); }
+  hdeye::RenderBuffer& Buffer(const hdeye::PrimId& id) {
+    return *static_cast<hdeye::RenderBuffer*>(index.GetBprim(id));
+  }
 };
 
 }  // namespace test

@@ -6,7 +6,8 @@
 //
 //   relative RMSE of channel c:  e_c = sqrt( (1/N) sum_p (x_p - b_p)^2 ) / ( mean(|b|) + eps )
 //   relative mean bias of c:     m_c = | (1/N) sum_p (x_p - b_p) | / ( mean(|b|) + eps )
-//   block relative RMSE of c:    k_c = sqrt( (1/B) sum_blocks ( mean_{p in block} (x_p - b_p) )^2 ) / ( mean(|b|) + eps )
+//   block relative RMSE of c:    k_c = sqrt( (1/B) sum_blocks ( mean_{p in block} (x_p - b_p) )^2 ) / ( mean(|b|) + eps
+//   )
 //                                      over the B blocks of 8x8 pixels (trimmed pixels count as x_p = b_p)
 //
 // where x is the new render, b the baseline, eps = 1e-4 (only keeps a black channel from dividing by
@@ -128,12 +129,24 @@ Image Render(InMemorySceneDelegate& scene, RenderDelegate& delegate, RenderIndex
 // A key light 10% brighter gives relBias 0.017-0.020 (eye colour), 0.041 (irisMnee), 0.025-0.038 (ball
 // colour), 4-13x these tolerances; the eye's key at 65 deg instead of 75 gives blockRMSE 0.069 (colour)
 // and 0.19 (irisMnee), 2.3-2.5x.
-const SceneSpec kEye{"eye_side_lit", 64, 64, 64,
-                     {{"R", {0.22, 0.0045, 0.03}}, {"G", {0.22, 0.0045, 0.03}}, {"B", {0.22, 0.0045, 0.03}},
-                      {"A", {0.05, 0.001, 0.007}}, {"irisMnee.R", {0.67, 0.013, 0.075}},
-                      {"irisMnee.G", {0.67, 0.013, 0.075}}, {"irisMnee.B", {0.67, 0.013, 0.075}}}};
-const SceneSpec kBall{"ball_on_floor", 64, 48, 256,
-                      {{"R", {0.13, 0.003, 0.021}}, {"G", {0.10, 0.0025, 0.016}}, {"B", {0.09, 0.002, 0.013}},
+const SceneSpec kEye{"eye_side_lit",
+                     64,
+                     64,
+                     64,
+                     {{"R", {0.22, 0.0045, 0.03}},
+                      {"G", {0.22, 0.0045, 0.03}},
+                      {"B", {0.22, 0.0045, 0.03}},
+                      {"A", {0.05, 0.001, 0.007}},
+                      {"irisMnee.R", {0.67, 0.013, 0.075}},
+                      {"irisMnee.G", {0.67, 0.013, 0.075}},
+                      {"irisMnee.B", {0.67, 0.013, 0.075}}}};
+const SceneSpec kBall{"ball_on_floor",
+                      64,
+                      48,
+                      256,
+                      {{"R", {0.13, 0.003, 0.021}},
+                       {"G", {0.10, 0.0025, 0.016}},
+                       {"B", {0.09, 0.002, 0.013}},
                        {"A", {0.015, 0.0003, 0.0013}}}};
 
 /// The side-lit eye sample scene (hdeye/scene/sampleScenes.h). AOVs: color, irisMnee, and primId for the
@@ -252,10 +265,11 @@ void CheckAgainstBaseline(const SceneSpec& spec, const Image& image) {
     if ((baseAlpha[p] == 1 && !hit) || (baseAlpha[p] == 0 && hit)) ++alphaMismatch;
     if (alpha[p] < 0 || alpha[p] > 1) ++alphaMismatch;
   }
-  std::printf("[baseline] %s: %d of %zu pixels covered; coverage mismatches %d, primId mismatches %d, alpha "
-              "mismatches %d, normal max |diff| %.2g; non-finite samples %lld; %.2f s at %d spp\n",
-              spec.name, hits, id.size(), coverageMismatch, idMismatch, alphaMismatch, maxNormalDiff,
-              static_cast<long long>(image.stats.nonFiniteSamples), image.stats.seconds, image.stats.passes);
+  std::printf(
+      "[baseline] %s: %d of %zu pixels covered; coverage mismatches %d, primId mismatches %d, alpha "
+      "mismatches %d, normal max |diff| %.2g; non-finite samples %lld; %.2f s at %d spp\n",
+      spec.name, hits, id.size(), coverageMismatch, idMismatch, alphaMismatch, maxNormalDiff,
+      static_cast<long long>(image.stats.nonFiniteSamples), image.stats.seconds, image.stats.passes);
   CHECK(hits > 100);
   CHECK(coverageMismatch == 0);
   CHECK(idMismatch == 0);
@@ -267,7 +281,8 @@ void CheckAgainstBaseline(const SceneSpec& spec, const Image& image) {
     const Error e = Compare(image.planes.at(name), base.at(name), image.width);
     const bool fail = e.rmse > tol.rmse || e.bias > tol.bias || e.block > tol.block;
     std::printf("[baseline] %s %-11s relRMSE %.4f (tol %.4f)  relBias %.4f (tol %.4f)  blockRMSE %.4f (tol %.4f)%s\n",
-                spec.name, name.c_str(), e.rmse, tol.rmse, e.bias, tol.bias, e.block, tol.block, fail ? "  <-- FAIL" : "");
+                spec.name, name.c_str(), e.rmse, tol.rmse, e.bias, tol.bias, e.block, tol.block,
+                fail ? "  <-- FAIL" : "");
     INFO("channel " << name << ": relative RMSE " << e.rmse << " (tolerance " << tol.rmse << "), relative mean bias "
                     << e.bias << " (tolerance " << tol.bias << "), block relative RMSE " << e.block << " (tolerance "
                     << tol.block << ")");
@@ -286,10 +301,11 @@ void MeasureNoise(const SceneSpec& spec, const Image& a, const Image& b) {
   for (const auto& [name, tol] : spec.tolerance) {
     const Error e = Compare(b.planes.at(name), a.planes.at(name), a.width);
     const double sigma = e.rmse / std::sqrt(double(a.width * a.height));  // standard error of the bias
-    std::printf("[baseline noise] %s %-11s seed 0 vs 1: relRMSE %.4f (tol %.4f = %.1fx)  relBias %.5f, sigma %.5f "
-                "(tol %.4f = %.1f sigma)  blockRMSE %.4f (tol %.4f = %.1fx)\n",
-                spec.name, name.c_str(), e.rmse, tol.rmse, tol.rmse / e.rmse, e.bias, sigma, tol.bias, tol.bias / sigma,
-                e.block, tol.block, tol.block / e.block);
+    std::printf(
+        "[baseline noise] %s %-11s seed 0 vs 1: relRMSE %.4f (tol %.4f = %.1fx)  relBias %.5f, sigma %.5f "
+        "(tol %.4f = %.1f sigma)  blockRMSE %.4f (tol %.4f = %.1fx)\n",
+        spec.name, name.c_str(), e.rmse, tol.rmse, tol.rmse / e.rmse, e.bias, sigma, tol.bias, tol.bias / sigma,
+        e.block, tol.block, tol.block / e.block);
     CHECK(tol.rmse >= 2 * e.rmse);
     CHECK(tol.bias >= 2.5 * sigma);
     CHECK(tol.block >= 2 * e.block);
@@ -310,5 +326,4 @@ TEST_CASE("baseline noise: seed-to-seed differences stay well inside the toleran
   MeasureNoise(kEye, RenderEye(0), RenderEye(1));
 
   MeasureNoise(kBall, RenderBall(0), RenderBall(1));
-
 }

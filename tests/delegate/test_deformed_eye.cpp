@@ -106,13 +106,13 @@ std::string Slug(const std::string& s) {
 // ---------------------------------------------------------------------------------------------------------
 // The mapping itself (no rendering).
 
-TEST_CASE("re-projection keeps the angle to the local normal and maps leaving rays back by the same rotation", "[deformed]") {
+TEST_CASE("re-projection keeps the angle to the local normal and maps leaving rays back by the same rotation",
+          "[deformed]") {
   // A level-1 eyeball sheared and squashed; the mapping of many random hits and directions.
   Eyeball ball(24, 12, 24, 1);
   const double zc = ball.zCentre;
-  const auto deformed = ball.Deformed([&](const glm::dvec3& p) {
-    return glm::dvec3(1.3 * p.x + 0.4 * (p.z - zc), 0.9 * p.y, zc + 0.6 * (p.z - zc));
-  });
+  const auto deformed = ball.Deformed(
+      [&](const glm::dvec3& p) { return glm::dvec3(1.3 * p.x + 0.4 * (p.z - zc), 0.9 * p.y, zc + 0.6 * (p.z - zc)); });
   RenderDelegate delegate;
   RenderIndex index{&delegate};
   InMemorySceneDelegate scene{&index};
@@ -136,8 +136,9 @@ TEST_CASE("re-projection keeps the angle to the local normal and maps leaving ra
     ++onCornea;
     // The deformed shading normal at the hit, world (the mesh's transform is the identity).
     const int* t = &(*ctx.triangleVertices)[3 * tri];
-    const glm::dvec3 ns = glm::normalize((1 - u - v) * glm::dvec3((*ctx.vertexNormals)[t[0]]) +
-                                         u * glm::dvec3((*ctx.vertexNormals)[t[1]]) + v * glm::dvec3((*ctx.vertexNormals)[t[2]]));
+    const glm::dvec3 ns =
+        glm::normalize((1 - u - v) * glm::dvec3((*ctx.vertexNormals)[t[0]]) +
+                       u * glm::dvec3((*ctx.vertexNormals)[t[1]]) + v * glm::dvec3((*ctx.vertexNormals)[t[2]]));
     const double cosWorld = glm::dot(d, ns), cosCanonical = glm::dot(hit.canonicalDir, hit.analyticNormal);
     if (cosWorld < -1e-3) worstAngle = std::max(worstAngle, std::abs(std::acos(cosWorld) - std::acos(cosCanonical)));
     // A leaving ray: the canonical reflection maps back to the world reflection about the shading normal.
@@ -148,22 +149,26 @@ TEST_CASE("re-projection keeps the angle to the local normal and maps leaving ra
     if (cosWorld < -1e-3 && glm::dot(reflectedWorld, hit.worldNormal) > 1e-3)
       worstRoundTrip = std::max(worstRoundTrip, glm::length(back - reflectedWorld));
   }
-  std::printf("re-projection invariants over %d cornea hits: worst |angle to normal change| %.2e rad, worst reflection "
-              "round trip %.2e\n",
-              onCornea, worstAngle, worstRoundTrip);
+  std::printf(
+      "re-projection invariants over %d cornea hits: worst |angle to normal change| %.2e rad, worst reflection "
+      "round trip %.2e\n",
+      onCornea, worstAngle, worstRoundTrip);
   CHECK(onCornea > 1000);
   CHECK(worstAngle < 1e-6);
   CHECK(worstRoundTrip < 1e-6);
 }
 
-TEST_CASE("on an undeformed eye the re-projection is the rigid mapping, and the default projection is the model frame", "[deformed]") {
+TEST_CASE("on an undeformed eye the re-projection is the rigid mapping, and the default projection is the model frame",
+          "[deformed]") {
   // The eye rotated and in centimetres: the local rotation must reduce to the rigid one (a fine mesh's
   // normals are within a fraction of a degree of the analytic ones), and an explicit irisProjection equal
   // to modelTransform x scale(7.54) must map exactly as the default.
   Eyeball ball(48, 24, 48, 2);
   EyeParams eye;
-  eye.modelTransform = glm::rotate(Matrix4d(1.0), 0.7, glm::dvec3(1, 0, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(0.1));
-  const Matrix4d prim = glm::translate(Matrix4d(1.0), glm::dvec3(3, -2, 5)) * glm::rotate(Matrix4d(1.0), 1.2, glm::dvec3(0, 1, 0));
+  eye.modelTransform =
+      glm::rotate(Matrix4d(1.0), 0.7, glm::dvec3(1, 0, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(0.1));
+  const Matrix4d prim =
+      glm::translate(Matrix4d(1.0), glm::dvec3(3, -2, 5)) * glm::rotate(Matrix4d(1.0), 1.2, glm::dvec3(0, 1, 0));
   std::vector<Vec3f> local;
   for (const Vec3f& p : ball.points) local.push_back(Vec3f(eye.modelTransform * glm::dvec4(p, 1)));
   EyeParams explicitFrame = eye;
@@ -192,8 +197,10 @@ TEST_CASE("on an undeformed eye the re-projection is the rigid mapping, and the 
     ++n;
     worstDir = std::max(worstDir, glm::length(ha.canonicalDir - a->Eye().DirToCanonical(d)));
   }
-  std::printf("undeformed eye: re-projected vs rigid direction worst %.2e (%d hits); default vs explicit projection "
-              "worst %.2e mm\n", worstDir, n, worstPoint);
+  std::printf(
+      "undeformed eye: re-projected vs rigid direction worst %.2e (%d hits); default vs explicit projection "
+      "worst %.2e mm\n",
+      worstDir, n, worstPoint);
   CHECK(n > 500);
   // The limit normals depart from the analytic ones by up to 0.6 degrees (0.0107 measured), worst where
   // the limit surface rounds the cornea-sclera kink near the rim; the rotation follows them, as it should.
@@ -204,7 +211,8 @@ TEST_CASE("on an undeformed eye the re-projection is the rigid mapping, and the 
 // ---------------------------------------------------------------------------------------------------------
 // The measured demonstration: the caustic read back in iris texture space.
 
-TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic, and the affine-frame baseline departs", "[render][deformed]") {
+TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic, and the affine-frame baseline departs",
+          "[render][deformed]") {
   const int size = 64, spp = 16;
   Eyeball ball(32, 16, 32, 1);
   const auto cases = Cases(ball.zCentre);
@@ -215,23 +223,29 @@ TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic, and the 
   for (const Case& c : cases) {
     SECTION(c.name) {
       const auto points = ball.Deformed(c.deform);
-      const Rendered on = RenderEye(ball, points, c.transform, c.distance, true, true, 0, size, spp, UvIris(), c.offset);
-      const Rendered off = RenderEye(ball, points, c.transform, c.distance, false, true, 0, size, spp, UvIris(), c.offset);
-      const Rendered on1 = RenderEye(ball, points, c.transform, c.distance, true, true, 1, size, spp, UvIris(), c.offset);
+      const Rendered on =
+          RenderEye(ball, points, c.transform, c.distance, true, true, 0, size, spp, UvIris(), c.offset);
+      const Rendered off =
+          RenderEye(ball, points, c.transform, c.distance, false, true, 0, size, spp, UvIris(), c.offset);
+      const Rendered on1 =
+          RenderEye(ball, points, c.transform, c.distance, true, true, 1, size, spp, UvIris(), c.offset);
       // Noise-aware: relRms(a, b) of two independent renders of the same caustic is sqrt(s_a^2 + s_b^2)
       // (s: one render's relative noise per bin). Seed pairs give sqrt(2) s_ref and sqrt(2) s_on; what
       // noise alone would make of |on - ref| is sqrt((n_ref^2 + n_on^2) / 2).
-      const double nRef = test::Compare(ref1.map, ref0.map).relativeRms, nOn = test::Compare(on1.map, on.map).relativeRms;
+      const double nRef = test::Compare(ref1.map, ref0.map).relativeRms,
+                   nOn = test::Compare(on1.map, on.map).relativeRms;
       const double expected = std::sqrt((nRef * nRef + nOn * nOn) / 2);
       const test::CausticDifference dOn = test::Compare(on.map, ref0.map);
       const test::CausticDifference dOff = test::Compare(off.map, ref0.map);
       // The outer iris (to 5.8 mm), seen through the cornea near the limbus: reported, not claimed.
       const double outerOn = test::Compare(on.map, ref0.map, 2.6, 5.8).relativeRms;
       const double outerNoise = test::Compare(ref1.map, ref0.map, 2.6, 5.8).relativeRms;
-      std::printf("%-52s noise-only %.3f (ref %.3f, deformed %.3f) | to 5.8 mm: re-projection %.3f, seeds %.3f | re-projection %.3f (centroid %.2f mm, %d bins) | baseline %.3f (centroid "
-                  "%.2f mm, %d bins) | %.2f s\n",
-                  c.name, expected, nRef, nOn, outerOn, outerNoise, dOn.relativeRms, dOn.centroidShift, dOn.bins, dOff.relativeRms, dOff.centroidShift,
-                  dOff.bins, on.stats.seconds);
+      std::printf(
+          "%-52s noise-only %.3f (ref %.3f, deformed %.3f) | to 5.8 mm: re-projection %.3f, seeds %.3f | re-projection "
+          "%.3f (centroid %.2f mm, %d bins) | baseline %.3f (centroid "
+          "%.2f mm, %d bins) | %.2f s\n",
+          c.name, expected, nRef, nOn, outerOn, outerNoise, dOn.relativeRms, dOn.centroidShift, dOn.bins,
+          dOff.relativeRms, dOff.centroidShift, dOff.bins, on.stats.seconds);
       MaybeWritePng("undeformed", size, ref0.rgb);
       MaybeWritePng(Slug(c.name) + "_reprojection", size, on.rgb);
       MaybeWritePng(Slug(c.name) + "_baseline", size, off.rgb);
@@ -264,14 +278,16 @@ TEST_CASE("degenerate and inverted deformations render without NaN or holes", "[
   };
   const std::vector<Bad> bad = {
       // Flattened to a 1e-6 thin disk along the gaze: front and back coincide, normals turn +-z.
-      {"flattened along the gaze", [&](const glm::dvec3& p) { return glm::dvec3(p.x, p.y, zc + 1e-6 * (p.z - zc)); }, true},
+      {"flattened along the gaze", [&](const glm::dvec3& p) { return glm::dvec3(p.x, p.y, zc + 1e-6 * (p.z - zc)); },
+       true},
       // A mirror: the mesh inside out relative to its rest pose (its winding normals point in).
       {"mirrored (inside out)", [&](const glm::dvec3& p) { return glm::dvec3(-p.x, p.y, p.z); }, true},
       // A cap of the cornea collapsed onto one point: zero-area triangles around it.
       {"cornea cap collapsed to a point",
        [&](const glm::dvec3& p) { return std::hypot(p.x, p.y) < 2.5 && p.z > -1 ? glm::dvec3(0, 0, 0) : p; }, false},
       // Folded: the front pushed through the back (the front half reflected through the centre plane).
-      {"front folded through the centre", [&](const glm::dvec3& p) { return p.z > zc ? glm::dvec3(p.x, p.y, 2 * zc - p.z) : p; }, false},
+      {"front folded through the centre",
+       [&](const glm::dvec3& p) { return p.z > zc ? glm::dvec3(p.x, p.y, 2 * zc - p.z) : p; }, false},
   };
   for (const Bad& b : bad) {
     INFO(b.name);
@@ -281,8 +297,10 @@ TEST_CASE("degenerate and inverted deformations render without NaN or holes", "[
     std::printf("%-36s coverage %d px (undeformed %d), non-finite %d, iris light sum %.3f\n", b.name, r.coverage,
                 ref.coverage, int(r.stats.nonFiniteSamples), iris);
     CHECK(r.stats.nonFiniteSamples == 0);
-    if (b.sameSilhouette) CHECK(std::abs(r.coverage - ref.coverage) <= ref.coverage / 50);
-    else CHECK(r.coverage > ref.coverage / 2);
+    if (b.sameSilhouette)
+      CHECK(std::abs(r.coverage - ref.coverage) <= ref.coverage / 50);
+    else
+      CHECK(r.coverage > ref.coverage / 2);
   }
 }
 
@@ -292,7 +310,9 @@ TEST_CASE("eyes of 1 mm and of 1 km render the same caustic as the 24 mm eye", "
   // the re-projection's local frames are exercised at every scale.
   Eyeball ball(24, 12, 24, 1);
   const double zc = ball.zCentre;
-  const auto stretched = ball.Deformed([&](const glm::dvec3& p) { return glm::dvec3(0, 0, zc) + glm::dvec3(0.8165, 0.8165, 1.5) * (p - glm::dvec3(0, 0, zc)); });
+  const auto stretched = ball.Deformed([&](const glm::dvec3& p) {
+    return glm::dvec3(0, 0, zc) + glm::dvec3(0.8165, 0.8165, 1.5) * (p - glm::dvec3(0, 0, zc));
+  });
   const int size = 40, spp = 8;
   std::map<double, double> mean;
   std::map<double, int> coverage;
@@ -327,9 +347,10 @@ TEST_CASE("eyes of 1 mm and of 1 km render the same caustic as the 24 mm eye", "
       noise = std::abs(sum1 / (size * size) - mean[scale]);
     }
   }
-  std::printf("stretched eye at 24 mm / 1 mm / 1 km: mean iris light %.5f / %.5f / %.5f (seed noise %.5f); coverage "
-              "%d / %d / %d px\n",
-              mean[1.0], mean[1.0 / 24], mean[1e6 / 24], noise, coverage[1.0], coverage[1.0 / 24], coverage[1e6 / 24]);
+  std::printf(
+      "stretched eye at 24 mm / 1 mm / 1 km: mean iris light %.5f / %.5f / %.5f (seed noise %.5f); coverage "
+      "%d / %d / %d px\n",
+      mean[1.0], mean[1.0 / 24], mean[1e6 / 24], noise, coverage[1.0], coverage[1.0 / 24], coverage[1e6 / 24]);
   const double tolerance = 4 * noise + 0.02 * mean[1.0];
   CHECK(mean[1.0] > 0);
   CHECK(std::abs(mean[1.0 / 24] - mean[1.0]) < tolerance);
@@ -338,7 +359,8 @@ TEST_CASE("eyes of 1 mm and of 1 km render the same caustic as the 24 mm eye", "
   CHECK(std::abs(coverage[1e6 / 24] - coverage[1.0]) <= 8);
 }
 
-TEST_CASE("an iris projection that does not cover the hits shades them as sclera: no NaN, no holes", "[render][deformed]") {
+TEST_CASE("an iris projection that does not cover the hits shades them as sclera: no NaN, no holes",
+          "[render][deformed]") {
   Eyeball ball(24, 12, 24, 1);
   const int size = 32, spp = 4;
   const Rendered ref = RenderEye(ball, ball.points, Matrix4d(1.0), 70, true, false, 0, size, spp);
@@ -352,10 +374,12 @@ TEST_CASE("an iris projection that does not cover the hits shades them as sclera
   const double half = 15.08 / 2;
   const std::vector<Frame> frames = {
       // Shifted 20 mm sideways: every hit projects past the rim.
-      {"shifted off the eye", glm::translate(Matrix4d(1.0), glm::dvec3(20, 0, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(half)), false},
+      {"shifted off the eye",
+       glm::translate(Matrix4d(1.0), glm::dvec3(20, 0, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(half)), false},
       // Projecting along x: the front maps to a band; most of it past the rim, the rest cornea.
       {"turned 90 degrees (projecting along x)",
-       glm::rotate(Matrix4d(1.0), test::kEyePi / 2, glm::dvec3(0, 1, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(half)), true},
+       glm::rotate(Matrix4d(1.0), test::kEyePi / 2, glm::dvec3(0, 1, 0)) * glm::scale(Matrix4d(1.0), glm::dvec3(half)),
+       true},
       // A frame 4x too small: only the central quarter of the eye projects inside the limbus; the rest
       // is sclera. Less iris light, no holes.
       {"4x too small", glm::scale(Matrix4d(1.0), glm::dvec3(0.25 * half)), false},
@@ -368,8 +392,8 @@ TEST_CASE("an iris projection that does not cover the hits shades them as sclera
     const Rendered r = RenderEye(ball, ball.points, Matrix4d(1.0), 70, true, false, 0, size, spp, eye);
     double iris = 0;
     iris = r.map.Total();
-    std::printf("projection %-40s coverage %d px (reference %d), iris light %.3f (reference %.3f)\n", f.name, r.coverage,
-                ref.coverage, iris, refIris);
+    std::printf("projection %-40s coverage %d px (reference %d), iris light %.3f (reference %.3f)\n", f.name,
+                r.coverage, ref.coverage, iris, refIris);
     CHECK(r.stats.nonFiniteSamples == 0);
     CHECK(r.coverage == ref.coverage);  // sclera or cornea, every pixel of the eye is shaded
     if (!f.irisExpected) CHECK(iris < 0.5 * refIris);
@@ -383,7 +407,8 @@ TEST_CASE("an iris projection that does not cover the hits shades them as sclera
   CHECK_THROWS_WITH(s.Render(1), Catch::Contains("/eye") && Catch::Contains("irisProjection"));
 }
 
-TEST_CASE("an animated eye mesh refines once and re-evaluates stencils per frame, and the eye frames follow", "[deformed]") {
+TEST_CASE("an animated eye mesh refines once and re-evaluates stencils per frame, and the eye frames follow",
+          "[deformed]") {
   // Frame after frame of squash and stretch through SetPoints: DirtyPoints only. Topology is refined
   // once; each frame costs one stencil evaluation and one Embree upload; the mapping sees the new pose.
   Eyeball ball(24, 12, 24, 2);
@@ -408,8 +433,8 @@ TEST_CASE("an animated eye mesh refines once and re-evaluates stencils per frame
     CHECK(fitted == Approx(s).epsilon(1e-4));
   }
   const MeshSyncStats& st = mesh->Stats();
-  std::printf("6 animated frames: refinements %d, stencil evaluations %d, uploads %d, topology builds %d\n", st.refinements,
-              st.stencilEvaluations, st.pointUploads, st.topologyBuilds);
+  std::printf("6 animated frames: refinements %d, stencil evaluations %d, uploads %d, topology builds %d\n",
+              st.refinements, st.stencilEvaluations, st.pointUploads, st.topologyBuilds);
   CHECK(st.refinements == 1);
   CHECK(st.topologyBuilds == 1);
   CHECK(st.stencilEvaluations == 7);

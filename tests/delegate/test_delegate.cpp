@@ -59,8 +59,8 @@ TEST_CASE("moving points re-evaluates stencils only, and unchanged prims are not
   for (Vec3f& p : points) p *= 1.1f;
   f.scene.SetPoints("/eye", points);
   f.Render();
-  CHECK(f.Stats("/eye").refinements == 1);        // topology refined once
-  CHECK(f.Stats("/eye").topologyBuilds == 1);     // Embree geometry updated, not rebuilt
+  CHECK(f.Stats("/eye").refinements == 1);     // topology refined once
+  CHECK(f.Stats("/eye").topologyBuilds == 1);  // Embree geometry updated, not rebuilt
   CHECK(f.Stats("/eye").stencilEvaluations == 2);
   CHECK(f.Stats("/eye").pointUploads == 2);
   CHECK(f.Stats("/eye").transformUpdates == 1);

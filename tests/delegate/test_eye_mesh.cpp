@@ -9,8 +9,8 @@
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
-#include <catch2/catch.hpp>
 #include <eyelib/anterior_surface.h>
+#include <catch2/catch.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
@@ -116,9 +116,10 @@ TEST_CASE("an eye mesh whose front follows the analytic cornea renders the iris 
   // on it, and its sclera reflects a little light into the cornea that the analytic eye has no sclera for).
   const double noise = std::abs(iris0 - iris1);
   const double tolerance = 4 * noise + 0.02 * iris0;
-  std::printf("eye mesh vs analytic eye: mean iris MNEE light %.5f vs %.5f (seed 1: %.5f; noise %.5f, tol %.5f); "
-              "%.2f s vs %.2f s\n",
-              irisMesh, iris0, iris1, noise, tolerance, m0.seconds, a0.seconds);
+  std::printf(
+      "eye mesh vs analytic eye: mean iris MNEE light %.5f vs %.5f (seed 1: %.5f; noise %.5f, tol %.5f); "
+      "%.2f s vs %.2f s\n",
+      irisMesh, iris0, iris1, noise, tolerance, m0.seconds, a0.seconds);
   CHECK(a0.nonFiniteSamples == 0);
   CHECK(m0.nonFiniteSamples == 0);
   CHECK(iris0 > 0);
@@ -160,7 +161,8 @@ TEST_CASE("eye mesh sclera shades as sclera: scleraColor, or the bound material'
       }
     const glm::dvec3 mean = sum / double(n);
     std::printf("eye mesh sclera (%s): %d pixels, mean radiance (%.4f %.4f %.4f) vs albedo (%.2f %.2f %.2f)\n",
-                material ? "bound material" : "scleraColor", n, mean.x, mean.y, mean.z, expected.x, expected.y, expected.z);
+                material ? "bound material" : "scleraColor", n, mean.x, mean.y, mean.z, expected.x, expected.y,
+                expected.z);
     CHECK(stats.nonFiniteSamples == 0);
     REQUIRE(n > 20);
     CHECK(albedoWorst.x < 1e-6);
@@ -185,7 +187,8 @@ TEST_CASE("a rotated eye mesh in a centimetre scene renders as the same eye in m
   // The eye's model transform: canonical mm -> the prim's local cm, turned 40 degrees about x; the prim
   // turned 70 degrees about y and moved. The mesh's points are authored in the prim's local space.
   EyeParams eye = GreyIris();
-  eye.modelTransform = glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 0, 0)) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.1));
+  eye.modelTransform =
+      glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 0, 0)) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.1));
   const Matrix4d prim =
       glm::translate(glm::dmat4(1.0), glm::dvec3(3, -2, 5)) * glm::rotate(glm::dmat4(1.0), 1.2, glm::dvec3(0, 1, 0));
   std::vector<Vec3f> local;
@@ -271,9 +274,10 @@ TEST_CASE("an inflated eye mesh still lets the iris see its light: exits and MNE
   // eyeball's centre, so the cornea (and the iris seen through it) is magnified by 2% in radius, and
   // its area, which the mean iris light follows, by 1.02^2.
   const double expected = 1.02 * 1.02 * irisExact, tolerance = 4 * noise + 0.02 * irisExact;
-  std::printf("inflated eye mesh: mean iris light %.5f vs %.5f expected (1.02^2 x the fitted mesh's %.5f; noise %.5f, "
-              "tol %.5f)\n",
-              irisPuffy, expected, irisExact, noise, tolerance);
+  std::printf(
+      "inflated eye mesh: mean iris light %.5f vs %.5f expected (1.02^2 x the fitted mesh's %.5f; noise %.5f, "
+      "tol %.5f)\n",
+      irisPuffy, expected, irisExact, noise, tolerance);
   CHECK(se.nonFiniteSamples == 0);
   CHECK(sp.nonFiniteSamples == 0);
   CHECK(irisExact > 0);
@@ -312,7 +316,9 @@ TEST_CASE("eye mesh furnace: a closed white eye mesh in a uniform dome returns t
 
 TEST_CASE("the iris texture, tinted by irisColor, u along +x over the 15.08 mm disk", "[render]") {
   const std::string flat = "/tmp/hdeye_test_iris_flat.exr", split = "/tmp/hdeye_test_iris_split.exr";
-  WriteExr(flat, 2, 2, {{"R", std::vector<float>(4, 0.5f)}, {"G", std::vector<float>(4, 0.5f)}, {"B", std::vector<float>(4, 0.5f)}});
+  WriteExr(
+      flat, 2, 2,
+      {{"R", std::vector<float>(4, 0.5f)}, {"G", std::vector<float>(4, 0.5f)}, {"B", std::vector<float>(4, 0.5f)}});
   // Left half (u < 0.5, canonical x < 0) red, right half blue.
   std::vector<float> r(64 * 8), g(64 * 8, 0.0f), b(64 * 8);
   for (int y = 0; y < 8; ++y)
@@ -325,8 +331,10 @@ TEST_CASE("the iris texture, tinted by irisColor, u along +x over the 15.08 mm d
   for (bool onMesh : {false, true}) {
     INFO((onMesh ? "eye mesh" : "analytic eye"));
     auto add = [&](EyeScene& s, const EyeParams& e) {
-      if (onMesh) s.scene.AddEyeMesh("/eye", topology, points, e);
-      else s.scene.AddAnalyticEye("/eye", e);
+      if (onMesh)
+        s.scene.AddEyeMesh("/eye", topology, points, e);
+      else
+        s.scene.AddAnalyticEye("/eye", e);
     };
     // A flat 0.5 texture under a white irisColor renders exactly as irisColor 0.5 (same seed: the same
     // paths, the same numbers).

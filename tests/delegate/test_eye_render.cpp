@@ -52,8 +52,8 @@ TEST_CASE("eye furnace: a closed, white eye in a uniform dome returns the dome (
     for (int y = 0; y < 20; ++y)
       for (int x = 0; x < 20; ++x)
         if (s.Color().Resolved(x, y, 3) == 1) sum += s.Color().Resolved(x, y, 0), ++n;
-    std::printf("eye furnace (%s): mean %.4f over %d eye pixels (%.1f s)\n", all ? "all MNEE solutions" : "one MNEE solution",
-                sum / n, n, stats.seconds);
+    std::printf("eye furnace (%s): mean %.4f over %d eye pixels (%.1f s)\n",
+                all ? "all MNEE solutions" : "one MNEE solution", sum / n, n, stats.seconds);
     REQUIRE(n > 100);
     // One solution per light sample misses the rare second paths (folds at the ellipsoid-cone junction).
     CHECK(sum / n == Approx(1.0).epsilon(all ? 0.01 : 0.02));

@@ -6,8 +6,8 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
-#include <catch2/catch.hpp>
 #include <OpenImageIO/imageio.h>
+#include <catch2/catch.hpp>
 
 #include <unistd.h>
 
@@ -77,10 +77,21 @@ int PreviewByte(const ScratchDir& dir, float x, float exposure = 0) {
 TEST_CASE("EXR round trip of several named float channels is bit-exact", "[image]") {
   ScratchDir dir;
   const int w = 5, h = 3;
-  std::vector<float> special = {0.0f, -0.0f, 1e-42f /* denormal */, -3.5f, 65504.0f, 1e30f,
-                                std::nextafter(1.0f, 2.0f), 0.1f, 1.0f / 3.0f, -1e-30f,
-                                std::numeric_limits<float>::min(), std::numeric_limits<float>::max(),
-                                std::numeric_limits<float>::lowest(), 123456.789f, 7.0f};
+  std::vector<float> special = {0.0f,
+                                -0.0f,
+                                1e-42f /* denormal */,
+                                -3.5f,
+                                65504.0f,
+                                1e30f,
+                                std::nextafter(1.0f, 2.0f),
+                                0.1f,
+                                1.0f / 3.0f,
+                                -1e-30f,
+                                std::numeric_limits<float>::min(),
+                                std::numeric_limits<float>::max(),
+                                std::numeric_limits<float>::lowest(),
+                                123456.789f,
+                                7.0f};
   const std::vector<ImagePlane> planes = {{"R", Ramp(w * h, 0.0f, 0.1f)},
                                           {"G", special},
                                           {"B", Ramp(w * h, -1.0f, 1.0f / 7.0f)},
@@ -102,9 +113,8 @@ TEST_CASE("EXR round trip of several named float channels is bit-exact", "[image
 
 TEST_CASE("EXR channel names are preserved exactly, dotted layer names included", "[image]") {
   ScratchDir dir;
-  const std::vector<std::string> names = {"R",     "G",       "B",         "A",     "albedo.R",
-                                          "N.X",   "depth.Z", "primId",    "irisMnee.R",
-                                          "a.b.c", "Z",       "albedo.G"};
+  const std::vector<std::string> names = {"R",       "G",      "B",          "A",     "albedo.R", "N.X",
+                                          "depth.Z", "primId", "irisMnee.R", "a.b.c", "Z",        "albedo.G"};
   std::vector<ImagePlane> planes;
   for (size_t i = 0; i < names.size(); ++i) planes.push_back({names[i], Ramp(4 * 2, float(i), 0.5f)});
   const std::string path = dir / "aovs.exr";
@@ -118,8 +128,7 @@ TEST_CASE("EXR channel names are preserved exactly, dotted layer names included"
   for (const ImagePlane& p : planes) CHECK(SameBits(read.at(p.name), p.pixels));
 }
 
-TEST_CASE("EXR is a scanline file of FLOAT channels with ZIP compression and a 0-based window",
-          "[image]") {
+TEST_CASE("EXR is a scanline file of FLOAT channels with ZIP compression and a 0-based window", "[image]") {
   ScratchDir dir;
   const std::string path = dir / "format.exr";
   WriteExr(path, 3, 2, {{"R", Ramp(6, 0, 1)}, {"depth.Z", Ramp(6, 1, 1)}});
@@ -209,8 +218,7 @@ TEST_CASE("a rejected write leaves the existing file untouched", "[image]") {
   CHECK(dir.Files() == std::set<std::string>{"keep.exr"});
 }
 
-TEST_CASE("EXR input with wrong sizes, duplicate names or non-finite values is rejected with the reason",
-          "[image]") {
+TEST_CASE("EXR input with wrong sizes, duplicate names or non-finite values is rejected with the reason", "[image]") {
   ScratchDir dir;
   const std::string path = dir / "bad.exr";
   auto errorOf = [&](int w, int h, const std::vector<ImagePlane>& planes) {
@@ -240,15 +248,13 @@ TEST_CASE("EXR input with wrong sizes, duplicate names or non-finite values is r
 TEST_CASE("reading a missing or non-EXR file throws naming the path", "[image]") {
   ScratchDir dir;
   const std::string missing = dir / "missing.exr";
-  CHECK_THAT(ErrorOf([&] { ReadExr(missing, nullptr, nullptr); }),
-             Contains(missing) && Contains("does not exist"));
+  CHECK_THAT(ErrorOf([&] { ReadExr(missing, nullptr, nullptr); }), Contains(missing) && Contains("does not exist"));
   const std::string text = dir / "text.exr";
   std::ofstream(text) << "not an image";
   CHECK_THAT(ErrorOf([&] { ReadExr(text, nullptr, nullptr); }), Contains("cannot read " + text));
 }
 
-TEST_CASE("PNG preview has the requested size and top-row-first layout, read back with OpenImageIO",
-          "[image]") {
+TEST_CASE("PNG preview has the requested size and top-row-first layout, read back with OpenImageIO", "[image]") {
   ScratchDir dir;
   const int w = 7, h = 5;
   std::vector<float> rgb(3 * w * h, 0.0f);
@@ -270,13 +276,12 @@ TEST_CASE("PNG preview has the requested size and top-row-first layout, read bac
   }
 }
 
-TEST_CASE("PNG preview maps 0 to 0, 1 to 255, 0.214 to about 128, and clamps out-of-range values",
-          "[image]") {
+TEST_CASE("PNG preview maps 0 to 0, 1 to 255, 0.214 to about 128, and clamps out-of-range values", "[image]") {
   ScratchDir dir;
   CHECK(PreviewByte(dir, 0.0f) == 0);
   CHECK(PreviewByte(dir, 1.0f) == 255);
   CHECK(std::abs(PreviewByte(dir, 0.214f) - 128) <= 1);  // sRGB(0.214) = 0.49996, i.e. 127.49
-  CHECK(PreviewByte(dir, 0.18f) == 118);                  // 18% grey
+  CHECK(PreviewByte(dir, 0.18f) == 118);                 // 18% grey
   CHECK(PreviewByte(dir, -2.0f) == 0);
   CHECK(PreviewByte(dir, 40.0f) == 255);
 }
@@ -308,8 +313,7 @@ TEST_CASE("PNG preview exposure of +1 stop doubles the linear value", "[image]")
   CHECK(std::abs(PreviewByte(dir, 0.107f, 1.0f) - 128) <= 1);
 }
 
-TEST_CASE("PNG preview with wrong sizes or non-finite values is rejected with the reason",
-          "[image]") {
+TEST_CASE("PNG preview with wrong sizes or non-finite values is rejected with the reason", "[image]") {
   ScratchDir dir;
   const std::string path = dir / "bad.png";
   CHECK_THAT(ErrorOf([&] { WritePngPreview(path, 2, 2, std::vector<float>(11, 0.f)); }),
@@ -326,7 +330,7 @@ TEST_CASE("PNG preview with wrong sizes or non-finite values is rejected with th
 TEST_CASE("LinearToSrgb matches the standard sRGB curve at reference points", "[image]") {
   CHECK(LinearToSrgb(0.0f) == 0.0f);
   CHECK(LinearToSrgb(1.0f) == Approx(1.0f).margin(1e-7));
-  CHECK(LinearToSrgb(0.001f) == Approx(0.01292).epsilon(1e-6));  // linear segment: 12.92 x
+  CHECK(LinearToSrgb(0.001f) == Approx(0.01292).epsilon(1e-6));      // linear segment: 12.92 x
   CHECK(LinearToSrgb(0.0031308f) == Approx(0.04045).epsilon(1e-4));  // the junction
   CHECK(LinearToSrgb(0.18f) == Approx(0.461356).epsilon(1e-5));
   CHECK(LinearToSrgb(0.5f) == Approx(0.735357).epsilon(1e-5));
@@ -350,7 +354,9 @@ TEST_CASE("LinearToSrgb is monotonic, finely and across the segment junction", "
     }
     return -1.0f;
   };
-  CHECK(firstDecrease(0.0f, [](float x) { return x + 1e-6f; }, 1000000) == -1.0f);
+  CHECK(firstDecrease(
+            0.0f, [](float x) { return x + 1e-6f; }, 1000000) == -1.0f);
   // Every float around the junction at 0.0031308.
-  CHECK(firstDecrease(0.00313f, [](float x) { return std::nextafter(x, 1.0f); }, 2000) == -1.0f);
+  CHECK(firstDecrease(
+            0.00313f, [](float x) { return std::nextafter(x, 1.0f); }, 2000) == -1.0f);
 }

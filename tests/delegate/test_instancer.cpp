@@ -60,7 +60,8 @@ double MaxDifference(Stage& a, Stage& b, const PrimId& buffer) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x)
       for (int c = 0; c < components; ++c)
-        worst = std::max(worst, double(std::abs(a.Buffer(buffer).Resolved(x, y, c) - b.Buffer(buffer).Resolved(x, y, c))));
+        worst =
+            std::max(worst, double(std::abs(a.Buffer(buffer).Resolved(x, y, c) - b.Buffer(buffer).Resolved(x, y, c))));
   return worst;
 }
 
@@ -114,8 +115,8 @@ TEST_CASE("instance normals are the instance transform's inverse transpose appli
       glm::normalize(glm::transpose(glm::inverse(glm::dmat3(stretch * tilt))) * glm::dvec3(0, 0, 1));
   const glm::dvec3 got = stage.Pixel("/normal", kSize / 2, kSize / 2);
   const glm::dvec3 rotatedOnly = glm::dmat3(stretch * tilt) * glm::dvec3(0, 0, 1);
-  INFO("normal AOV " << got.x << " " << got.y << " " << got.z << ", expected " << expected.x << " " << expected.y
-                     << " " << expected.z);
+  INFO("normal AOV " << got.x << " " << got.y << " " << got.z << ", expected " << expected.x << " " << expected.y << " "
+                     << expected.z);
   CHECK(glm::length(got - expected) < 1e-5);
   CHECK(glm::length(got - glm::normalize(rotatedOnly)) > 0.1);  // the naive transform would be visibly wrong
 }
@@ -125,13 +126,16 @@ TEST_CASE("per-instance colours replace the prototype's displayColor in the albe
   std::vector<Vec3f> points;
   test::Quad(0.9, &quad, &points);
   Stage stage;
-  stage.scene.AddInstancer("/inst", {glm::translate(Matrix4d(1.0), glm::dvec3(-1, 0, 0)),
-                                     glm::translate(Matrix4d(1.0), glm::dvec3(1, 0, 0))},
-                           {Vec3f(0.8f, 0.1f, 0.2f), Vec3f(0.1f, 0.7f, 0.3f)});
+  stage.scene.AddInstancer(
+      "/inst",
+      {glm::translate(Matrix4d(1.0), glm::dvec3(-1, 0, 0)), glm::translate(Matrix4d(1.0), glm::dvec3(1, 0, 0))},
+      {Vec3f(0.8f, 0.1f, 0.2f), Vec3f(0.1f, 0.7f, 0.3f)});
   stage.scene.AddMesh("/inst/quad", quad, points, Matrix4d(1.0), "", "/inst");
   stage.Render();
-  const glm::dvec3 left = stage.Pixel("/albedo", kSize / 2 - 4, kSize / 2), right = stage.Pixel("/albedo", kSize / 2 + 4, kSize / 2);
-  INFO("left " << left.x << " " << left.y << " " << left.z << ", right " << right.x << " " << right.y << " " << right.z);
+  const glm::dvec3 left = stage.Pixel("/albedo", kSize / 2 - 4, kSize / 2),
+                   right = stage.Pixel("/albedo", kSize / 2 + 4, kSize / 2);
+  INFO("left " << left.x << " " << left.y << " " << left.z << ", right " << right.x << " " << right.y << " "
+               << right.z);
   CHECK(glm::length(left - glm::dvec3(0.8, 0.1, 0.2)) < 1e-6);
   CHECK(glm::length(right - glm::dvec3(0.1, 0.7, 0.3)) < 1e-6);
 }

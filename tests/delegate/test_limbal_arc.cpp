@@ -9,9 +9,9 @@
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
-#include <catch2/catch.hpp>
 #include <eyelib/anterior_surface.h>
 #include <eyelib/random.h>
+#include <catch2/catch.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -123,8 +123,8 @@ Audit RunWalks(const WorldBoundary& boundary, const eyelib::SssMedium& medium, b
     glm::dvec3 entry(r * std::cos(phi), r * std::sin(phi), 0);
     // On the mesh: the first crossing straight down from above (outside hits: the forward direction).
     entry.z = r < rim ? cornea.Sag(r) : zCentre + std::sqrt(R * R - r * r);
-    const eyelib::WalkResult w = eyelib::RandomWalkSss(medium, settings, entry, glm::dvec3(0, 0, -1),
-                                                       Canonical(boundary), random);
+    const eyelib::WalkResult w =
+        eyelib::RandomWalkSss(medium, settings, entry, glm::dvec3(0, 0, -1), Canonical(boundary), random);
     ++a.paths;
     if (w.status == eyelib::WalkStatus::Invalid) {
       ++a.invalid;
@@ -165,7 +165,8 @@ bool InSclera(glm::dvec2 film) { return glm::length(film) > 6.8; }  // past the 
 
 }  // namespace
 
-TEST_CASE("eye mesh boundary: a walk's query from inside finds the eyeball, never the surface it starts on", "[limbal]") {
+TEST_CASE("eye mesh boundary: a walk's query from inside finds the eyeball, never the surface it starts on",
+          "[limbal]") {
   ArcScene s(8, EyeParams{}, true);
   const EyeMesh& mesh = SyncedEye(s);
   std::int64_t queries = 0;
@@ -211,10 +212,11 @@ TEST_CASE("eye mesh boundary: a walk's query from inside finds the eyeball, neve
     glm::dvec3 n3;
     CHECK_FALSE(boundary(centre, d, 0.9 * t, &t3, &n3));
   }
-  std::printf("eye mesh boundary: worst |t - brute force| %.2e mm; %d back hits, worst |t - 12 mm| %.4f mm (the "
-              "level-1 limit surface, not the query); shortest chord from a crossing %.3f mm, %d near zero, %d misses, "
-              "%lld queries for 1200 segments\n",
-              worstVsBrute, backHits, worstRadius, shortestChord, nearZero, misses, (long long)queries);
+  std::printf(
+      "eye mesh boundary: worst |t - brute force| %.2e mm; %d back hits, worst |t - 12 mm| %.4f mm (the "
+      "level-1 limit surface, not the query); shortest chord from a crossing %.3f mm, %d near zero, %d misses, "
+      "%lld queries for 1200 segments\n",
+      worstVsBrute, backHits, worstRadius, shortestChord, nearZero, misses, (long long)queries);
   CHECK(worstVsBrute < 1e-4);
   CHECK(misses == 0);
   CHECK(backHits > 150);
@@ -239,12 +241,15 @@ TEST_CASE("no sclera path gains weight: per-path energy balance inside the eye m
   const Audit clearOn = RunWalks(boundary, clear, true, 600), clearOff = RunWalks(boundary, clear, false, 600);
   const Audit onA = RunWalks(boundary, sclera, true, 600), offA = RunWalks(boundary, sclera, false, 600);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (const auto& [name, a] : {std::pair<const char*, const Audit&>{"clear, on", clearOn}, {"clear, off", clearOff},
-                                {"absorbing, on", onA}, {"absorbing, off", offA}})
-    std::printf("per-path audit (%s): %d paths, %d teleported, escaped %.5f absorbed %.5f dropped %.5f per path, "
-                "worst |balance - 1| %.2e, largest weight %.6f, %d capped, %d invalid\n",
-                name, a.paths, a.teleported, a.escaped.x / a.paths, a.absorbed.x / a.paths, a.dropped.x / a.paths,
-                a.worstBalance, a.worstWeight, a.capped, a.invalid);
+  for (const auto& [name, a] : {std::pair<const char*, const Audit&>{"clear, on", clearOn},
+                                {"clear, off", clearOff},
+                                {"absorbing, on", onA},
+                                {"absorbing, off", offA}})
+    std::printf(
+        "per-path audit (%s): %d paths, %d teleported, escaped %.5f absorbed %.5f dropped %.5f per path, "
+        "worst |balance - 1| %.2e, largest weight %.6f, %d capped, %d invalid\n",
+        name, a.paths, a.teleported, a.escaped.x / a.paths, a.absorbed.x / a.paths, a.dropped.x / a.paths,
+        a.worstBalance, a.worstWeight, a.capped, a.invalid);
   std::printf("per-path audit: %.2f s\n", seconds);
   for (const Audit* a : {&clearOn, &clearOff, &onA, &offA}) {
     CHECK(a->invalid == 0);
@@ -293,8 +298,9 @@ TEST_CASE("energy audit: a closed sclera under a uniform dome, limbal arc on and
   };
   const Row white = run(1.0f), sclera = run(0.8f);
   for (const auto& [albedo, r] : {std::pair<double, const Row&>{1.0, white}, {0.8, sclera}})
-    std::printf("sclera furnace, albedo %.1f: arc on %.4f, off %.4f (on/off %.4f), Lambert %.4f; %lld walks, %lld capped\n",
-                albedo, r.on, r.off, r.on / r.off, r.lambert, (long long)r.walks, (long long)r.capped);
+    std::printf(
+        "sclera furnace, albedo %.1f: arc on %.4f, off %.4f (on/off %.4f), Lambert %.4f; %lld walks, %lld capped\n",
+        albedo, r.on, r.off, r.on / r.off, r.lambert, (long long)r.walks, (long long)r.capped);
   // Capped walks are dropped energy, reported: rare even for a white sclera (long walks), none at 0.8.
   CHECK(white.capped * 1000 < white.walks);
   CHECK(sclera.capped == 0);
@@ -303,11 +309,12 @@ TEST_CASE("energy audit: a closed sclera under a uniform dome, limbal arc on and
   CHECK(white.off < 1.005);
   CHECK(white.on / white.off == Approx(1.0).epsilon(0.01));
   CHECK(sclera.on < 1.0);
-  CHECK(sclera.on >= sclera.off);             // the cylinder only ever reduces absorption here
-  CHECK(sclera.on / sclera.off < 1.10);       // measured +6% (the limbus-adjacent band)
+  CHECK(sclera.on >= sclera.off);        // the cylinder only ever reduces absorption here
+  CHECK(sclera.on / sclera.off < 1.10);  // measured +6% (the limbus-adjacent band)
 }
 
-TEST_CASE("the limbal arc: under a side light the shadowed limbus is lit only through the cylinder", "[limbal][render]") {
+TEST_CASE("the limbal arc: under a side light the shadowed limbus is lit only through the cylinder",
+          "[limbal][render]") {
   // The sample scene's geometry: a small light 75 degrees off the gaze on +x; the cornea shadows the
   // limbus on -x. Bands of sclera just outside the outer limbus (6.5-7.2 mm), within 45 degrees of -x
   // (shadowed) and of +x (lit).
@@ -339,12 +346,14 @@ TEST_CASE("the limbal arc: under a side light the shadowed limbus is lit only th
     return row;
   };
   const Row on = run(true, true), off = run(false, true), lambert = run(false, false);
-  for (const auto& [name, r] : {std::pair<const char*, const Row&>{"arc on", on}, {"arc off", off}, {"Lambert", lambert}})
-    std::printf("side-lit eye mesh (%s): shadowed limbus %.4f %.4f %.4f, lit limbus %.4f %.4f %.4f, limbalArc AOV "
-                "shadowed %.4f lit %.4f; %lld walks (%lld teleported, %lld capped), %.2f s\n",
-                name, r.shadow.x, r.shadow.y, r.shadow.z, r.lit.x, r.lit.y, r.lit.z, r.arcShadow.x, r.arcLit.x,
-                (long long)r.stats.scleraWalks, (long long)r.stats.teleportedWalks, (long long)r.stats.cappedWalks,
-                r.stats.seconds);
+  for (const auto& [name, r] :
+       {std::pair<const char*, const Row&>{"arc on", on}, {"arc off", off}, {"Lambert", lambert}})
+    std::printf(
+        "side-lit eye mesh (%s): shadowed limbus %.4f %.4f %.4f, lit limbus %.4f %.4f %.4f, limbalArc AOV "
+        "shadowed %.4f lit %.4f; %lld walks (%lld teleported, %lld capped), %.2f s\n",
+        name, r.shadow.x, r.shadow.y, r.shadow.z, r.lit.x, r.lit.y, r.lit.z, r.arcShadow.x, r.arcLit.x,
+        (long long)r.stats.scleraWalks, (long long)r.stats.teleportedWalks, (long long)r.stats.cappedWalks,
+        r.stats.seconds);
   std::printf("shadowed limbus, arc on / off: %.1f (red); shadowed / lit with the arc: %.3f, without: %.3f\n",
               on.shadow.x / off.shadow.x, on.shadow.x / on.lit.x, off.shadow.x / off.lit.x);
   // The arc: the shadowed limbus is several times brighter with the cylinder (measured ~10x), and
@@ -388,7 +397,8 @@ TEST_CASE("sclera walks run only for eye meshes with scattering on, and bad mean
   auto random = [&] { return eyelib::UniformAt(1, 0, dim++); };
   const glm::dvec3 entry(7, 0, -1.5);
   for (const glm::dvec3 mfp : {glm::dvec3(0, 1, 1), glm::dvec3(1, -1, 1), glm::dvec3(1, 1, NAN)}) {
-    const ScleraExit e = ScatterInSclera(mesh.Eye(), entry, glm::dvec3(0, 0, -1), glm::dvec3(0.8), mfp, boundary, random);
+    const ScleraExit e =
+        ScatterInSclera(mesh.Eye(), entry, glm::dvec3(0, 0, -1), glm::dvec3(0.8), mfp, boundary, random);
     CHECK(e.status == eyelib::WalkStatus::Invalid);
     CHECK(e.weight == glm::dvec3(0));
   }

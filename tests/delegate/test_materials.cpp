@@ -13,11 +13,11 @@
 #include "scene_helpers.h"
 #include "test_support.h"
 
-#include <catch2/catch.hpp>
 #include <eyelib/optics.h>
 #include <eyelib/random.h>
 #include <eyelib/sampling.h>
 #include <unistd.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -35,7 +35,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 using test::ErrorOf;
 using test::ScratchDir;
-
 
 }  // namespace
 
@@ -100,10 +99,10 @@ TEST_CASE("the BSDF is reciprocal and, with ior 1, exactly Lambert", "[bsdf]") {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
   const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, -0.2, 0.9));
-  for (const PreviewSurface& s : {Surface({0.5, 0.3, 0.2}, 0.3, 0), Surface({0.9, 0.6, 0.2}, 0.6, 1),
-                                  Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5),
-                                  Coated(Surface({0.5, 0.3, 0.2}, 0.5, 0), 0.8, 0.3),
-                                  SpecularWorkflow({0.4, 0.5, 0.6}, 0.4, {0.9, 0.5, 0.1})}) {
+  for (const PreviewSurface& s :
+       {Surface({0.5, 0.3, 0.2}, 0.3, 0), Surface({0.9, 0.6, 0.2}, 0.6, 1),
+        Surface({0.7, 0.7, 0.7}, 0.1, 0.4, 0.6, 1.33), Surface({1, 1, 1}, 1, 0.5),
+        Coated(Surface({0.5, 0.3, 0.2}, 0.5, 0), 0.8, 0.3), SpecularWorkflow({0.4, 0.5, 0.6}, 0.4, {0.9, 0.5, 0.1})}) {
     for (int i = 0; i < 200; ++i) {
       glm::dvec3 t, b;
       eyelib::OrthonormalBasis(n, &t, &b);
@@ -114,7 +113,8 @@ TEST_CASE("the BSDF is reciprocal and, with ior 1, exactly Lambert", "[bsdf]") {
       const glm::dvec3 wo = random(), wi = random();
       const glm::dvec3 f1 = EvalPreviewSurface(s, n, wo, wi), f2 = EvalPreviewSurface(s, n, wi, wo);
       for (int c = 0; c < 3; ++c) {
-        INFO("roughness " << s.roughness << " metallic " << s.metallic << " f(wo,wi) " << f1[c] << " f(wi,wo) " << f2[c]);
+        INFO("roughness " << s.roughness << " metallic " << s.metallic << " f(wo,wi) " << f1[c] << " f(wi,wo) "
+                          << f2[c]);
         REQUIRE(f1[c] == Approx(f2[c]).epsilon(1e-9).margin(1e-12));
       }
     }
@@ -130,15 +130,15 @@ TEST_CASE("the BSDF's pdf integrates to the probability that a sample is a non-d
           "[bsdf]") {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
-  for (const PreviewSurface& s : {Surface({0.5, 0.5, 0.5}, 0.5, 0, 1, 1.0), Surface({0.5, 0.4, 0.3}, 0.3, 0),
-                                  Surface({0.9, 0.9, 0.9}, 0.6, 1), Surface({1, 1, 1}, 1, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5),
-                                  Coated(Surface({0.5, 0.4, 0.3}, 0.3, 0), 1, 0.5),
-                                  Coated(Surface({0.5, 0.4, 0.3}, 0.5, 1), 0.5, 0.01),
-                                  SpecularWorkflow({0.5, 0.4, 0.3}, 0.3, {0.2, 0.6, 0.9})}) {
+  for (const PreviewSurface& s :
+       {Surface({0.5, 0.5, 0.5}, 0.5, 0, 1, 1.0), Surface({0.5, 0.4, 0.3}, 0.3, 0), Surface({0.9, 0.9, 0.9}, 0.6, 1),
+        Surface({1, 1, 1}, 1, 1), Surface({0.6, 0.6, 0.6}, 0.4, 0.5, 0.7, 1.5),
+        Coated(Surface({0.5, 0.4, 0.3}, 0.3, 0), 1, 0.5), Coated(Surface({0.5, 0.4, 0.3}, 0.5, 1), 0.5, 0.01),
+        SpecularWorkflow({0.5, 0.4, 0.3}, 0.3, {0.2, 0.6, 0.9})}) {
     for (double cosO : {0.9, 0.4, 0.1}) {
       const glm::dvec3 wo = DirectionAt(cosO, 0.3);
-      const double integral = IntegrateHemisphere([&](const glm::dvec3& wi) { return PdfPreviewSurface(s, kUp, wo, wi); });
+      const double integral =
+          IntegrateHemisphere([&](const glm::dvec3& wi) { return PdfPreviewSurface(s, kUp, wo, wi); });
       const int n = 100000;
       int smooth = 0;
       for (int i = 0; i < n; ++i) {
@@ -158,10 +158,10 @@ TEST_CASE("the BSDF's pdf integrates to the probability that a sample is a non-d
 TEST_CASE("a sampled weight is f cos / pdf, and sampling averages to the quadrature albedo", "[bsdf]") {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 1);
-  for (const PreviewSurface& s : {Surface({0.5, 0.4, 0.3}, 0.3, 0), Surface({0.9, 0.7, 0.5}, 0.6, 1),
-                                  Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0),
-                                  Coated(Surface({0.5, 0.4, 0.3}, 0.6, 0), 1, 0.25),
-                                  SpecularWorkflow({0.6, 0.5, 0.4}, 0.35, {0.3, 0.5, 0.7})}) {
+  for (const PreviewSurface& s :
+       {Surface({0.5, 0.4, 0.3}, 0.3, 0), Surface({0.9, 0.7, 0.5}, 0.6, 1),
+        Surface({0.6, 0.6, 0.6}, 0.2, 0.5, 0.7, 1.5), Surface({0.8, 0.8, 0.8}, 0.15, 0),
+        Coated(Surface({0.5, 0.4, 0.3}, 0.6, 0), 1, 0.25), SpecularWorkflow({0.6, 0.5, 0.4}, 0.35, {0.3, 0.5, 0.7})}) {
     for (double cosO : {0.95, 0.5, 0.15}) {
       const glm::dvec3 wo = DirectionAt(cosO, 1.1);
       const int n = 100000;
@@ -208,7 +208,8 @@ TEST_CASE("white-furnace albedo of a white metal: at most 1, at least 0.9 when s
   CHECK(HasSmoothLobe(Surface({1, 1, 1}, 0.5, 1), kUp, DirectionAt(0.5, 0)));
 }
 
-TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most what arrives, at every angle", "[bsdf]") {
+TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most what arrives, at every angle",
+          "[bsdf]") {
   // By sampling (the weights are f cos / pdf, checked above; quadrature cannot resolve a narrow lobe
   // at grazing incidence). The weights are bounded, so 1% covers the noise of 40000 samples.
   std::mt19937_64 rng(13);
@@ -229,8 +230,10 @@ TEST_CASE("a white dielectric (diffuse under a specular coat) reflects at most w
       }
 }
 
-TEST_CASE("a clearcoat adds Schlick's 4% white reflection at normal incidence and takes it from what lies below, and "
-          "the specular workflow reflects specularColor", "[bsdf]") {
+TEST_CASE(
+    "a clearcoat adds Schlick's 4% white reflection at normal incidence and takes it from what lies below, and "
+    "the specular workflow reflects specularColor",
+    "[bsdf]") {
   std::mt19937_64 rng(17);
   const glm::dvec3 normal = DirectionAt(1, 0), grazing = DirectionAt(0.2, 0);
   // Over a black, non-reflecting base (ior 1), a mirror coat reflects exactly clearcoat x Schlick(0.04).
@@ -313,7 +316,8 @@ TEST_CASE("the BSDF never returns NaN or infinity, at grazing angles and for mir
     for (double metallic : {0.0, 1.0})
       for (double opacity : {0.0, 0.5, 1.0})
         for (double cosO : {1.0, 1e-3, 1e-8, 1e-12, 0.0, -0.1}) {
-          const PreviewSurface s = Coated(Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5), metallic, roughness);
+          const PreviewSurface s =
+              Coated(Surface({0.8, 0.5, 0.0}, roughness, metallic, opacity, 1.5), metallic, roughness);
           const glm::dvec3 wo = glm::normalize(DirectionAt(std::abs(cosO), 0.4) * glm::dvec3(1, 1, cosO < 0 ? -1 : 1));
           for (int i = 0; i < 200; ++i) {
             BsdfSample bs;
@@ -344,16 +348,21 @@ std::shared_ptr<const Texture> TestDomeImage() {
     for (int x = 0; x < w; ++x) {
       const double u = (x + 0.5) / w, v = 1 - (y + 0.5) / h;
       glm::vec3 c(0.2f);
-      if (v > 0.9) c = {1, 1, 0};
-      else if (std::abs(u - 0.25) < 0.05) c = {1, 0, 0};
-      else if (std::abs(u - 0.5) < 0.05) c = {0, 1, 0};
-      else if (std::abs(u - 0.75) < 0.05) c = {0, 0, 1};
+      if (v > 0.9)
+        c = {1, 1, 0};
+      else if (std::abs(u - 0.25) < 0.05)
+        c = {1, 0, 0};
+      else if (std::abs(u - 0.5) < 0.05)
+        c = {0, 1, 0};
+      else if (std::abs(u - 0.75) < 0.05)
+        c = {0, 0, 1};
       if (x == 40 && y == 20) c = glm::vec3(500);
       const std::size_t i = std::size_t(y) * w + x;
       r[i] = c.r, g[i] = c.g, b[i] = c.b;
     }
   static const std::string path = [&] {
-    const std::string p = (fs::temp_directory_path() / ("hdeye_test_dome_" + std::to_string(getpid()) + ".exr")).string();
+    const std::string p =
+        (fs::temp_directory_path() / ("hdeye_test_dome_" + std::to_string(getpid()) + ".exr")).string();
     WriteExr(p, w, h, {{"R", r}, {"G", g}, {"B", b}});
     return p;
   }();
@@ -389,8 +398,8 @@ TEST_CASE("the dome's lat-long image follows UsdLux: +y at the top row, +z at u 
   CHECK(DomeRadiance(dome, {0, -1, 0}) == scale * glm::dvec3(0, 1, 0));  // the bands run to the -y pole
   CHECK(DomeRadiance(dome, glm::normalize(glm::dvec3(-1, -0.2, -1))) == scale * glm::dvec3(glm::vec3(0.2f)));
   // The light's transform rotates the dome: 90 deg about x takes its +y pole to world +z.
-  const RenderLight rotated = TexturedDome(glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0),
-                                                      glm::dvec4(0, -1, 0, 0), glm::dvec4(0, 0, 0, 1)));
+  const RenderLight rotated = TexturedDome(
+      glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0), glm::dvec4(0, 0, 0, 1)));
   CHECK(DomeRadiance(rotated, {0, 0, 1}) == scale * glm::dvec3(1, 1, 0));
   CHECK(DomeRadiance(rotated, {1, 0, 0}) == scale * glm::dvec3(1, 0, 0));
   CHECK(DomeRadiance(rotated, {0, -1, 0}) == scale * glm::dvec3(0, 1, 0));
@@ -423,7 +432,8 @@ TEST_CASE("dome importance sampling: the pdf integrates to 1 and SampleLight's p
   const int n = 200000;
   double estimate = 0;
   for (int k = 0; k < n; ++k) {
-    const LightSample s = SampleLight(dome, glm::dvec3(1, 2, 3), eyelib::UniformAt(1, 0, 2 * k), eyelib::UniformAt(1, 0, 2 * k + 1));
+    const LightSample s =
+        SampleLight(dome, glm::dvec3(1, 2, 3), eyelib::UniformAt(1, 0, 2 * k), eyelib::UniformAt(1, 0, 2 * k + 1));
     REQUIRE(s.pdf > 0);
     REQUIRE(std::isinf(s.distance));
     double pdf = 0;
@@ -555,7 +565,8 @@ TEST_CASE("a white diffuse plane under a textured dome lit above the horizon ret
     sky.color = glm::vec3(0.5f);
     sky.intensity = 2;
     sky.exposure = 1;
-    const Matrix4d rotateX90(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0), glm::dvec4(0, 0, 0, 1));
+    const Matrix4d rotateX90(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0),
+                             glm::dvec4(0, 0, 0, 1));
     s.scene.AddLight("/sky", primTypes::kDomeLight, sky, rotateX90);
     CameraParams ortho;
     ortho.orthographic = true;
@@ -567,7 +578,8 @@ TEST_CASE("a white diffuse plane under a textured dome lit above the horizon ret
     const RenderStats stats = s.Render();
     int n = 0;
     results[mis] = MeanWhereAlpha(s.Buffer("/color"), 1, 1, &n);
-    std::printf("plane under a textured dome, MIS %s: %.5f (expected %.5f)\n", mis ? "on" : "off", results[mis], expected);
+    std::printf("plane under a textured dome, MIS %s: %.5f (expected %.5f)\n", mis ? "on" : "off", results[mis],
+                expected);
     CHECK(n == 64);
     CHECK(stats.nonFiniteSamples == 0);
     CHECK(results[mis] == Approx(expected).epsilon(mis ? 0.005 : 0.015));

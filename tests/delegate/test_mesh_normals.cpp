@@ -150,9 +150,10 @@ TEST_CASE("a level-3 subdivided cube shades with its limit normals, smooth acros
     }
   REQUIRE(steps > 15000);
 
-  std::printf("level-3 cube: %zu object pixels; facet angles median %.2f max %.2f deg; shading vs limit normal "
-              "worst %.3f deg over 500 hits; worst adjacent-pixel step %.3f deg over %d pairs\n",
-              object.size(), medianFacet, facetAngles.back(), worstLimit, worstStep, steps);
+  std::printf(
+      "level-3 cube: %zu object pixels; facet angles median %.2f max %.2f deg; shading vs limit normal "
+      "worst %.3f deg over 500 hits; worst adjacent-pixel step %.3f deg over %d pairs\n",
+      object.size(), medianFacet, facetAngles.back(), worstLimit, worstStep, steps);
   CHECK(worstLimit < 2.0);
   CHECK(worstStep < 0.25 * medianFacet);
 }
@@ -176,8 +177,8 @@ TEST_CASE("a polygon UV sphere's vertex normals are radial", "[normals]") {
 TEST_CASE("moving points moves the shading normals with them", "[normals]") {
   // Points moved by a similarity (rotation and scale) must render exactly as the unmoved points under
   // that transform: same normal AOV. Refined (limit normals) and polygon (smooth normals) meshes alike.
-  const Matrix4d motion = glm::scale(glm::rotate(Matrix4d(1.0), 0.5, glm::normalize(glm::dvec3(1, 2, 0.5))),
-                                     glm::dvec3(1.2));
+  const Matrix4d motion =
+      glm::scale(glm::rotate(Matrix4d(1.0), 0.5, glm::normalize(glm::dvec3(1, 2, 0.5))), glm::dvec3(1.2));
   for (int level : {0, 3}) {
     MeshTopology cube;
     std::vector<Vec3f> points, moved;
@@ -211,9 +212,10 @@ TEST_CASE("moving points moves the shading normals with them", "[normals]") {
         const std::size_t i = std::size_t(y) * s.size + x;
         if (beforeOn[i]) turned = std::max(turned, AngleDeg(s.Normal(x, y), before[i]));
       }
-    std::printf("cube level %d moved by SetPoints vs by transform: %d pixels, worst normal difference %.4f deg "
-                "(normals turned by up to %.1f deg)\n",
-                level, both, worst, turned);
+    std::printf(
+        "cube level %d moved by SetPoints vs by transform: %d pixels, worst normal difference %.4f deg "
+        "(normals turned by up to %.1f deg)\n",
+        level, both, worst, turned);
     REQUIRE(both > 500);
     CHECK(worst < 0.05);
     CHECK(turned > 10);  // the AOV did change

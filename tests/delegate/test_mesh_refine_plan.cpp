@@ -73,13 +73,13 @@ TEST_CASE("a mesh a few pixels wide is planned and rendered at level 0, and one 
 
 TEST_CASE("an instanced mesh is planned by its largest instance on screen") {
   CubeScene crowd(0.05, "/inst");
-  crowd.scene.AddInstancer("/inst", {glm::translate(Matrix4d(1.0), glm::dvec3(-1, 0, 0)),
-                                     glm::scale(Matrix4d(1.0), glm::dvec3(200.0))});
+  crowd.scene.AddInstancer(
+      "/inst", {glm::translate(Matrix4d(1.0), glm::dvec3(-1, 0, 0)), glm::scale(Matrix4d(1.0), glm::dvec3(200.0))});
   const RenderPlan plan = crowd.pass.Plan("/cam", 128, 128, PlanOverrides{});
   const MeshPlan& m = crowd.Planned(plan);
   INFO(m.why);
   CHECK(m.instances == 2);
-  CHECK(m.refineLevel == 2);  // the 200x instance surrounds the camera
+  CHECK(m.refineLevel == 2);                            // the 200x instance surrounds the camera
   CHECK(m.pixels == Approx(std::hypot(128.0, 128.0)));  // it reaches the camera plane
 }
 

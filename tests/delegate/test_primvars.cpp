@@ -59,7 +59,8 @@ Primvar Make(Interpolation interpolation, int components, std::vector<float> val
 void ReverseWinding(MeshTopology* topology) {
   std::size_t base = 0;
   for (int n : topology->faceVertexCounts) {
-    std::reverse(topology->faceVertexIndices.begin() + long(base), topology->faceVertexIndices.begin() + long(base + n));
+    std::reverse(topology->faceVertexIndices.begin() + long(base),
+                 topology->faceVertexIndices.begin() + long(base + n));
     base += std::size_t(n);
   }
 }
@@ -118,8 +119,9 @@ TEST_CASE("displayColor primvars are interpolated at the hit with its barycentri
   SECTION("faceVarying on one quad: the centre lies on the diagonal, halfway between corners 0 and 2") {
     test::Quad(1, &topology, &points);
     Scene s(topology, points);
-    s.scene.SetPrimvar("/mesh", "displayColor",
-                       Make(Interpolation::FaceVarying, 3, {0.1f, 0.2f, 0.3f, 0.9f, 0.0f, 0.0f, 0.5f, 0.6f, 0.7f, 0.0f, 0.9f, 0.0f}));
+    s.scene.SetPrimvar(
+        "/mesh", "displayColor",
+        Make(Interpolation::FaceVarying, 3, {0.1f, 0.2f, 0.3f, 0.9f, 0.0f, 0.0f, 0.5f, 0.6f, 0.7f, 0.0f, 0.9f, 0.0f}));
     CHECK(s.Render().nonFiniteSamples == 0);
     const glm::dvec3 centre = s.Pixel("/albedo", Scene::kSize / 2, Scene::kSize / 2);
     std::printf("faceVarying displayColor at the quad centre: (%.5f %.5f %.5f), expected (0.3 0.4 0.5)\n", centre.x,
@@ -235,8 +237,9 @@ TEST_CASE("authored normals shade polygon meshes, and subdivided meshes keep the
   SECTION("faceVarying normals per corner") {
     Scene s(topology, points);
     // Corners 0 and 2 (the diagonal through the centre) lean to -x and +x: the centre averages to +z.
-    s.scene.SetPrimvar("/mesh", "normals",
-                       Make(Interpolation::FaceVarying, 3, {-0.6f, 0, 0.8f, 0, 0.6f, 0.8f, 0.6f, 0, 0.8f, 0, -0.6f, 0.8f}));
+    s.scene.SetPrimvar(
+        "/mesh", "normals",
+        Make(Interpolation::FaceVarying, 3, {-0.6f, 0, 0.8f, 0, 0.6f, 0.8f, 0.6f, 0, 0.8f, 0, -0.6f, 0.8f}));
     s.Render();
     REQUIRE(s.GetMesh().AuthoredNormals().size() == 6);
     CHECK(s.GetMesh().AuthoredNormals()[0].x == Approx(-0.6f));

@@ -115,8 +115,7 @@ TEST_CASE("a small key light seen through the cornea gets MNEE", "[plan]") {
   CHECK_FALSE(e.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
 }
 
-TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), and a flag sets it per eye",
-          "[plan]") {
+TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), and a flag sets it per eye", "[plan]") {
   Scene s(40);
   s.SphereLight("/key", 2, 75);
   const EyePlan planned = OnlyEye(s.Plan(64));
@@ -134,8 +133,7 @@ TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), a
   CHECK_THROWS_AS(s.Plan(64, flag), std::invalid_argument);
 }
 
-TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size measured, and one path below",
-          "[plan]") {
+TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size measured, and one path below", "[plan]") {
   // 89 deg: one path's equal-time efficiency 1.22x all-solutions' at 100 px, 0.94x at 200 px.
   Scene s(40);
   s.SphereLight("/key", 2, 85);
@@ -217,7 +215,8 @@ TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk 
   CHECK(e.sss == ScleraModel::RandomWalk);
   CHECK(e.limbalArc);
   CHECK(plan.scleraScattering);
-  CHECK(e.refineLevel == PlanRules{}.refineMaxLevel);  // large on screen: the planner's cap (sweep refine), under the ceiling 3
+  CHECK(e.refineLevel ==
+        PlanRules{}.refineMaxLevel);  // large on screen: the planner's cap (sweep refine), under the ceiling 3
   CHECK(e.refineLevel == 2);
 
   Scene frontal(60, /*mesh=*/true);
@@ -296,8 +295,8 @@ TEST_CASE("explicit flags and authored values win over the planner, and the reas
   Scene arc(60, /*mesh=*/true);
   arc.SphereLight("/key", 2, 60);
   PlanOverrides authored;
-  authored.limbalArc = true;                      // a flag says on ...
-  authored.authored["/Eye"].limbalArc = false;    // ... the artist authored off on this eye: the artist wins
+  authored.limbalArc = true;                    // a flag says on ...
+  authored.authored["/Eye"].limbalArc = false;  // ... the artist authored off on this eye: the artist wins
   const EyePlan& a = OnlyEye(arc.Plan(512, authored));
   CHECK_FALSE(a.limbalArc);
   CHECK(a.why.at("limbalArc").rfind("authored", 0) == 0);
@@ -354,8 +353,7 @@ TEST_CASE("EXR string header attributes round-trip, and required names are refus
   const auto attributes = ReadExrStringAttributes(path);
   REQUIRE(attributes.count("eyerender:plan"));
   CHECK(attributes.at("eyerender:plan") == json);
-  CHECK_THROWS_WITH(WriteExr(path, 2, 1, {{"R", {0.5f, 1.0f}}}, {{"channels", "x"}}),
-                    Catch::Contains("required"));
+  CHECK_THROWS_WITH(WriteExr(path, 2, 1, {{"R", {0.5f, 1.0f}}}, {{"channels", "x"}}), Catch::Contains("required"));
   CHECK(ReadExrStringAttributes(path).at("eyerender:plan") == json);  // the failed write left the file alone
   std::filesystem::remove_all(dir);
 }
@@ -363,8 +361,8 @@ TEST_CASE("EXR string header attributes round-trip, and required names are refus
 TEST_CASE("a large light keeps MNEE near the gaze and loses it at grazing angles, as sweep 2 measured", "[plan]") {
   const PlanRules rules;
   Scene s(40);
-  s.SphereLight("/near", 100, 30);     // 0.84 sr, 30 deg: MNEE measured ahead (x1.7)
-  s.SphereLight("/grazing", 100, 75);  // 0.84 sr, 75 deg: MNEE measured behind (x0.78)
+  s.SphereLight("/near", 100, 30);       // 0.84 sr, 30 deg: MNEE measured ahead (x1.7)
+  s.SphereLight("/grazing", 100, 75);    // 0.84 sr, 75 deg: MNEE measured behind (x0.78)
   s.SphereLight("/huge", 195, 30, 200);  // about 4.8 sr: behind (x0.74 at 4.3 sr)
   const EyePlan& e = OnlyEye(s.Plan(64));
   REQUIRE(e.lights.size() == 3);
@@ -498,9 +496,10 @@ TEST_CASE("two eyes in one frame render each with its own plan: MNEE on the near
   CHECK(farGlobal.iris > 0);
 }
 
-TEST_CASE("per-light furnace: a closed white eye in a uniform dome returns the dome whether MNEE or the exiting "
-          "paths count the dome, never both",
-          "[plan][render]") {
+TEST_CASE(
+    "per-light furnace: a closed white eye in a uniform dome returns the dome whether MNEE or the exiting "
+    "paths count the dome, never both",
+    "[plan][render]") {
   // The dome is MNEE's (flag) or the exiting paths' (the plan's own choice). If the path leaving the iris
   // counted a light MNEE counted, the mean would rise by MNEE's share of it (S, printed); if neither counted
   // it, it would fall by S. Both must return the dome (1) and agree far inside S.
@@ -563,7 +562,7 @@ TEST_CASE("a small key and a dome split per light (key MNEE, dome BSDF) agree wi
     const EyePlan e = OnlyEye(plan);
     REQUIRE(e.lights.size() == 2);
     REQUIRE(e.lights[0].strategy == (allMnee ? LightStrategy::Mnee : LightStrategy::Bsdf));  // the dome
-    REQUIRE(e.lights[1].strategy == LightStrategy::Mnee);                        // the key
+    REQUIRE(e.lights[1].strategy == LightStrategy::Mnee);                                    // the key
     RenderSettings& settings = s.delegate.Settings();
     settings.samplesPerPixel = 256;
     settings.maxDepth = 16;
@@ -621,8 +620,9 @@ TEST_CASE("a tiny eye mesh gets a Lambertian sclera, no limbal arc and refine le
   CHECK(e.why.at("refineLevel").find("sweep refine") != std::string::npos);
 }
 
-TEST_CASE("a large side-lit eye mesh gets the walk, the limbal arc and the ceiling level, and a front light keeps the arc",
-          "[plan]") {
+TEST_CASE(
+    "a large side-lit eye mesh gets the walk, the limbal arc and the ceiling level, and a front light keeps the arc",
+    "[plan]") {
   Scene s(60, /*mesh=*/true);
   s.SphereLight("/key", 2, 70);
   PlanOverrides overrides;
@@ -719,8 +719,8 @@ TEST_CASE("applying a plan that changes one eye mesh's refine level re-refines t
   topology.refineLevel = 2;  // the populate (--complexity) level
   EyeParams eye;
   eye.modelTransform = Translate(0, 0, 12);
-  s.scene.AddEyeMesh("/Near", topology, points, eye);                              // a close-up
-  s.scene.AddEyeMesh("/Far", topology, points, eye, Translate(30, 0, -20000));      // a few pixels wide
+  s.scene.AddEyeMesh("/Near", topology, points, eye);                           // a close-up
+  s.scene.AddEyeMesh("/Far", topology, points, eye, Translate(30, 0, -20000));  // a few pixels wide
   PlanRules rules;
   rules.refinePixelsLevel1 = 16;  // the mechanics, not the thresholds: the near eye plans >= 2, the far one 0
   PlanOverrides overrides;

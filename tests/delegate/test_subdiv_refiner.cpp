@@ -29,8 +29,7 @@ struct Mesh {
 /// The cube [-1, 1]^3, faces counter-clockwise seen from outside.
 Mesh Cube() {
   Mesh m;
-  m.points = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-              {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  m.points = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
   m.topology.faceVertexCounts = {4, 4, 4, 4, 4, 4};
   m.topology.faceVertexIndices = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 0, 4, 7, 3, 1, 2, 6, 5};
   return m;
@@ -186,8 +185,8 @@ TEST_CASE("the cube's limit surface lies in the analytic radius band and keeps t
     // Symmetric: mirror images in each axis plane and the x <-> y swap are again limit points.
     float asymmetry = 0;
     for (const glm::vec3& p : limit)
-      for (const glm::vec3& q : {glm::vec3(-p.x, p.y, p.z), glm::vec3(p.x, -p.y, p.z), glm::vec3(p.x, p.y, -p.z),
-                                 glm::vec3(p.y, p.x, p.z)})
+      for (const glm::vec3& q :
+           {glm::vec3(-p.x, p.y, p.z), glm::vec3(p.x, -p.y, p.z), glm::vec3(p.x, p.y, -p.z), glm::vec3(p.y, p.x, p.z)})
         asymmetry = std::max(asymmetry, NearestDistance(q, limit));
     INFO("largest distance from a mirrored limit point to the limit points: " << asymmetry);
     CHECK(asymmetry < tol);
@@ -351,8 +350,7 @@ TEST_CASE("bad topology throws a one-line message naming the problem", "[subdiv]
   const SubdivRefiner r(cube, 8, 1);
   std::vector<glm::vec3> out, normals;
   CHECK_THROWS_WITH(r.EvaluatePoints(std::vector<glm::vec3>(7), &out), Catch::Contains("got 7 coarse points"));
-  CHECK_THROWS_WITH(r.EvaluateLimit(std::vector<glm::vec3>(9), &out, &normals),
-                    Catch::Contains("got 9 coarse points"));
+  CHECK_THROWS_WITH(r.EvaluateLimit(std::vector<glm::vec3>(9), &out, &normals), Catch::Contains("got 9 coarse points"));
   float buffer[64] = {};
   CHECK_THROWS_WITH(r.EvaluatePrimvar(buffer, 0, buffer), Catch::Contains("primvar width is 0"));
 }
@@ -365,8 +363,8 @@ TEST_CASE("refinement commutes with translation, rotation and scaling (affine in
   }();
   const SubdivRefiner r(mesh.topology, static_cast<int>(mesh.points.size()), 2);
   const float angle = 0.7f, scale = 2.5f;
-  const glm::mat3 rotation(glm::vec3(std::cos(angle), std::sin(angle), 0), glm::vec3(-std::sin(angle), std::cos(angle), 0),
-                           glm::vec3(0, 0, 1));
+  const glm::mat3 rotation(glm::vec3(std::cos(angle), std::sin(angle), 0),
+                           glm::vec3(-std::sin(angle), std::cos(angle), 0), glm::vec3(0, 0, 1));
   const glm::mat3 linear = glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0.3f, 1, 0), glm::vec3(0, 0, 0.5f)) * scale;
   const glm::vec3 offset(10, -4, 2.5f);
 
@@ -415,7 +413,8 @@ TEST_CASE("a primvar refines component by component like points", "[subdiv]") {
   const SubdivRefiner r(mesh.topology, 8, 2);
   // Width 4: the point in the first three floats, a ramp in the fourth.
   std::vector<float> coarse, refined(size_t(r.RefinedPointCount()) * 4);
-  for (int i = 0; i < 8; ++i) coarse.insert(coarse.end(), {mesh.points[i].x, mesh.points[i].y, mesh.points[i].z, float(i)});
+  for (int i = 0; i < 8; ++i)
+    coarse.insert(coarse.end(), {mesh.points[i].x, mesh.points[i].y, mesh.points[i].z, float(i)});
   r.EvaluatePrimvar(coarse.data(), 4, refined.data());
   const std::vector<glm::vec3> points = Refined(r, mesh.points);
   float worst = 0;

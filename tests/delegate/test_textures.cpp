@@ -2,22 +2,22 @@
 // UsdUVTexture's wrap modes, scale, bias, fallback and colour spaces, unreadable files, footprint filtering
 // (the ray cone), and the material inputs they drive in renders (emission, normal maps, cut-outs). Every image
 // is written here, by OpenImageIO (libjpeg for the CMYK JPEG, which OIIO 2.4 cannot write).
+#include "hdeye/hd/renderIndex.h"
 #include "hdeye/image/imageWriter.h"
-#include "hdeye/scene/inMemorySceneDelegate.h"
-#include "hdeye/render/materialShading.h"
-#include "hdeye/render/rayCone.h"
+#include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
-#include "hdeye/hd/renderIndex.h"
+#include "hdeye/render/materialShading.h"
+#include "hdeye/render/rayCone.h"
 #include "hdeye/render/renderLight.h"
-#include "hdeye/pass/renderPass.h"
 #include "hdeye/render/texture.h"
+#include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 #include "test_support.h"
 
 #include <OpenImageIO/imageio.h>
-#include <catch2/catch.hpp>
 #include <jpeglib.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -121,7 +121,8 @@ TEST_CASE("a JPEG texture decodes from sRGB under auto, with t = 0 at the bottom
   REQUIRE(t->Valid());
   CHECK(t->Srgb());
   const glm::vec4 top = At(*t, 0.5f, 0.75f), bottom = At(*t, 0.5f, 0.25f);
-  INFO("top " << top.r << " " << top.g << " " << top.b << ", bottom " << bottom.r << " " << bottom.g << " " << bottom.b);
+  INFO("top " << top.r << " " << top.g << " " << top.b << ", bottom " << bottom.r << " " << bottom.g << " "
+              << bottom.b);
   CHECK(top.r == Approx(SrgbDecode(0.8)).margin(0.02));
   CHECK(top.b == Approx(SrgbDecode(0.2)).margin(0.02));
   CHECK(bottom.b == Approx(SrgbDecode(0.8)).margin(0.02));
@@ -179,8 +180,9 @@ TEST_CASE("a CMYK JPEG reads as RGB: no ink is white, full black ink is black", 
 
 TEST_CASE("an EXR texture is read as linear floats, HDR values kept", "[texture]") {
   ScratchDir dir;
-  WriteExr(dir / "t.exr", 4, 4, {{"R", std::vector<float>(16, 2.5f)}, {"G", std::vector<float>(16, 0.25f)},
-                                 {"B", std::vector<float>(16, 7)}});
+  WriteExr(
+      dir / "t.exr", 4, 4,
+      {{"R", std::vector<float>(16, 2.5f)}, {"G", std::vector<float>(16, 0.25f)}, {"B", std::vector<float>(16, 7)}});
   const glm::vec4 c = At(*Texture::Open(Params(dir / "t.exr")), 0.4f, 0.7f);
   CHECK(c.r == Approx(2.5f));
   CHECK(c.g == Approx(0.25f));
@@ -190,8 +192,10 @@ TEST_CASE("an EXR texture is read as linear floats, HDR values kept", "[texture]
 // ---------------------------------------------------------------------------------------------
 // UsdUVTexture's parameters
 
-TEST_CASE("UDIM tiles are picked by 1001 + floor(s) + 10 floor(t), t running up each tile, and a missing tile "
-          "gives the fallback", "[texture]") {
+TEST_CASE(
+    "UDIM tiles are picked by 1001 + floor(s) + 10 floor(t), t running up each tile, and a missing tile "
+    "gives the fallback",
+    "[texture]") {
   ScratchDir dir;
   const glm::vec3 colours[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const int tiles[3] = {1001, 1002, 1011};
@@ -206,10 +210,10 @@ TEST_CASE("UDIM tiles are picked by 1001 + floor(s) + 10 floor(t), t running up 
   params.fallback = {0.1f, 0.2f, 0.3f, 1};
   const auto t = Texture::Open(params);
   REQUIRE(t->Valid());
-  CHECK(At(*t, 0.5f, 0.75f).r == Approx(1));     // 1001, upper half
-  CHECK(At(*t, 0.5f, 0.25f).r == Approx(0.5));   // 1001, lower half
-  CHECK(At(*t, 1.5f, 0.75f).g == Approx(1));     // 1002
-  CHECK(At(*t, 0.5f, 1.75f).b == Approx(1));     // 1011, upper half
+  CHECK(At(*t, 0.5f, 0.75f).r == Approx(1));    // 1001, upper half
+  CHECK(At(*t, 0.5f, 0.25f).r == Approx(0.5));  // 1001, lower half
+  CHECK(At(*t, 1.5f, 0.75f).g == Approx(1));    // 1002
+  CHECK(At(*t, 0.5f, 1.75f).b == Approx(1));    // 1011, upper half
   CHECK(At(*t, 0.5f, 1.25f).b == Approx(0.5));
   CHECK(At(*t, 2.5f, 0.5f) == params.fallback);  // 1003 is not in the set
   const auto none = Texture::Open(Params(dir / "none.<UDIM>.exr"));
@@ -217,8 +221,10 @@ TEST_CASE("UDIM tiles are picked by 1001 + floor(s) + 10 floor(t), t running up 
   CHECK_THAT(none->Error(), Catch::Contains("none.<UDIM>.exr") && Catch::Contains("UDIM"));
 }
 
-TEST_CASE("wrap modes repeat, mirror, clamp and black follow UsdUVTexture outside [0, 1], and useMetadata takes the "
-          "file's wrapmodes, else black", "[texture]") {
+TEST_CASE(
+    "wrap modes repeat, mirror, clamp and black follow UsdUVTexture outside [0, 1], and useMetadata takes the "
+    "file's wrapmodes, else black",
+    "[texture]") {
   ScratchDir dir;
   WriteImage(dir / "h.exr", 8, 8, 1, Halves(8, 8, 1, 0.25f, 0.75f), OIIO::TypeDesc::FLOAT);
   WriteImage(dir / "periodic.exr", 8, 8, 1, Halves(8, 8, 1, 0.25f, 0.75f), OIIO::TypeDesc::FLOAT, "periodic,periodic");
@@ -232,8 +238,8 @@ TEST_CASE("wrap modes repeat, mirror, clamp and black follow UsdUVTexture outsid
   CHECK(At(*with("h.exr", TextureWrap::Mirror), s, t).r == Approx(0.75f));  // mirrored: s = 0.75
   CHECK(At(*with("h.exr", TextureWrap::Clamp), s, t).r == Approx(0.75f));   // the rightmost texels
   CHECK(At(*with("h.exr", TextureWrap::Black), s, t).r == 0);
-  CHECK(At(*with("h.exr", TextureWrap::Black), 0.25f, -0.5f).r == 0);       // t outside too
-  CHECK(At(*with("h.exr", TextureWrap::UseMetadata), s, t).r == 0);         // no metadata: black
+  CHECK(At(*with("h.exr", TextureWrap::Black), 0.25f, -0.5f).r == 0);  // t outside too
+  CHECK(At(*with("h.exr", TextureWrap::UseMetadata), s, t).r == 0);    // no metadata: black
   CHECK(At(*with("periodic.exr", TextureWrap::UseMetadata), s, t).r == Approx(0.25f));
 }
 
@@ -252,8 +258,10 @@ TEST_CASE("scale and bias apply after decoding, and the fallback comes back as a
   CHECK(At(*Texture::Open(p), 0.5f, 0.5f) == p.fallback);
 }
 
-TEST_CASE("a texture that cannot be read is invalid, says why in one line naming the file, and looks up its "
-          "fallback (magenta unless set)", "[texture]") {
+TEST_CASE(
+    "a texture that cannot be read is invalid, says why in one line naming the file, and looks up its "
+    "fallback (magenta unless set)",
+    "[texture]") {
   ScratchDir dir;
   { std::ofstream(dir / "junk.png") << "not a png"; }
   { std::ofstream(dir / "text.tif") << "not a tiff either"; }
@@ -356,9 +364,11 @@ TextureInput Input(const std::string& file, int channel) {
 
 }  // namespace
 
-TEST_CASE("textured roughness, metallic, opacity, ior, diffuseColor, specularColor, clearcoat and clearcoatRoughness "
-          "take the texel of their channel; "
-          "UsdTransform2d scales, rotates and translates st", "[texture][material]") {
+TEST_CASE(
+    "textured roughness, metallic, opacity, ior, diffuseColor, specularColor, clearcoat and clearcoatRoughness "
+    "take the texel of their channel; "
+    "UsdTransform2d scales, rotates and translates st",
+    "[texture][material]") {
   ScratchDir dir;
   // RGBA halves: left (0.2, 0.4, 0.6, 0.8), right (0.9, 0.7, 0.5, 0.3).
   std::vector<float> p;
@@ -516,8 +526,10 @@ TEST_CASE("renders with filtered textures are the same for 1 and 2 threads", "[t
   CHECK(images[0] == images[1]);
 }
 
-TEST_CASE("a tangent-space normal map tilts the shading normal along dp/ds: a plane lit at 60 degrees doubles "
-          "where the map faces the light, and goes black where it faces away", "[texture][render]") {
+TEST_CASE(
+    "a tangent-space normal map tilts the shading normal along dp/ds: a plane lit at 60 degrees doubles "
+    "where the map faces the light, and goes black where it faces away",
+    "[texture][render]") {
   ScratchDir dir;
   const double b = kPi / 3;
   // Tangent-space normals stored raw in [0, 1] (scale 2, bias -1): left half tilted +60 deg about t (towards
@@ -560,7 +572,7 @@ TEST_CASE("a tangent-space normal map tilts the shading normal along dp/ds: a pl
               means[1][0], means[1][1]);
   CHECK(means[0][0] > 0);
   CHECK(means[1][0] / means[0][0] == Approx(1 / std::cos(b)).epsilon(0.02));  // cos 0 over cos 60
-  CHECK(means[1][1] == Approx(0).margin(1e-6));  // 120 degrees from the light
+  CHECK(means[1][1] == Approx(0).margin(1e-6));                               // 120 degrees from the light
 }
 
 TEST_CASE("an opacityThreshold cut-out lets camera rays and shadow rays through where opacity is below it",
@@ -629,15 +641,17 @@ TEST_CASE("an opacityThreshold cut-out lets camera rays and shadow rays through 
   }
 }
 
-TEST_CASE("a rect light's texture shows upright to a viewer facing it (UsdLux: the image's first texel at local "
-          "+x, +y), and its sampled and intersected radiance agree", "[texture][light]") {
+TEST_CASE(
+    "a rect light's texture shows upright to a viewer facing it (UsdLux: the image's first texel at local "
+    "+x, +y), and its sampled and intersected radiance agree",
+    "[texture][light]") {
   ScratchDir dir;
   // Quadrants: top-left red, top-right green, bottom-left blue, bottom-right white (row 0 at the top).
   std::vector<float> p;
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x) {
-      const glm::vec3 c = y < 4 ? (x < 4 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0))
-                                : (x < 4 ? glm::vec3(0, 0, 1) : glm::vec3(1, 1, 1));
+      const glm::vec3 c =
+          y < 4 ? (x < 4 ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0)) : (x < 4 ? glm::vec3(0, 0, 1) : glm::vec3(1, 1, 1));
       p.insert(p.end(), {c.r, c.g, c.b});
     }
   WriteImage(dir / "quads.exr", 8, 8, 3, p, OIIO::TypeDesc::FLOAT);
@@ -646,8 +660,8 @@ TEST_CASE("a rect light's texture shows upright to a viewer facing it (UsdLux: t
   params.width = params.height = 2;
   params.intensity = 3;
   params.textureFile = dir / "quads.exr";
-  const RenderLight light = RenderLight::FromParams(params, Matrix4d(1.0), nullptr,
-                                                    Texture::Open(TextureParams::Image(dir / "quads.exr", TextureWrap::Clamp)));
+  const RenderLight light = RenderLight::FromParams(
+      params, Matrix4d(1.0), nullptr, Texture::Open(TextureParams::Image(dir / "quads.exr", TextureWrap::Clamp)));
   // The light emits along -z: seen from below, looking up +z, local +x is on the viewer's left.
   auto seen = [&](double x, double y) {
     glm::dvec3 radiance(0);
@@ -655,9 +669,9 @@ TEST_CASE("a rect light's texture shows upright to a viewer facing it (UsdLux: t
     REQUIRE(IntersectLight(light, {x, y, -1}, {0, 0, 1}, 1e30, &radiance, &pdf, &distance));
     return radiance;
   };
-  CHECK(seen(0.5, 0.5) == glm::dvec3(3, 0, 0));    // +x, +y: the image's top-left, red
-  CHECK(seen(-0.5, 0.5) == glm::dvec3(0, 3, 0));   // the viewer's top-right: green
-  CHECK(seen(0.5, -0.5) == glm::dvec3(0, 0, 3));   // bottom-left: blue
+  CHECK(seen(0.5, 0.5) == glm::dvec3(3, 0, 0));   // +x, +y: the image's top-left, red
+  CHECK(seen(-0.5, 0.5) == glm::dvec3(0, 3, 0));  // the viewer's top-right: green
+  CHECK(seen(0.5, -0.5) == glm::dvec3(0, 0, 3));  // bottom-left: blue
   CHECK(seen(-0.5, -0.5) == glm::dvec3(3, 3, 3));
   // A sampled point's radiance is what a ray to it finds.
   for (double u1 : {0.1, 0.4, 0.8})

@@ -6,8 +6,8 @@
 #include "hdeye/render/previewSurface.h"
 #include "scene_helpers.h"
 
-#include <catch2/catch.hpp>
 #include <eyelib/optics.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -92,7 +92,7 @@ TEST_CASE("a thin sheet reflects 2R / (1 + R) and passes the rest straight throu
   REQUIRE(SamplePreviewSurface(s, n, wo, false, 0.5, 0.9, 0.5, &sample));  // u1 = 0.9 > R: transmitted
   CHECK(sample.transmitted);
   CHECK(glm::length(sample.wi + wo) < 1e-12);  // straight on: no bending
-  CHECK(sample.weight.x == Approx(1.0));        // not divided by eta^2: nothing was entered
+  CHECK(sample.weight.x == Approx(1.0));       // not divided by eta^2: nothing was entered
 }
 
 TEST_CASE("a sheet of opacity a between a sphere light and a plane passes 1 - a of the light, MIS on and off",

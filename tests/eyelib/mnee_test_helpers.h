@@ -26,9 +26,9 @@ struct CellEstimate {
   double mean = 0, stdError = 0;
 };
 
-inline CellEstimate CellAverageMnee(const eyelib::AnteriorChamber<double>& chamber, const eyelib::IrisGrid& grid,
-                                    int i, int j, const eyelib::EyeLight& light, const eyelib::SeedStrategy& seeds,
-                                    int k = 8, int lightSamples = 1) {
+inline CellEstimate CellAverageMnee(const eyelib::AnteriorChamber<double>& chamber, const eyelib::IrisGrid& grid, int i,
+                                    int j, const eyelib::EyeLight& light, const eyelib::SeedStrategy& seeds, int k = 8,
+                                    int lightSamples = 1) {
   const eyelib::Vec2<double> c = grid.CellCenter(i, j);
   const double h = grid.CellSize();
   double sum = 0, sumSq = 0;

@@ -17,15 +17,17 @@ using LD = long double;
 
 struct ReferenceHit {
   bool hit = false;
-  double t = 0;                 ///< in units of |dir|
-  eyelib::Vec3<double> point;   ///< mm
-  double rimMargin = 1e300;     ///< mm: how near the ray passes the rim circle (|g| where it crosses r = rim)
-  double tangencyMargin = 1e300;///< mm: how near the ray is to grazing the surface (|min g| inside the cap)
-  double originMargin = 1e300;  ///< mm: how near the origin is to the surface (rays not said to start on it)
-  bool ambiguous = false;       ///< the answer is not determined at double precision
+  double t = 0;                   ///< in units of |dir|
+  eyelib::Vec3<double> point;     ///< mm
+  double rimMargin = 1e300;       ///< mm: how near the ray passes the rim circle (|g| where it crosses r = rim)
+  double tangencyMargin = 1e300;  ///< mm: how near the ray is to grazing the surface (|min g| inside the cap)
+  double originMargin = 1e300;    ///< mm: how near the origin is to the surface (rays not said to start on it)
+  bool ambiguous = false;         ///< the answer is not determined at double precision
 
   /// Whether hit-or-miss is decided by more than `tolerance` mm of geometry.
-  bool Decided(double tolerance) const { return rimMargin > tolerance && tangencyMargin > tolerance && originMargin > tolerance; }
+  bool Decided(double tolerance) const {
+    return rimMargin > tolerance && tangencyMargin > tolerance && originMargin > tolerance;
+  }
 };
 
 inline LD PaperSag(eyelib::CorneaModel model, LD r) {
@@ -81,12 +83,14 @@ inline ReferenceHit ReferenceIntersect(eyelib::CorneaModel model, const eyelib::
   const LD invPhi = (std::sqrt(5.0L) - 1) / 2;
   for (int i = 0; i < 400 && hi - lo > 0; ++i) {
     const LD m1 = hi - invPhi * (hi - lo), m2 = lo + invPhi * (hi - lo);
-    if (g(m1) < g(m2)) hi = m2; else lo = m1;
+    if (g(m1) < g(m2))
+      hi = m2;
+    else
+      lo = m1;
   }
   const LD tMin = (lo + hi) / 2, gMin = g(tMin);
   const LD span = tb - ta;
-  if (tMin - ta > 1e-12L * span && tb - tMin > 1e-12L * span && tMin > 0)
-    out.tangencyMargin = double(std::abs(gMin));
+  if (tMin - ta > 1e-12L * span && tb - tMin > 1e-12L * span && tMin > 0) out.tangencyMargin = double(std::abs(gMin));
 
   auto bisect = [&](LD l, LD h) {  // g(l) and g(h) of opposite signs
     const bool rising = g(l) < 0;

@@ -23,10 +23,10 @@ TEST_CASE("the iris disk ends where the iris plane meets the cornea, capped at t
 TEST_CASE("rays meet the iris between the pupil and the iris edge, from either side") {
   const AnteriorChamber<double> c;
   CHECK(c.IntersectIris({V(3, 0, 0), V(0, 0, -1)})->point.z == -3.735);
-  CHECK_FALSE(c.IntersectIris({V(1, 0, 0), V(0, 0, -1)}));   // through the 2 mm pupil radius
-  CHECK_FALSE(c.IntersectIris({V(7.6, 0, 0), V(0, 0, -1)})); // beyond the iris edge
-  CHECK(c.IntersectIris({V(3, 0, -5), V(0, 0, 1)}));         // from behind
-  CHECK_FALSE(c.IntersectIris({V(3, 0, 0), V(1, 0, 0)}));    // parallel to the plane
+  CHECK_FALSE(c.IntersectIris({V(1, 0, 0), V(0, 0, -1)}));       // through the 2 mm pupil radius
+  CHECK_FALSE(c.IntersectIris({V(7.6, 0, 0), V(0, 0, -1)}));     // beyond the iris edge
+  CHECK(c.IntersectIris({V(3, 0, -5), V(0, 0, 1)}));             // from behind
+  CHECK_FALSE(c.IntersectIris({V(3, 0, 0), V(1, 0, 0)}));        // parallel to the plane
   CHECK_FALSE(c.IntersectIris({V(3, 0, 0), V(0, 0, -1)}, 3.0));  // beyond tMax
 }
 

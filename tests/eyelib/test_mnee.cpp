@@ -20,7 +20,9 @@ Vec3d IrisPoint(const AnteriorChamber<double>& chamber, double r, double phi) {
   return {r * std::cos(phi), r * std::sin(phi), chamber.IrisZ()};
 }
 
-LightEnd PointEnd(double degrees, double distance = 100) { return {false, test::PointLightAt(degrees, distance).position, {}}; }
+LightEnd PointEnd(double degrees, double distance = 100) {
+  return {false, test::PointLightAt(degrees, distance).position, {}};
+}
 
 }  // namespace
 
@@ -83,9 +85,7 @@ TEST_CASE("the generalized geometry term matches a finite-difference Jacobian of
     const MneeSolution& s = r.solutions[0];
     // d(u, v)/dx by central differences of re-solved paths, then the closed-form transfer rebuilt.
     const double h = 1e-5;
-    auto solveAt = [&](const Vec3d& xx) {
-      return SolveRefractionPath(chamber, xx, light, s.p.x, s.p.y).p;
-    };
+    auto solveAt = [&](const Vec3d& xx) { return SolveRefractionPath(chamber, xx, light, s.p.x, s.p.y).p; };
     const Vec3d px1 = solveAt(x + Vec3d(h, 0, 0)), px0 = solveAt(x - Vec3d(h, 0, 0));
     const Vec3d py1 = solveAt(x + Vec3d(0, h, 0)), py0 = solveAt(x - Vec3d(0, h, 0));
     const double det = ((px1.x - px0.x) * (py1.y - py0.y) - (px1.y - px0.y) * (py1.x - py0.x)) / (4 * h * h);

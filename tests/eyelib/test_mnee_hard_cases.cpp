@@ -43,7 +43,9 @@ TEST_CASE("MNEE hard cases: convergence table, no NaN, lights behind the eye fin
       {"far light, 1e6 mm", PointAt(40, 1e6), everywhere, 0.8},
       {"distant light 40 deg", {true, {}, glm::normalize(test::PointLightAt(40).position)}, everywhere, 0.8},
   };
-  std::printf("\n| case | solves | success | mean iterations | max iterations | max residual | statuses |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n| case | solves | success | mean iterations | max iterations | max residual | statuses "
+      "|\n|---|---|---|---|---|---|---|\n");
   for (const Case& c : cases) {
     int solves = 0, ok = 0, itSum = 0, itMax = 0, nan = 0;
     double resMax = 0;

@@ -81,8 +81,9 @@ FluxComparison CompareBandFlux(const AnteriorChamber<double>& chamber, const Eye
 
 void PrintRow(const char* what, double deg, double az, const FluxComparison& c) {
   std::printf("| %s | %g deg, azimuth %g | %.5g | %.5g | %+.2f%% | %.2f%% | %.1f |\n", what, deg, az, c.lightTraced,
-              c.mnee, 100 * c.Relative(), 100 * std::sqrt(c.lightTracedError * c.lightTracedError +
-                                                            c.mneeError * c.mneeError) / c.lightTraced, c.Z());
+              c.mnee, 100 * c.Relative(),
+              100 * std::sqrt(c.lightTracedError * c.lightTracedError + c.mneeError * c.mneeError) / c.lightTraced,
+              c.Z());
 }
 
 }  // namespace
@@ -98,7 +99,7 @@ TEST_CASE("one-path MNEE brings the light that light tracing does through the el
     const FluxComparison c = CompareBandFlux(chamber, PointLight(deg, az), band, SeedStrategy{}, 3'000'000, 12);
     PrintRow("junction band", deg, az, c);
     INFO(deg << " deg: light traced " << c.lightTraced << ", MNEE " << c.mnee << " (" << 100 * c.Relative() << "%, z "
-              << c.Z() << ")");
+             << c.Z() << ")");
     CHECK(c.Z() < 4);
     CHECK(std::abs(c.Relative()) < 0.01);
   }

@@ -39,7 +39,9 @@ Agreement Compare(const AnteriorChamber<double>& chamber, const EyeLight& light,
   const double eMax = *std::max_element(lt.irradiance.begin(), lt.irradiance.end());
   Agreement a;
   std::vector<double> noise;
-  struct Cell { double x, elt, em; };
+  struct Cell {
+    double x, elt, em;
+  };
   std::vector<Cell> cells;
   for (int j = 0; j < grid.cells; ++j)
     for (int i = 0; i < grid.cells; ++i) {
@@ -51,7 +53,8 @@ Agreement Compare(const AnteriorChamber<double>& chamber, const EyeLight& light,
       if (e < 0.1 * eMax) continue;
       ++a.cells;
       const double rel = (em - e) / e;
-      a.worstZ = std::max(a.worstZ, std::abs(em - e) / std::sqrt(sigma * sigma + est.stdError * est.stdError + 1e-4 * e * e));
+      a.worstZ =
+          std::max(a.worstZ, std::abs(em - e) / std::sqrt(sigma * sigma + est.stdError * est.stdError + 1e-4 * e * e));
       a.rms += rel * rel;
       a.bias += rel;
       noise.push_back(sigma / e);
@@ -73,8 +76,8 @@ Agreement Compare(const AnteriorChamber<double>& chamber, const EyeLight& light,
 }
 
 void PrintRow(const char* model, const char* light, const char* seeds, const Agreement& a) {
-  std::printf("| %s | %s | %s | %d | %.2f%% | %.2f | %.2f%% | %+.2f%% | %+.2f | %+.2f |\n", model, light, seeds, a.cells,
-              100 * a.medianNoise, a.worstZ, 100 * a.rms, 100 * a.bias, a.brightXLightTrace, a.brightXMnee);
+  std::printf("| %s | %s | %s | %d | %.2f%% | %.2f | %.2f%% | %+.2f%% | %+.2f | %+.2f |\n", model, light, seeds,
+              a.cells, 100 * a.medianNoise, a.worstZ, 100 * a.rms, 100 * a.bias, a.brightXLightTrace, a.brightXMnee);
 }
 
 void CheckAgreement(const Agreement& a, bool offAxis, bool pointLight, double biasTolerance = 0.005) {
@@ -95,7 +98,9 @@ void CheckAgreement(const Agreement& a, bool offAxis, bool pointLight, double bi
 }  // namespace
 
 TEST_CASE("MNEE irradiance agrees with light tracing for point lights, both models", "[slow]") {
-  std::printf("\n| model | light | seeds | cells | median LT noise | worst z | rel RMS | bias | bright x LT (mm) | bright x MNEE (mm) |\n");
+  std::printf(
+      "\n| model | light | seeds | cells | median LT noise | worst z | rel RMS | bias | bright x LT (mm) | bright x "
+      "MNEE (mm) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
     ChamberParams params;
@@ -105,7 +110,8 @@ TEST_CASE("MNEE irradiance agrees with light tracing for point lights, both mode
       // Near grazing: search for every path (and integrate the cells finely: the fold's 1/sqrt peak).
       const bool all = deg > 80;
       const EyeLight light = test::PointLightAt(deg);
-      const Agreement a = Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000), {all}, all ? 16 : 8);
+      const Agreement a =
+          Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000), {all}, all ? 16 : 8);
       char label[32];
       std::snprintf(label, sizeof label, "point %g deg", deg);
       PrintRow(ToString(model), label, all ? "all" : "one path", a);
@@ -131,11 +137,12 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
   sun.direction = glm::normalize(Vec3d(1, 0, 1));
   sun.angularRadius = 0.1;
   sun.power = 1e-4;
-  std::printf("\n| model | light | seeds | cells | median LT noise | worst z | rel RMS | bias | bright x LT (mm) | bright x MNEE (mm) |\n");
+  std::printf(
+      "\n| model | light | seeds | cells | median LT noise | worst z | rel RMS | bias | bright x LT (mm) | bright x "
+      "MNEE (mm) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-  const std::pair<const char*, EyeLight> lights[] = {{"sphere r 10 mm at 30 deg", sphere},
-                                                     {"rect 16 x 12 mm at 45 deg", rect},
-                                                     {"distant, 0.1 rad, 45 deg", sun}};
+  const std::pair<const char*, EyeLight> lights[] = {
+      {"sphere r 10 mm at 30 deg", sphere}, {"rect 16 x 12 mm at 45 deg", rect}, {"distant, 0.1 rad, 45 deg", sun}};
   for (const auto& [label, light] : lights) {
     // A near-parallel beam at 45 deg: at the far side's periphery the straight-line seed alone misses
     // half the light of some cells (see the last test); search for every path.
@@ -147,7 +154,9 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
   }
 }
 
-TEST_CASE("a straight-line seed alone loses light where it fails to converge, and the fallback and the search recover it", "[slow]") {
+TEST_CASE(
+    "a straight-line seed alone loses light where it fails to converge, and the fallback and the search recover it",
+    "[slow]") {
   // A parallel beam at 45 deg: at the far side's periphery the Newton solve from the straight-line
   // seed does not converge, and Cycles-style MNEE (that seed alone) loses those cells' light.
   const AnteriorChamber<double> chamber;
@@ -162,8 +171,8 @@ TEST_CASE("a straight-line seed alone loses light where it fails to converge, an
   const Agreement fallback = Compare(chamber, sun, lt, SeedStrategy{}, 8);
   const Agreement all = Compare(chamber, sun, lt, SeedStrategy{true}, 8);
   std::printf("\n| seeds | worst z | rel RMS | bias |\n|---|---|---|---|\n");
-  for (auto [name, a] : {std::pair{"straight line only", straight}, {"straight line + fallback", fallback},
-                         {"all (meridian)", all}})
+  for (auto [name, a] :
+       {std::pair{"straight line only", straight}, {"straight line + fallback", fallback}, {"all (meridian)", all}})
     std::printf("| %s | %.1f | %.2f%% | %+.2f%% |\n", name, a.worstZ, 100 * a.rms, 100 * a.bias);
   CHECK(straight.worstZ > 20);  // whole cells lose a large part of their light...
   CHECK(straight.bias < -0.01);

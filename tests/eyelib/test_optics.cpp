@@ -47,8 +47,7 @@ TEST_CASE("Fresnel is 1 beyond the critical angle and never NaN") {
   const double crit = CriticalAngle(1.376);
   CHECK(FresnelDielectric(-std::cos(crit + 1e-9), 1.376) == 1.0);
   CHECK(FresnelDielectric(-std::cos(crit - 1e-6), 1.376) < 1.0);
-  for (double c : {-2.0, -1.0, -0.0, 0.0, 1.0, 2.0, 1e-300, -1e-300})
-    CHECK(std::isfinite(FresnelDielectric(c, 1.376)));
+  for (double c : {-2.0, -1.0, -0.0, 0.0, 1.0, 2.0, 1e-300, -1e-300}) CHECK(std::isfinite(FresnelDielectric(c, 1.376)));
 }
 
 TEST_CASE("refraction obeys Snell's law and is reversible, grazing incidence included") {

@@ -47,8 +47,8 @@ TEST_CASE("the ellipsoid-cone junction at the 10.02 mm chord is continuous and c
   const double rj = 10.02 / 2, h = 1e-9;
   const double below = kEllipsoidCone.Sag(rj - h), above = kEllipsoidCone.Sag(rj + h);
   const double slopeIn = kEllipsoidCone.Slope(rj - h), slopeOut = kEllipsoidCone.Slope(rj + h);
-  std::printf("junction: f = %.9f mm, slope ellipsoid %.4f, cone %.4f, kink %.2f deg\n", below, slopeIn,
-              slopeOut, (std::atan(-slopeOut) - std::atan(-slopeIn)) / kDeg);
+  std::printf("junction: f = %.9f mm, slope ellipsoid %.4f, cone %.4f, kink %.2f deg\n", below, slopeIn, slopeOut,
+              (std::atan(-slopeOut) - std::atan(-slopeIn)) / kDeg);
   CHECK(std::abs(below - above) < 1e-8);
   CHECK(std::abs(slopeIn - (-0.773)) < 1e-3);
   CHECK(std::abs(slopeOut - (-0.781)) < 1e-3);

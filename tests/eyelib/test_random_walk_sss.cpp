@@ -85,7 +85,11 @@ bool DiffuseEntry(const V& n, double ior, double u1, double u2, double u3, V* in
 struct Tally {
   double sum = 0, sum2 = 0;
   long n = 0;
-  void Add(double x) { sum += x; sum2 += x * x; ++n; }
+  void Add(double x) {
+    sum += x;
+    sum2 += x * x;
+    ++n;
+  }
   double Mean() const { return sum / n; }
   double Sigma() const { return std::sqrt(std::max(0.0, sum2 / n - Mean() * Mean()) / n); }
 };
@@ -137,8 +141,7 @@ TEST_CASE("teleportation sends a crossing to the diametrically opposite point wi
   CHECK(glm::dot(s.dir, V(s.point.x, s.point.y, 0)) < 0);
 }
 
-TEST_CASE("a walker that starts on the cylinder (just teleported) never re-triggers at t = 0",
-          "[sss][cylinder]") {
+TEST_CASE("a walker that starts on the cylinder (just teleported) never re-triggers at t = 0", "[sss][cylinder]") {
   const TeleportationCylinder cyl(kLimbusD);
   const double R = cyl.Radius();
   std::mt19937_64 rng(3);
@@ -175,8 +178,7 @@ TEST_CASE("a walker that starts on the cylinder (just teleported) never re-trigg
   CHECK(outwardNone + inwardChecked == crossings);
 }
 
-TEST_CASE("a tangent or axis-parallel direction gives no crossing and teleport keeps it finite",
-          "[sss][cylinder]") {
+TEST_CASE("a tangent or axis-parallel direction gives no crossing and teleport keeps it finite", "[sss][cylinder]") {
   const TeleportationCylinder cyl(kLimbusD);
   const double R = cyl.Radius();
   // Parallel to the axis, inside, on and outside the cylinder.
@@ -201,8 +203,7 @@ TEST_CASE("a tangent or axis-parallel direction gives no crossing and teleport k
   CHECK(glm::length(tiny.dir) == Approx(1));
 }
 
-TEST_CASE("cylinder crossings reject NaN and Inf input, and bad cylinders are never crossed",
-          "[sss][cylinder]") {
+TEST_CASE("cylinder crossings reject NaN and Inf input, and bad cylinders are never crossed", "[sss][cylinder]") {
   const TeleportationCylinder cyl(kLimbusD);
   CHECK_FALSE(cyl.FirstCrossing(V(kNaN, 0, 0), V(1, 0, 0), 100));
   CHECK_FALSE(cyl.FirstCrossing(V(0, 0, 0), V(kNaN, 0, 0), 100));
@@ -217,8 +218,7 @@ TEST_CASE("cylinder crossings reject NaN and Inf input, and bad cylinders are ne
   }
 }
 
-TEST_CASE("cylinder crossings from far origins are accurate, and the z range limits the cylinder",
-          "[sss][cylinder]") {
+TEST_CASE("cylinder crossings from far origins are accurate, and the z range limits the cylinder", "[sss][cylinder]") {
   const TeleportationCylinder cyl(kLimbusD);
   const double R = cyl.Radius();
   for (double far : {1e3, 1e6, 1e9}) {
@@ -257,9 +257,10 @@ TEST_CASE("albedo inversion round trip: a semi-infinite slab reflects the artist
     const Tally t = SlabReflectance(A, 1.0, paths, 101);
     const Tally d = SlabReflectance(A, 1.376, paths / 2, 202);
     const double err = t.Mean() - A;
-    std::printf("[sss] albedo A = %.2f: alpha = %.5f, measured (ior 1) %.4f +- %.4f (error %+.4f); "
-                "ior 1.376: %.4f +- %.4f\n",
-                A, SingleScatteringAlbedo(A), t.Mean(), t.Sigma(), err, d.Mean(), d.Sigma());
+    std::printf(
+        "[sss] albedo A = %.2f: alpha = %.5f, measured (ior 1) %.4f +- %.4f (error %+.4f); "
+        "ior 1.376: %.4f +- %.4f\n",
+        A, SingleScatteringAlbedo(A), t.Mean(), t.Sigma(), err, d.Mean(), d.Sigma());
     INFO("A = " << A << ": measured " << t.Mean() << " +- " << t.Sigma());
     if (A <= 0.8) {
       worstLow = std::max(worstLow, std::abs(err));
@@ -269,8 +270,8 @@ TEST_CASE("albedo inversion round trip: a semi-infinite slab reflects the artist
       CHECK(err >= -0.06 - 4 * t.Sigma());
     }
   }
-  std::printf("[sss] albedo round trip: worst |measured - A| for A <= 0.8 = %.4f (ior 1, %ld paths each)\n",
-              worstLow, paths);
+  std::printf("[sss] albedo round trip: worst |measured - A| for A <= 0.8 = %.4f (ior 1, %ld paths each)\n", worstLow,
+              paths);
 }
 
 TEST_CASE("energy audit: teleportation neither adds nor loses energy on any path", "[sss][energy]") {
@@ -297,8 +298,10 @@ TEST_CASE("energy audit: teleportation neither adds nor loses energy on any path
     teleported += w.Teleported();
     worst = std::max(worst, std::abs(w.weight.x + w.absorbed.x - 1));
   }
-  std::printf("[sss] per-path balance with teleportation: worst |escaped + absorbed + dropped - 1| = %.3g "
-              "(%ld of 20000 paths teleported)\n", worst, teleported);
+  std::printf(
+      "[sss] per-path balance with teleportation: worst |escaped + absorbed + dropped - 1| = %.3g "
+      "(%ld of 20000 paths teleported)\n",
+      worst, teleported);
   CHECK(teleported > 1000);
   CHECK(worst < 1e-9);
 }
@@ -345,10 +348,10 @@ OnOff UniformSphere(const SssMedium& m, const RandomWalkSettings& off, long path
 
 void Print(const char* what, const OnOff& r, long paths, double secs) {
   for (int k = 0; k < 3; ++k)
-    std::printf("[sss] %s channel %d: on %.5f +- %.5f, off %.5f +- %.5f, on - off %+.5f +- %.5f (%.1f sigma, %+.2f%%)\n",
-                what, k, r.on[k].Mean(), r.on[k].Sigma(), r.off[k].Mean(), r.off[k].Sigma(), r.diff[k].Mean(),
-                r.diff[k].Sigma(), r.diff[k].Sigma() > 0 ? r.diff[k].Mean() / r.diff[k].Sigma() : 0.0,
-                100 * r.diff[k].Mean() / r.off[k].Mean());
+    std::printf(
+        "[sss] %s channel %d: on %.5f +- %.5f, off %.5f +- %.5f, on - off %+.5f +- %.5f (%.1f sigma, %+.2f%%)\n", what,
+        k, r.on[k].Mean(), r.on[k].Sigma(), r.off[k].Mean(), r.off[k].Sigma(), r.diff[k].Mean(), r.diff[k].Sigma(),
+        r.diff[k].Sigma() > 0 ? r.diff[k].Mean() / r.diff[k].Sigma() : 0.0, 100 * r.diff[k].Mean() / r.off[k].Mean());
   std::printf("[sss] %s: %ld paths, %ld teleported, %ld capped, %.2f s\n", what, paths, r.teleported, r.capped, secs);
 }
 
@@ -446,9 +449,10 @@ TEST_CASE("the limbal arc: light entering near the limbus exits on the opposite 
   for (double x0 : {6.0, 7.0}) {
     const ArcTally on = Beam(x0, true, paths), off = Beam(x0, false, paths);
     const double ratio = on.opposite / std::max(off.opposite, 1e-300);
-    std::printf("[sss] arc, beam at x = %.1f mm: opposite limbus band on %.5f off %.5f (ratio %.1f); "
-                "same side on %.4f off %.4f; total on %.4f off %.4f; %ld of %ld teleported\n",
-                x0, on.opposite, off.opposite, ratio, on.same, off.same, on.total, off.total, on.teleported, paths);
+    std::printf(
+        "[sss] arc, beam at x = %.1f mm: opposite limbus band on %.5f off %.5f (ratio %.1f); "
+        "same side on %.4f off %.4f; total on %.4f off %.4f; %ld of %ld teleported\n",
+        x0, on.opposite, off.opposite, ratio, on.same, off.same, on.total, off.total, on.teleported, paths);
     INFO("beam at x = " << x0 << ": opposite on " << on.opposite << ", off " << off.opposite);
     CHECK(on.opposite > 0.01);
     CHECK(on.opposite > 5 * off.opposite);
@@ -511,8 +515,8 @@ TEST_CASE("no NaN or Inf leaves the walk, whatever the input", "[sss]") {
     invalid += w.status == WalkStatus::Invalid;
     exited += w.status == WalkStatus::Exited;
   }
-  std::printf("[sss] fuzz: 20000 walks, %ld exited, %ld invalid input, %ld non-finite or negative\n", exited,
-              invalid, bad);
+  std::printf("[sss] fuzz: 20000 walks, %ld exited, %ld invalid input, %ld non-finite or negative\n", exited, invalid,
+              bad);
   CHECK(bad == 0);
   CHECK(exited > 5000);
   // The artist-facing validator names the value.

@@ -20,7 +20,7 @@ inline constexpr DirtyBits DirtyTopology = 1u << 2;
 inline constexpr DirtyBits DirtyTransform = 1u << 3;
 inline constexpr DirtyBits DirtyPrimvar = 1u << 4;
 inline constexpr DirtyBits DirtyVisibility = 1u << 5;
-inline constexpr DirtyBits DirtyParams = 1u << 6;     ///< sprim/bprim parameters (camera, light, buffer size)
+inline constexpr DirtyBits DirtyParams = 1u << 6;  ///< sprim/bprim parameters (camera, light, buffer size)
 inline constexpr DirtyBits DirtyMaterialId = 1u << 7;
 /// On an rprim: its instancer's instances changed (rebuild its instances, nothing else). On an instancer: its
 /// instance transforms or colours changed.

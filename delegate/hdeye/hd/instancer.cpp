@@ -13,7 +13,8 @@ void Instancer::Sync(SceneDelegate* sceneDelegate, RenderParam* /*renderParam*/,
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(transforms[i][c][r]))
-          throw std::runtime_error("instancer " + Id() + ": instance " + std::to_string(i) + " has a non-finite transform");
+          throw std::runtime_error("instancer " + Id() + ": instance " + std::to_string(i) +
+                                   " has a non-finite transform");
   if (!colors.empty() && colors.size() != transforms.size())
     throw std::runtime_error("instancer " + Id() + ": " + std::to_string(colors.size()) + " colours for " +
                              std::to_string(transforms.size()) + " instances");

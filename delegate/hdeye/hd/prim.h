@@ -39,7 +39,11 @@ class Rprim : public Prim {
   /// The bound material's id, or empty.
   virtual PrimId MaterialId() const { return {}; }
 };
-class Sprim : public Prim { using Prim::Prim; };
-class Bprim : public Prim { using Prim::Prim; };
+class Sprim : public Prim {
+  using Prim::Prim;
+};
+class Bprim : public Prim {
+  using Prim::Prim;
+};
 
 }  // namespace hdeye

@@ -14,9 +14,8 @@ RenderIndex::~RenderIndex() {
   for (auto& [id, e] : bprims_) e.prim->Finalize(delegate_->GetRenderParam());
 }
 
-template <class T>
-void RenderIndex::Insert(std::map<PrimId, Entry<T>>& m, std::unique_ptr<T> prim, const std::string& type,
-                         SceneDelegate* sceneDelegate, const PrimId& id) {
+template <class T> void RenderIndex::Insert(std::map<PrimId, Entry<T>>& m, std::unique_ptr<T> prim,
+                                            const std::string& type, SceneDelegate* sceneDelegate, const PrimId& id) {
   if (!prim) throw std::invalid_argument("render index: prim type '" + type + "' is not supported (" + id + ")");
   if (GetRprim(id) || GetSprim(id) || GetBprim(id) || GetInstancer(id))
     throw std::invalid_argument("render index: a prim " + id + " already exists");

@@ -21,8 +21,14 @@ struct SubdivTags {
   /// interpolateBoundary: none (boundary faces are not rendered), edgeOnly, edgeAndCorner (UsdGeom's default).
   enum class Boundary { None, EdgeOnly, EdgeAndCorner } interpolateBoundary = Boundary::EdgeAndCorner;
   /// faceVaryingLinearInterpolation (UsdGeom's default cornersPlus1).
-  enum class FaceVaryingLinear { None, CornersOnly, CornersPlus1, CornersPlus2, Boundaries, All }
-      faceVaryingLinearInterpolation = FaceVaryingLinear::CornersPlus1;
+  enum class FaceVaryingLinear {
+    None,
+    CornersOnly,
+    CornersPlus1,
+    CornersPlus2,
+    Boundaries,
+    All
+  } faceVaryingLinearInterpolation = FaceVaryingLinear::CornersPlus1;
   /// triangleSubdivisionRule: catmullClark (UsdGeom's default) or smooth (Catmull-Clark only).
   enum class TriangleRule { CatmullClark, Smooth } triangleSubdivisionRule = TriangleRule::CatmullClark;
   /// creaseIndices holds the creases' vertex chains back to back, creaseLengths[i] (>= 2) vertices each;

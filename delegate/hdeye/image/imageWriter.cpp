@@ -41,8 +41,8 @@ std::string CheckPixels(const std::string& what, int width, int height, int comp
   const size_t expected = size_t(width) * size_t(height) * size_t(components);
   if (values.size() != expected) {
     std::ostringstream s;
-    s << what << " has " << values.size() << " values, expected " << expected << " (" << width << "x"
-      << height << (components > 1 ? "x" + std::to_string(components) : "") << ")";
+    s << what << " has " << values.size() << " values, expected " << expected << " (" << width << "x" << height
+      << (components > 1 ? "x" + std::to_string(components) : "") << ")";
     return s.str();
   }
   const auto bad = std::find_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); });
@@ -68,9 +68,9 @@ void WriteAtomically(const std::string& path, const std::function<void(const std
   if (!target.has_filename()) Fail("write", path, "no file name");
 
   static std::atomic<unsigned> counter{0};
-  const std::string tmp = (dir / ("." + target.filename().string() + ".tmp." +
-                                  std::to_string(getpid()) + "." + std::to_string(counter++)))
-                              .string();
+  const std::string tmp =
+      (dir / ("." + target.filename().string() + ".tmp." + std::to_string(getpid()) + "." + std::to_string(counter++)))
+          .string();
   try {
     write(tmp);
     // Flush the data to disk before the rename, so that after a crash `path` holds either the old
@@ -95,14 +95,12 @@ void WriteAtomically(const std::string& path, const std::function<void(const std
 void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
               const std::vector<std::pair<std::string, std::string>>& attributes) {
   if (width <= 0 || height <= 0)
-    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
-                            " is not positive");
+    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
   if (planes.empty()) Fail("write", path, "no image planes given");
   std::set<std::string> names;
   for (const ImagePlane& plane : planes) {
     if (plane.name.empty()) Fail("write", path, "a plane has an empty name");
-    if (!names.insert(plane.name).second)
-      Fail("write", path, "duplicate plane name \"" + plane.name + "\"");
+    if (!names.insert(plane.name).second) Fail("write", path, "duplicate plane name \"" + plane.name + "\"");
     const std::string bad = CheckPixels("plane \"" + plane.name + "\"", width, height, 1, plane.pixels);
     if (!bad.empty()) Fail("write", path, bad);
   }
@@ -132,8 +130,7 @@ void WriteExr(const std::string& path, int width, int height, const std::vector<
     // Our own ofstream, not OutputFile(fileName): ~OutputFile writes the line offset table and
     // swallows any error there, so the stream state is the only way to learn that the write failed.
     std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    if (!file)
-      throw std::runtime_error("cannot create temporary file " + tmp + " (" + std::strerror(errno) + ")");
+    if (!file) throw std::runtime_error("cannot create temporary file " + tmp + " (" + std::strerror(errno) + ")");
     {
       Imf::StdOFStream stream(file, tmp.c_str());
       Imf::OutputFile out(stream, header);
@@ -186,11 +183,9 @@ std::map<std::string, std::string> ReadExrStringAttributes(const std::string& pa
   }
 }
 
-void WritePngPreview(const std::string& path, int width, int height, const std::vector<float>& rgb,
-                     float exposure) {
+void WritePngPreview(const std::string& path, int width, int height, const std::vector<float>& rgb, float exposure) {
   if (width <= 0 || height <= 0)
-    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
-                            " is not positive");
+    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
   if (!std::isfinite(exposure)) Fail("write", path, "exposure is not finite");
   const std::string bad = CheckPixels("rgb", width, height, 3, rgb);
   if (!bad.empty()) Fail("write", path, bad);

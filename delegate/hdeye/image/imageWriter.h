@@ -51,8 +51,7 @@ std::vector<ImagePlane> ReadExr(const std::string& path, int* width, int* height
 /// 255). `exposure` is in stops. Atomic, like WriteExr. Throws std::runtime_error if the sizes are
 /// wrong, exposure or any value is NaN or infinite (the message names the first bad pixel), or the file
 /// cannot be written.
-void WritePngPreview(const std::string& path, int width, int height, const std::vector<float>& rgb,
-                     float exposure = 0);
+void WritePngPreview(const std::string& path, int width, int height, const std::vector<float>& rgb, float exposure = 0);
 
 /// Returns the sRGB-encoded value in [0,1] of linear x (IEC 61966-2-1 piecewise curve: 12.92 x below
 /// x = 0.0031308, else 1.055 x^(1/2.4) - 0.055). x is clamped to [0,1] first; NaN stays NaN.

@@ -21,14 +21,14 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
   for (const AovBinding& b : bindings) {
     auto* buffer = dynamic_cast<RenderBuffer*>(index.GetBprim(b.renderBufferId));
     if (!buffer) throw std::runtime_error("render pass: render buffer " + b.renderBufferId + " not found");
-    AccumulationBuffer** slot = b.aovName == "color"    ? &aovs.color
-                          : b.aovName == "albedo" ? &aovs.albedo
-                          : b.aovName == "normal" ? &aovs.normal
-                          : b.aovName == "depth"  ? &aovs.depth
-                          : b.aovName == "primId" ? &aovs.primId
-                          : b.aovName == "irisMnee" ? &aovs.irisMnee
-                          : b.aovName == "limbalArc" ? &aovs.limbalArc
-                                                  : nullptr;
+    AccumulationBuffer** slot = b.aovName == "color"       ? &aovs.color
+                                : b.aovName == "albedo"    ? &aovs.albedo
+                                : b.aovName == "normal"    ? &aovs.normal
+                                : b.aovName == "depth"     ? &aovs.depth
+                                : b.aovName == "primId"    ? &aovs.primId
+                                : b.aovName == "irisMnee"  ? &aovs.irisMnee
+                                : b.aovName == "limbalArc" ? &aovs.limbalArc
+                                                           : nullptr;
     if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
     *slot = buffer;
   }
@@ -92,8 +92,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   std::vector<RenderLight> lights;
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
-      lights.push_back(
-          RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
+      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
       MarkLinked(light->Params().lightLinkExcludes, primIndices, primIndex, &lights.back().unlit);
       MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
     }

@@ -67,13 +67,13 @@ std::vector<MeshPlan> PlanMeshRefinement(const RenderIndex& index, const CameraV
     plan.sceneLevel = mesh->SceneRefineLevel();
     plan.instances = int(mesh->InstanceWorldTransforms().size());
     for (const Matrix4d& m : mesh->InstanceWorldTransforms()) {
-      const double scale = std::max({glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
-                                     glm::length(glm::dvec3(m[2]))});
+      const double scale =
+          std::max({glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])), glm::length(glm::dvec3(m[2]))});
       plan.pixels = std::max(plan.pixels, ProjectedSpherePixels(camera, width, height,
                                                                 glm::dvec3(m * glm::dvec4(centre, 1)), radius * scale));
     }
-    plan.refineLevel = std::min(plan.sceneLevel,
-                                RefineLevelForPixels(plan.pixels, rules, overrides.refineLevelCeiling, &plan.why));
+    plan.refineLevel =
+        std::min(plan.sceneLevel, RefineLevelForPixels(plan.pixels, rules, overrides.refineLevelCeiling, &plan.why));
     plans.push_back(std::move(plan));
   }
   return plans;

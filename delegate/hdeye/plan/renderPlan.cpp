@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <stdexcept>
 #include <limits>
+#include <stdexcept>
 
 namespace hdeye {
 
@@ -79,8 +79,8 @@ const char* ToString(ScleraModel model) {
   return "?";
 }
 
-EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
-                   const CameraView& camera, int width, int height) {
+EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye, const CameraView& camera,
+                   int width, int height) {
   EyePlan plan;
   plan.prim = prim;
   plan.geometry = geometry;
@@ -95,7 +95,8 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
   const double R = eyelib::paper::kRimRadius;
   for (int k = 0; k < kCirclePoints; ++k) {
     const double a = 2 * kPi * k / kCirclePoints;
-    const glm::dvec3 c(worldToCamera * glm::dvec4(eye.ToWorld({R * std::cos(a), R * std::sin(a), eye.chamber.IrisZ()}), 1));
+    const glm::dvec3 c(worldToCamera *
+                       glm::dvec4(eye.ToWorld({R * std::cos(a), R * std::sin(a), eye.chamber.IrisZ()}), 1));
     if (!(c.z < 0)) {  // on or behind the camera plane (the camera looks down its -z)
       ++behind;
       continue;
@@ -123,7 +124,8 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
   const double depth = -glm::dvec3(worldToCamera * glm::dvec4(IrisCentre(eye), 1)).z;
   const double aperture = LensApertureDiameter(cp), focus = cp.focusDistance;
   if (aperture > 0 && focus > 0 && depth > 0)
-    plan.blurPixels = aperture * cp.focalLength * std::abs(depth - focus) / (depth * focus) / cp.horizontalAperture * width;
+    plan.blurPixels =
+        aperture * cp.focalLength * std::abs(depth - focus) / (depth * focus) / cp.horizontalAperture * width;
   plan.resolvedPixels = plan.pixels / std::max(1.0, plan.blurPixels);
   plan.limbusPixels = plan.resolvedPixels * (eye.chamber.LimbusOuterRadius() - eye.chamber.LimbusInnerRadius()) /
                       (2 * eyelib::paper::kRimRadius);
@@ -209,7 +211,8 @@ Decision<LightStrategy> DecideLightStrategy(const LightFacts& l, const EyePlan& 
   if (!l.reachesIris)
     return {LightStrategy::None,
             "below the rim plane (" + Num(l.angleOffGazeDeg, 3) + " deg off the gaze): the sclera hides it"};
-  if (ov.mnee) return {*ov.mnee ? LightStrategy::Mnee : LightStrategy::Bsdf, *ov.mnee ? "flag: MNEE on" : "flag: --no-mnee"};
+  if (ov.mnee)
+    return {*ov.mnee ? LightStrategy::Mnee : LightStrategy::Bsdf, *ov.mnee ? "flag: MNEE on" : "flag: --no-mnee"};
   if (!hidden.empty()) return {LightStrategy::Bsdf, hidden};
   if (e.pixels < rules.mneeMinPixels)
     return {LightStrategy::Bsdf,
@@ -238,8 +241,9 @@ Decision<bool> DecideMnee(EyePlan* e, const std::string& hidden, const PlanRules
   }
   std::string why = !e->lights.empty() ? perLight : ov.mnee ? "flag (no lights)" : "no lights";
   if (mneeLights > 0 && bsdfLights > 0)
-    why += "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
-           "(each light by one of the two)";
+    why +=
+        "; applied per light: MNEE counts its lights, paths leaving the iris count the others "
+        "(each light by one of the two)";
   return {mneeLights > 0, why};
 }
 
@@ -251,11 +255,12 @@ Decision<bool> DecideAllSolutions(const EyePlan& e, const PlanRules& rules, cons
   for (const LightFacts& l : e.lights)
     if (l.strategy == LightStrategy::Mnee && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
   if (grazing && e.resolvedPixels >= rules.allSolutionsMinPixels)
-    return {true, grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) + " deg >= " +
-                      Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.resolvedPixels, 4) +
+    return {true, grazing->light + " at " + Num(grazing->angleOffGazeDeg, 3) +
+                      " deg >= " + Num(rules.allSolutionsMinAngleDeg, 3) + " deg on a " + Num(e.resolvedPixels, 4) +
                       " px eye: caustic fold (sweep allsol-size: one path misses up to 47% in a pixel from 200 px)"};
   if (grazing)
-    return {false, "grazing light but eye " + Num(e.resolvedPixels, 4) + " px < " + Num(rules.allSolutionsMinPixels, 4) +
+    return {false, "grazing light but eye " + Num(e.resolvedPixels, 4) + " px < " +
+                       Num(rules.allSolutionsMinPixels, 4) +
                        " px: one path per sample is cheaper for the same error (sweep allsol-size)"};
   return {false, "no MNEE light at >= " + Num(rules.allSolutionsMinAngleDeg, 3) +
                      " deg: one path per sample (second paths carry < 0.2% of the iris light)"};
@@ -307,9 +312,10 @@ Decision<bool> DecideLimbalArc(const EyePlan& e, const PlanRules& rules, const P
   if (e.limbusPixels < rules.sssMinLimbusPixels)
     return {false, "limbus band " + Num(e.limbusPixels, 3) + " px < " + Num(rules.sssMinLimbusPixels, 3) + " px"};
   if (rules.limbalArcMinLightAngleDeg <= 0)
-    return {true, "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
-                  "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera); under a dome alone 1.1-1.4x, "
-                  "losing 5-6% of the eye's light (sweep dome-arc)"};
+    return {true,
+            "with the sclera walk: without it the eye's equal-time MSE is 1.3-4.5x (side) and "
+            "1.2-1.8x (front) from 8 px, at no measurable cost (sweep sclera); under a dome alone 1.1-1.4x, "
+            "losing 5-6% of the eye's light (sweep dome-arc)"};
   const LightFacts* side = nullptr;
   for (const LightFacts& l : e.lights)
     if (l.reachesIris && l.kind != LightType::Dome && l.angleOffGazeDeg >= rules.limbalArcMinLightAngleDeg) side = &l;
@@ -322,7 +328,8 @@ Decision<bool> DecideLimbalArc(const EyePlan& e, const PlanRules& rules, const P
 Decision<int> DecideRefineLevel(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
   if (e.geometry != primTypes::kEyeMesh) return {-1, "analytic eye: no mesh"};
   int level = 0;
-  if (e.resolvedPixels >= rules.refinePixelsLevel1) level = 1 + int(std::floor(std::log2(e.resolvedPixels / rules.refinePixelsLevel1)));
+  if (e.resolvedPixels >= rules.refinePixelsLevel1)
+    level = 1 + int(std::floor(std::log2(e.resolvedPixels / rules.refinePixelsLevel1)));
   const bool capped = level > rules.refineMaxLevel;
   level = std::min(level, rules.refineMaxLevel);
   const bool held = level > ov.refineLevelCeiling;
@@ -362,8 +369,8 @@ void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   Record(e, &e->sss, "sss", DecideSclera(*e, hidden, rules, ov));
   Record(e, &e->limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
   Record(e, &e->refineLevel, "refineLevel", DecideRefineLevel(*e, rules, ov));
-  e->pixelFootprintMm =
-      e->resolvedPixels > 0 ? eyelib::paper::kRimRadius * 2 / e->resolvedPixels : std::numeric_limits<double>::infinity();
+  e->pixelFootprintMm = e->resolvedPixels > 0 ? eyelib::paper::kRimRadius * 2 / e->resolvedPixels
+                                              : std::numeric_limits<double>::infinity();
   Record(e, &e->floatWouldSuffice, "precision", DecideFloatWouldSuffice(*e, rules));
 }
 
@@ -403,14 +410,17 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
 namespace {
 
 /// Any planned eye's value of `field`.
-template <class F> bool AnyEye(const RenderPlan& plan, F field) { return std::any_of(plan.eyes.begin(), plan.eyes.end(), field); }
+template <class F> bool AnyEye(const RenderPlan& plan, F field) {
+  return std::any_of(plan.eyes.begin(), plan.eyes.end(), field);
+}
 
 }  // namespace
 
 void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides) {
-  const std::string scope =
-      plan->eyes.size() <= 1 ? "" : " (default for eyes without a plan: on if any eye needs it; each planned eye "
-                                   "renders with its own)";
+  const std::string scope = plan->eyes.size() <= 1
+                                ? ""
+                                : " (default for eyes without a plan: on if any eye needs it; each planned eye "
+                                  "renders with its own)";
   if (overrides.mnee) {
     plan->mnee = *overrides.mnee;
     plan->why["mnee"] = "flag";
@@ -425,16 +435,14 @@ void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides) {
     plan->mneeAllSolutions = *overrides.mneeAllSolutions;
     plan->why["mneeAllSolutions"] = "flag";
   } else {
-    plan->mneeAllSolutions =
-        plan->mnee && AnyEye(*plan, [](const EyePlan& e) { return e.mneeAllSolutions; });
+    plan->mneeAllSolutions = plan->mnee && AnyEye(*plan, [](const EyePlan& e) { return e.mneeAllSolutions; });
     plan->why["mneeAllSolutions"] = plan->eyes.empty() ? "no eyes" : "from the eyes' plans" + scope;
   }
   if (overrides.scleraScattering) {
     plan->scleraScattering = *overrides.scleraScattering;
     plan->why["scleraScattering"] = "flag";
   } else {
-    plan->scleraScattering =
-        AnyEye(*plan, [](const EyePlan& e) { return e.sss == ScleraModel::RandomWalk; });
+    plan->scleraScattering = AnyEye(*plan, [](const EyePlan& e) { return e.sss == ScleraModel::RandomWalk; });
     plan->why["scleraScattering"] = plan->eyes.empty() ? "no eyes" : "from the eye meshes' plans" + scope;
   }
 }
@@ -486,7 +494,8 @@ void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings*
   for (const auto& [id, entry] : index->Rprims()) {
     if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
     const auto e = std::find_if(plan.eyes.begin(), plan.eyes.end(), [&](const EyePlan& p) { return p.prim == id; });
-    SetEyeOptions(index, id, entry.prim.get(), e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder));
+    SetEyeOptions(index, id, entry.prim.get(),
+                  e == plan.eyes.end() ? EyeRenderOptions{} : e->RenderOptions(lightOrder));
   }
   ApplyMeshRefinement(plan.meshes, index);
   ApplyRenderPlan(plan, settings);
@@ -510,13 +519,16 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
   for (const EyePlan& e : eyes) {
     std::string mneeLights;
     for (const LightFacts& l : e.lights)
-      if (l.strategy == LightStrategy::Mnee) mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
+      if (l.strategy == LightStrategy::Mnee)
+        mneeLights += (mneeLights.empty() ? "" : ",") + l.light.substr(l.light.rfind('/') + 1);
     std::string line = "plan " + e.prim + ": " + Num(e.pixels, 4) + " px" +
                        (e.blurPixels > 1 ? " (blur " + Num(e.blurPixels, 3) + " px)" : "") +
-                       (e.behindCamera ? " (behind camera)" : e.inView ? "" : " (out of view)") +
-                       ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) +
-                       ", all solutions " + (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) +
-                       ", limbal arc " + (e.limbalArc ? "on" : "off") + ", chamber " + std::to_string(e.chamberEvents);
+                       (e.behindCamera ? " (behind camera)"
+                        : e.inView     ? ""
+                                       : " (out of view)") +
+                       ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) + ", all solutions " +
+                       (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) + ", limbal arc " +
+                       (e.limbalArc ? "on" : "off") + ", chamber " + std::to_string(e.chamberEvents);
     if (e.refineLevel >= 0) line += ", subdiv " + std::to_string(e.refineLevel);
     lines.push_back(line);
   }
@@ -525,7 +537,8 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
     std::map<int, int> perLevel;
     for (const MeshPlan& m : meshes) ++perLevel[m.refineLevel];
     std::string line = "plan meshes: " + std::to_string(meshes.size()) + " subdivision meshes by size on screen:";
-    for (const auto& [level, count] : perLevel) line += " level " + std::to_string(level) + " x" + std::to_string(count);
+    for (const auto& [level, count] : perLevel)
+      line += " level " + std::to_string(level) + " x" + std::to_string(count);
     lines.push_back(line);
   }
   return lines;

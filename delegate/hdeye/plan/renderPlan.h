@@ -84,7 +84,7 @@ struct PlanOverrides {
   /// Events the chamber walk follows per path (EyeRenderOptions::maxChamberEvents), >= 1: set by hand (the
   /// chamber sweep of bench/bench_plan.py drives it through this).
   std::optional<int> chamberEvents;
-  int refineLevelCeiling = 3;            ///< --complexity: the planner's subdivision level never exceeds it
+  int refineLevelCeiling = 3;  ///< --complexity: the planner's subdivision level never exceeds it
   /// Schema values authored on an eye prim (HasAuthoredValue, not the fallback).
   struct Authored {
     std::optional<bool> limbalArc;  ///< eye:limbalArc
@@ -127,14 +127,14 @@ struct LightFacts {
 /// An eye's facts and decisions. Each decision names its reason in `why` (same key).
 struct EyePlan {
   PrimId prim;
-  std::string geometry;        ///< analyticEye or eyeMesh
+  std::string geometry;  ///< analyticEye or eyeMesh
   /// Projected diameter of the 15.08 mm iris/limbus circle, pixels (the longest chord of its image;
   /// 0 when behind the camera).
   double pixels = 0;
-  bool inView = false;         ///< some of the circle projects inside the image, in front of the camera
-  bool behindCamera = false;   ///< all of it behind the camera plane
-  double viewAngleDeg = 0;     ///< gaze to the direction from the eye to the camera, degrees (0: looking at it)
-  double limbusPixels = 0;     ///< the limbus band's projected width, pixels
+  bool inView = false;        ///< some of the circle projects inside the image, in front of the camera
+  bool behindCamera = false;  ///< all of it behind the camera plane
+  double viewAngleDeg = 0;    ///< gaze to the direction from the eye to the camera, degrees (0: looking at it)
+  double limbusPixels = 0;    ///< the limbus band's projected width, pixels
   /// Depth of field: the circle of confusion's diameter at the iris centre's depth, pixels (thin lens:
   /// A f |D - F| / (D F) on the film, A the aperture, F the focus distance, D the eye's depth; 0 for a pinhole).
   double blurPixels = 0;
@@ -144,14 +144,14 @@ struct EyePlan {
   double resolvedPixels = 0;
   std::vector<LightFacts> lights;
 
-  bool mnee = false;           ///< MNEE for at least one light
+  bool mnee = false;  ///< MNEE for at least one light
   bool mneeAllSolutions = false;
   /// Chamber events followed per path (the walk's bound inside the anterior chamber): applied as
   /// EyeRenderOptions::maxChamberEvents.
   int chamberEvents = 64;
   ScleraModel sss = ScleraModel::Diffuse;
-  bool limbalArc = false;       ///< the teleportation cylinder in the sclera walk
-  int refineLevel = -1;         ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
+  bool limbalArc = false;  ///< the teleportation cylinder in the sclera walk
+  int refineLevel = -1;    ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
   /// Millimetres of the eye per resolved pixel: the 15.08 mm iris circle over `resolvedPixels` (the blur disk
   /// widens it; infinite when not projected).
   double pixelFootprintMm = 0;
@@ -176,7 +176,7 @@ struct RenderPlan {
   /// defaults for eyes the plan does not cover (none, when the plan was made for the scene it is applied
   /// to); every planned eye renders with its own switches.
   bool mnee = true, mneeAllSolutions = false;
-  bool scleraScattering = false;  ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
+  bool scleraScattering = false;           ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
   std::map<std::string, std::string> why;  ///< reasons for the global values
   /// One human-readable line per eye (and one for the globals when there is no eye), and one counting the
   /// subdivision meshes per planned level.
@@ -184,8 +184,8 @@ struct RenderPlan {
 };
 
 /// Projected facts of an eye seen by `camera` in a width x height image (no lights).
-EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
-                   const CameraView& camera, int width, int height);
+EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye, const CameraView& camera,
+                   int width, int height);
 
 /// A light as the eye sees it: solid angle, direction off the gaze, whether it can reach the iris.
 LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye);

@@ -27,7 +27,8 @@ bool IntersectEye(const EyeGeometry& eye, const glm::dvec3& o, const glm::dvec3&
     const double tb = (eye.chamber.IrisZ() - oc.z) / dc.z;
     const glm::dvec3 q = oc + tb * dc;
     const double r2 = q.x * q.x + q.y * q.y, R = eye.chamber.IrisRadius();
-    if (tb > tNear && tb < (hit ? *t : tFar) && r2 <= R * R) *t = tb, *part = EyeGeometry::kBack, nc = {0, 0, -1}, hit = true;
+    if (tb > tNear && tb < (hit ? *t : tFar) && r2 <= R * R)
+      *t = tb, *part = EyeGeometry::kBack, nc = {0, 0, -1}, hit = true;
   }
   if (hit) *worldNormal = glm::normalize(glm::transpose(glm::dmat3(eye.worldToCanonical)) * nc);
   return hit;
@@ -78,12 +79,15 @@ void Occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* ctx = static_cast<const GeometryContext*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
-    const glm::dvec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i), RTCRayN_org_z(args->ray, args->N, i));
-    const glm::dvec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i));
+    const glm::dvec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                       RTCRayN_org_z(args->ray, args->N, i));
+    const glm::dvec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                       RTCRayN_dir_z(args->ray, args->N, i));
     double t;
     EyeGeometry::Part part;
     glm::dvec3 n;
-    if (IntersectEye(*ctx->eye, o, d, RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i), &t, &part, &n))
+    if (IntersectEye(*ctx->eye, o, d, RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i), &t,
+                     &part, &n))
       RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
   }
 }
@@ -112,8 +116,10 @@ void AnalyticEye::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, D
     geometryId_ = rtcAttachGeometry(scene, geometry_);
   }
   if (bits & (dirty::DirtyVisibility | dirty::InitRepr)) {
-    if (sceneDelegate->GetVisible(Id())) rtcEnableGeometry(geometry_);
-    else rtcDisableGeometry(geometry_);
+    if (sceneDelegate->GetVisible(Id()))
+      rtcEnableGeometry(geometry_);
+    else
+      rtcDisableGeometry(geometry_);
   }
   rtcCommitGeometry(geometry_);  // bounds follow the transform
   *dirtyBits = dirty::Clean;

@@ -135,10 +135,10 @@ void EyeMesh::SyncEyeFrames() {
     // The optics sit in the eye's rigid frame; hits reach it through the projection (eyeMeshMapping.h).
     eye_.canonicalToWorld = NearestSimilarity(prim * model);
     eye_.objectToCanonical = glm::inverse(model);
-    eye_.objectToProjection =
-        params_.hasIrisProjection
-            ? glm::scale(glm::dmat4(1.0), glm::dvec3(eyelib::paper::kIrisDiameter / 2)) * glm::inverse(params_.irisProjection)
-            : eye_.objectToCanonical;
+    eye_.objectToProjection = params_.hasIrisProjection
+                                  ? glm::scale(glm::dmat4(1.0), glm::dvec3(eyelib::paper::kIrisDiameter / 2)) *
+                                        glm::inverse(params_.irisProjection)
+                                  : eye_.objectToCanonical;
   } else {
     // Baseline: the analytic eye carried by the mesh's best-fit affine deformation.
     const glm::dmat4 deformation = FitAffine(rest, current);

@@ -18,8 +18,10 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
   if (*dirtyBits & dirty::DirtyParams) {
     LightParams p = sceneDelegate->GetLightParams(Id());
     p.type = type_;
-    if (!std::isfinite(p.intensity) || p.intensity < 0) throw std::runtime_error("light " + Id() + ": intensity must be >= 0");
-    if (p.type == LightType::Sphere && !(p.radius >= 0)) throw std::runtime_error("light " + Id() + ": radius must be >= 0");
+    if (!std::isfinite(p.intensity) || p.intensity < 0)
+      throw std::runtime_error("light " + Id() + ": intensity must be >= 0");
+    if (p.type == LightType::Sphere && !(p.radius >= 0))
+      throw std::runtime_error("light " + Id() + ": radius must be >= 0");
     std::shared_ptr<const DomeTexture> dome;
     if (p.type == LightType::Dome && !p.textureFile.empty()) {
       // Repeat around the dome, clamp at the poles (repeat would blend the two poles).
@@ -29,7 +31,8 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
         dome = DomeTexture::Build(std::move(texture));
       } else {
         // The render goes on with a dome of the fallback colour, which nobody mistakes for the sky.
-        if (renderParam) renderParam->Warn("light " + Id() + ": textureFile: " + texture->Error() + "; lit by a magenta dome");
+        if (renderParam)
+          renderParam->Warn("light " + Id() + ": textureFile: " + texture->Error() + "; lit by a magenta dome");
         p.color *= glm::vec3(image.fallback);
         p.textureFile.clear();
       }

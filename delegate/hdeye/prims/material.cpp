@@ -10,8 +10,8 @@ namespace hdeye {
 namespace {
 
 constexpr std::array<const char*, kMaterialInputCount> kInputNames = {
-    "diffuseColor", "emissiveColor", "roughness", "metallic", "opacity", "ior", "normal", "specularColor", "clearcoat",
-    "clearcoatRoughness"};
+    "diffuseColor", "emissiveColor", "roughness",     "metallic",  "opacity",
+    "ior",          "normal",        "specularColor", "clearcoat", "clearcoatRoughness"};
 
 void CheckUnit(const PrimId& id, const char* name, float v) {
   if (!(v >= 0 && v <= 1))

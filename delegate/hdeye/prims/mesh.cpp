@@ -86,8 +86,8 @@ int Mesh::RefineLevelFor(int sceneLevel) {
 Mesh::~Mesh() = default;
 
 DirtyBits Mesh::GetInitialDirtyBitsMask() const {
-  return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTopology | dirty::DirtyTransform |
-         dirty::DirtyPrimvar | dirty::DirtyVisibility | dirty::DirtyMaterialId | dirty::DirtyInstancer;
+  return dirty::InitRepr | dirty::DirtyPoints | dirty::DirtyTopology | dirty::DirtyTransform | dirty::DirtyPrimvar |
+         dirty::DirtyVisibility | dirty::DirtyMaterialId | dirty::DirtyInstancer;
 }
 
 void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
@@ -203,7 +203,8 @@ void Mesh::SyncSubsets() {
     for (int f : topology_.geomSubsets[k].faceIndices) faceSubset[std::size_t(f)] = int(k);
   for (const GeomSubset& subset : topology_.geomSubsets) subsetMaterialIds_.push_back(subset.materialId);
   triangleSubsets_.resize(layout_.faces.size());
-  for (std::size_t t = 0; t < layout_.faces.size(); ++t) triangleSubsets_[t] = faceSubset[std::size_t(layout_.faces[t])];
+  for (std::size_t t = 0; t < layout_.faces.size(); ++t)
+    triangleSubsets_[t] = faceSubset[std::size_t(layout_.faces[t])];
   context_.triangleSubsets = &triangleSubsets_;
 }
 
@@ -267,7 +268,8 @@ void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate) {
     Fail(Id(), "primvar rest: must be vertex-interpolated (a position per point)");
 
   st_ = st.Empty() ? std::vector<Vec2f>{} : ToVectors<Vec2f>(PrimvarAtCorners(st, layout_, refiner_.get()));
-  displayColor_ = color.Empty() ? std::vector<Vec3f>{} : ToVectors<Vec3f>(PrimvarAtCorners(color, layout_, refiner_.get()));
+  displayColor_ =
+      color.Empty() ? std::vector<Vec3f>{} : ToVectors<Vec3f>(PrimvarAtCorners(color, layout_, refiner_.get()));
   // Authored normals shade polygon meshes only: a subdivided mesh's limit normals describe the surface
   // it renders, which the authored (control-cage) normals do not (Hydra ignores them there too).
   cornerNormals_.clear();
@@ -343,7 +345,8 @@ void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam,
       instances_.push_back(instance);
     }
   }
-  const std::vector<Vec3f>* colors = instancer && !instancer->InstanceColors().empty() ? &instancer->InstanceColors() : nullptr;
+  const std::vector<Vec3f>* colors =
+      instancer && !instancer->InstanceColors().empty() ? &instancer->InstanceColors() : nullptr;
   for (std::size_t k = 0; k < worlds.size(); ++k) {
     InstanceContext& c = instanceContexts_[k];
     c.geometry = &context_;
@@ -353,8 +356,10 @@ void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam,
     c.color = colors ? (*colors)[std::size_t(indices[k])] : Vec3f(0);
     const glm::mat4 m(worlds[k]);
     rtcSetGeometryTransform(instances_[k], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
-    if (visible_) rtcEnableGeometry(instances_[k]);
-    else rtcDisableGeometry(instances_[k]);
+    if (visible_)
+      rtcEnableGeometry(instances_[k]);
+    else
+      rtcDisableGeometry(instances_[k]);
     rtcCommitGeometry(instances_[k]);
   }
   instanceWorlds_ = std::move(worlds);

@@ -73,8 +73,9 @@ class Mesh : public Rprim {
   int RefineLevel() const { return topology_.refineLevel; }
   int SceneRefineLevel() const { return sceneRefineLevel_; }
   /// The level this mesh renders for a scene topology of level `sceneLevel`. Mesh: capped by its planned level
-  /// (0 while a pending plan has not reached it). EyeMesh: capped by its render plan (EyeRenderOptions::refineLevel). Public so that the plan can tell whether applying it
-  /// changes the rendered level, i.e. whether the mesh's topology is dirty.
+  /// (0 while a pending plan has not reached it). EyeMesh: capped by its render plan (EyeRenderOptions::refineLevel).
+  /// Public so that the plan can tell whether applying it changes the rendered level, i.e. whether the mesh's topology
+  /// is dirty.
   virtual int RefineLevelFor(int sceneLevel);
   /// The render plan's level for this mesh (plan/meshRefinePlan.h): it then renders min(scene level, level).
   void SetPlannedRefineLevel(int level) { plannedRefineLevel_ = level, awaitingPlan_ = false; }
@@ -111,20 +112,20 @@ class Mesh : public Rprim {
   void ReleaseInstances(RenderParam* renderParam);
   void ReleaseGeometry(RenderParam* renderParam);
 
-  MeshTopology topology_;    ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
-  int sceneRefineLevel_ = -1;  ///< the scene delegate's refineLevel at the last topology sync; -1 before it
+  MeshTopology topology_;        ///< as rendered: refineLevel is RefineLevelFor(the scene's level)
+  int sceneRefineLevel_ = -1;    ///< the scene delegate's refineLevel at the last topology sync; -1 before it
   int plannedRefineLevel_ = -1;  ///< the render plan's level, or -1
   bool awaitingPlan_ = false;    ///< synced while a plan was pending and not planned yet: level 0 until it is
   int controlPointCount_ = 0;
   std::unique_ptr<SubdivRefiner> refiner_;
-  std::vector<Vec3f> points_;        ///< the rendered points (limit positions if refined), object space
-  std::vector<Vec3f> normals_;       ///< unit shading normal per rendered point, object space
-  std::vector<int> triangles_;       ///< 3 indices per rendered triangle (layout_.vertices)
+  std::vector<Vec3f> points_;   ///< the rendered points (limit positions if refined), object space
+  std::vector<Vec3f> normals_;  ///< unit shading normal per rendered point, object space
+  std::vector<int> triangles_;  ///< 3 indices per rendered triangle (layout_.vertices)
   TriangleLayout layout_;
-  std::vector<Vec3f> displayColor_;  ///< per rendered triangle corner, or empty
-  std::vector<Vec2f> st_;            ///< per rendered triangle corner, or empty
-  std::vector<Vec3f> cornerNormals_; ///< authored normals per rendered triangle corner (polygon meshes), or empty
-  std::vector<Vec3f> rest_;          ///< rest positions per rendered point (limit, if refined), or empty
+  std::vector<Vec3f> displayColor_;   ///< per rendered triangle corner, or empty
+  std::vector<Vec2f> st_;             ///< per rendered triangle corner, or empty
+  std::vector<Vec3f> cornerNormals_;  ///< authored normals per rendered triangle corner (polygon meshes), or empty
+  std::vector<Vec3f> rest_;           ///< rest positions per rendered point (limit, if refined), or empty
   std::vector<PrimId> subsetMaterialIds_;
   std::vector<int> triangleSubsets_;  ///< per rendered triangle: its face's geomSubset, or -1
   Matrix4d transform_{1.0};
@@ -134,9 +135,9 @@ class Mesh : public Rprim {
   RTCGeometry triangleGeometry_ = nullptr;
   PrimId instancerId_;
   bool visible_ = true;
-  std::vector<Matrix4d> instanceWorlds_;          ///< object to world per drawn instance
-  std::vector<RTCGeometry> instances_;           ///< Embree instances of prototype_, one per drawn instance
-  std::vector<unsigned> instanceIds_;            ///< their ids in the root scene
+  std::vector<Matrix4d> instanceWorlds_;           ///< object to world per drawn instance
+  std::vector<RTCGeometry> instances_;             ///< Embree instances of prototype_, one per drawn instance
+  std::vector<unsigned> instanceIds_;              ///< their ids in the root scene
   std::vector<InstanceContext> instanceContexts_;  ///< their user data (sized once per rebuild: never reallocated)
   GeometryContext context_;
   MeshSyncStats stats_;

@@ -73,7 +73,8 @@ void ValidatePrimvar(const Primvar& primvar, const std::string& name, int compon
       fail("element " + std::to_string(i / std::size_t(components)) + " is not finite");
 }
 
-std::vector<float> PrimvarAtCorners(const Primvar& primvar, const TriangleLayout& layout, const SubdivRefiner* refiner) {
+std::vector<float> PrimvarAtCorners(const Primvar& primvar, const TriangleLayout& layout,
+                                    const SubdivRefiner* refiner) {
   const int width = primvar.components;
   const float* values = primvar.values.data();
   switch (primvar.interpolation) {

@@ -43,9 +43,9 @@ const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
-  static const std::vector<std::string> types = {primTypes::kCamera,    primTypes::kSphereLight, primTypes::kDistantLight,
-                                                 primTypes::kRectLight, primTypes::kDiskLight,   primTypes::kDomeLight,
-                                                 primTypes::kMaterial};
+  static const std::vector<std::string> types = {
+      primTypes::kCamera,    primTypes::kSphereLight, primTypes::kDistantLight, primTypes::kRectLight,
+      primTypes::kDiskLight, primTypes::kDomeLight,   primTypes::kMaterial};
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedBprimTypes() {

@@ -12,9 +12,9 @@
 #include <cassert>
 #include <cmath>
 #include <set>
-#include <utility>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace hdeye {
 
@@ -126,9 +126,10 @@ void CreaseEdges(const MeshTopology& topology, std::vector<Far::Index>* pairs, s
 Sdc::Options ToSdcOptions(const SubdivTags& tags) {
   Sdc::Options options;
   using B = SubdivTags::Boundary;
-  options.SetVtxBoundaryInterpolation(tags.interpolateBoundary == B::None       ? Sdc::Options::VTX_BOUNDARY_NONE
-                                      : tags.interpolateBoundary == B::EdgeOnly ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
-                                                                                : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  options.SetVtxBoundaryInterpolation(tags.interpolateBoundary == B::None ? Sdc::Options::VTX_BOUNDARY_NONE
+                                      : tags.interpolateBoundary == B::EdgeOnly
+                                          ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
+                                          : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
   using F = SubdivTags::FaceVaryingLinear;
   switch (tags.faceVaryingLinearInterpolation) {
     case F::None: options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_NONE); break;
@@ -156,8 +157,7 @@ Sdc::SchemeType ToSdcScheme(SubdivScheme scheme) {
 /// The validated topology under its scheme and tags (creases, corners, holes, boundary and face-varying rules),
 /// refined uniformly to `level` with the full topology of the last level kept (PrimvarRefiner::Limit needs its
 /// vertex neighbourhoods). With `fvar` set, the topology also carries that face-varying channel (channel 0).
-std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& topology, int pointCount,
-                                                            int level,
+std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& topology, int pointCount, int level,
                                                             const Far::TopologyDescriptor::FVarChannel* fvar) {
   Far::TopologyDescriptor descriptor;
   descriptor.numVertices = pointCount;
@@ -182,8 +182,8 @@ std::unique_ptr<const Far::TopologyRefiner> RefineUniformly(const MeshTopology& 
   }
 
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
-      descriptor, Factory::Options(ToSdcScheme(topology.scheme), ToSdcOptions(topology.subdivTags))));
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(descriptor, Factory::Options(ToSdcScheme(topology.scheme), ToSdcOptions(topology.subdivTags))));
   if (!refiner) Fail("OpenSubdiv rejected the topology");
 
   Far::TopologyRefiner::UniformOptions options(level);
@@ -333,8 +333,8 @@ std::vector<float> SubdivRefiner::EvaluateFaceVarying(const std::vector<float>& 
   if (width < 1) Fail("face-varying width is " + std::to_string(width) + ", need at least 1");
   const size_t corners = _coarse.faceVertexIndices.size();
   if (coarseCornerValues.size() != corners * static_cast<size_t>(width))
-    Fail("got " + std::to_string(coarseCornerValues.size()) + " face-varying floats, need " +
-         std::to_string(corners) + " corners x " + std::to_string(width));
+    Fail("got " + std::to_string(coarseCornerValues.size()) + " face-varying floats, need " + std::to_string(corners) +
+         " corners x " + std::to_string(width));
 
   // Rebuild the value indices the scene delegate expanded: per point, equal values share an index.
   std::vector<float> values;

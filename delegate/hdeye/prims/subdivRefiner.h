@@ -28,7 +28,6 @@ class StencilTable;
 
 namespace hdeye {
 
-
 /// A mesh topology refined uniformly under its scheme and subdivision tags (MeshTopology::scheme, subdivTags,
 /// holeIndices, through OpenSubdiv's TopologyDescriptor and Sdc::Options), owning the OpenSubdiv refiner and
 /// stencil table it built. Move-only.

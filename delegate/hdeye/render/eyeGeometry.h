@@ -53,8 +53,12 @@ struct EyeGeometry {
   glm::dvec3 ToCanonical(const glm::dvec3& p) const { return glm::dvec3(worldToCanonical * glm::dvec4(p, 1)); }
   glm::dvec3 ToWorld(const glm::dvec3& p) const { return glm::dvec3(canonicalToWorld * glm::dvec4(p, 1)); }
   /// Directions map by the linear part; the result is normalised (a similarity keeps angles).
-  glm::dvec3 DirToCanonical(const glm::dvec3& d) const { return glm::normalize(glm::dvec3(worldToCanonical * glm::dvec4(d, 0))); }
-  glm::dvec3 DirToWorld(const glm::dvec3& d) const { return glm::normalize(glm::dvec3(canonicalToWorld * glm::dvec4(d, 0))); }
+  glm::dvec3 DirToCanonical(const glm::dvec3& d) const {
+    return glm::normalize(glm::dvec3(worldToCanonical * glm::dvec4(d, 0)));
+  }
+  glm::dvec3 DirToWorld(const glm::dvec3& d) const {
+    return glm::normalize(glm::dvec3(canonicalToWorld * glm::dvec4(d, 0)));
+  }
 
   /// Diffuse albedo of the iris at canonical point x (mm, on the iris plane): the texture over the
   /// 15.08 mm iris disk (u = 0.5 + x / 15.08 along +x, v = 0.5 + y / 15.08 along +y; EyeParams'

@@ -21,7 +21,8 @@ glm::dvec3 Tangent(const glm::dvec3& n, const glm::dvec3& preferred, const glm::
   glm::dvec3 t = SafeNormalize(preferred - glm::dot(preferred, n) * n);
   if (glm::length(preferred - glm::dot(preferred, n) * n) < 1e-3 * glm::length(preferred) || t == glm::dvec3(0))
     t = SafeNormalize(second - glm::dot(second, n) * n);
-  if (t == glm::dvec3(0)) t = SafeNormalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  if (t == glm::dvec3(0))
+    t = SafeNormalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
   return t;
 }
 
@@ -49,8 +50,8 @@ glm::dvec3 EyeMeshOutwardNormal(const GeometryContext& context, unsigned triangl
   return glm::dot(ng, ns) < 0 ? -sign * ng : sign * ng;
 }
 
-EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeometry& eye, unsigned triangle,
-                                 double u, double v, const glm::dvec3& worldDir) {
+EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeometry& eye, unsigned triangle, double u,
+                                 double v, const glm::dvec3& worldDir) {
   const int* tri = &(*context.triangleVertices)[3 * std::size_t(triangle)];
   const std::vector<Vec3f>& points = *context.points;
   EyeMeshHit hit;
@@ -63,7 +64,8 @@ EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeomet
   // placed rigidly (filled in below, once the analytic point is known).
   const double sign = eye.outwardSign;
   glm::dvec3 ng = SafeNormalize(context.normalToWorld * EyeMeshOutwardNormal(context, triangle));
-  glm::dvec3 ns = SafeNormalize(context.normalToWorld * (sign * InterpolateAtTriangle(*context.vertexNormals, tri, u, v)));
+  glm::dvec3 ns =
+      SafeNormalize(context.normalToWorld * (sign * InterpolateAtTriangle(*context.vertexNormals, tri, u, v)));
   if (ns == glm::dvec3(0)) ns = ng;
   if (ng == glm::dvec3(0)) ng = ns;
 

@@ -50,7 +50,7 @@ struct EyeMeshHit {
   /// The hit lies on the cornea's side of the outer limbus edge, in front of the iris plane: it continues
   /// against the analytic model from analyticPoint with canonicalDir. Otherwise it is sclera.
   bool onCornea = false;
-  glm::dvec3 analyticPoint{0};   ///< mm, on the analytic surface at canonicalPoint's (x, y) (onCornea)
+  glm::dvec3 analyticPoint{0};         ///< mm, on the analytic surface at canonicalPoint's (x, y) (onCornea)
   glm::dvec3 analyticNormal{0, 0, 1};  ///< unit, outward, the analytic normal there (onCornea)
   /// Unit, incoming, canonical: dot(canonicalDir, analyticNormal) < 0 (onCornea).
   glm::dvec3 canonicalDir{0, 0, -1};
@@ -70,8 +70,8 @@ glm::dvec3 EyeMeshOutwardNormal(const GeometryContext& context, unsigned triangl
 /// world direction `worldDir` (unit). `context` must carry points, triangleVertices and vertexNormals
 /// (restPoints optional). Cost: about 0.6 us per hit with re-projection, 0.3 us for the baseline
 /// (bench/bench_deformed_eye, docs/deformed_eyes.md).
-EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeometry& eye, unsigned triangle,
-                                 double u, double v, const glm::dvec3& worldDir);
+EyeMeshHit EyeMeshHitToCanonical(const GeometryContext& context, const EyeGeometry& eye, unsigned triangle, double u,
+                                 double v, const glm::dvec3& worldDir);
 
 /// The world direction of a ray leaving a re-projected hit whose canonical direction is `canonicalDir`
 /// (unit): R^T canonicalDir, bent just above the hit's tangent plane if the turn put it below (a

@@ -19,7 +19,7 @@ struct EyeRenderOptions {
   /// must count it. Empty, or of another length than the light list (a light added without re-planning):
   /// MNEE for every light (when `mnee`). Each light is counted by exactly one of the two, never both.
   std::vector<bool> mneeLights;
-  bool allSolutions = false;   ///< MNEE searches every refraction path (caustic folds)
+  bool allSolutions = false;  ///< MNEE searches every refraction path (caustic folds)
   /// Events a camera path may take inside the anterior chamber before it is dropped (reported in
   /// EyeEvent::walkCapReached). 64: the full walk (sweep chamber, docs/render_plan.md).
   int maxChamberEvents = 64;

@@ -196,7 +196,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
     }
     if (!cap) return ev;  // through the sub-micrometre gap at the rim: lost
     p = cap->point;
-    n = cap->normal;  // outward; the path arrives from inside
+    n = cap->normal;                                                    // outward; the path arrives from inside
     const double Fi = eyelib::FresnelDielectric(glm::dot(-d, n), ior);  // 1 under total internal reflection
     if (random() < Fi) {
       d = d - 2 * glm::dot(d, n) * n;

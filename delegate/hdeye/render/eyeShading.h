@@ -73,8 +73,8 @@ struct EyeEvent {
   /// Sclera on an eye mesh: shade the mesh surface itself (its shading normal; `normal` is unset) with
   /// scleraAlbedo, or with its bound material when EyeGeometry::scleraUsesMaterial.
   bool scleraOnSurface = false;
-  int internalEvents = 0;        ///< events inside the chamber
-  bool walkCapReached = false;   ///< the walk hit its event bound (reported, the path is dropped)
+  int internalEvents = 0;       ///< events inside the chamber
+  bool walkCapReached = false;  ///< the walk hit its event bound (reported, the path is dropped)
 };
 
 /// A path arriving at the analytic cornea from outside, in the canonical frame.

@@ -66,7 +66,7 @@ SurfaceShading ShadeMaterial(const SurfaceMaterial& material, const glm::dvec3& 
   out.bsdf.metallic = LookupInput(material, MaterialInput::Metallic, site, &v) ? Unit(v.x) : m.metallic;
   double opacity = LookupInput(material, MaterialInput::Opacity, site, &v) ? Unit(v.x) : m.opacity;
   out.bsdf.ior = LookupInput(material, MaterialInput::Ior, site, &v) && std::isfinite(v.x) ? std::max(1.0, double(v.x))
-                                                                                          : double(m.ior);
+                                                                                           : double(m.ior);
   if (m.opacityThreshold > 0) {
     out.present = opacity >= m.opacityThreshold;
     opacity = 1;
@@ -80,7 +80,8 @@ SurfaceShading ShadeMaterial(const SurfaceMaterial& material, const glm::dvec3& 
   out.bsdf.clearcoatRoughness =
       LookupInput(material, MaterialInput::ClearcoatRoughness, site, &v) ? Unit(v.x) : m.clearcoatRoughness;
   out.emission = glm::dvec3(m.emissiveColor);
-  if (LookupInput(material, MaterialInput::EmissiveColor, site, &v)) out.emission = glm::max(glm::dvec3(v), glm::dvec3(0));
+  if (LookupInput(material, MaterialInput::EmissiveColor, site, &v))
+    out.emission = glm::max(glm::dvec3(v), glm::dvec3(0));
   out.normal = n;
   if (LookupInput(material, MaterialInput::Normal, site, &v)) {
     out.normal = MapNormal(glm::dvec3(v), n, wo, site.frame);

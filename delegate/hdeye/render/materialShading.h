@@ -11,9 +11,9 @@ namespace hdeye {
 
 /// Where the textures are looked up.
 struct TextureSite {
-  glm::dvec2 st{0};             ///< the mesh's st primvar at the hit
-  TextureFootprint footprint;   ///< the ray cone's footprint in st (before any UsdTransform2d)
-  StFrame frame;                ///< dp/ds, dp/dt (world), for normal maps
+  glm::dvec2 st{0};            ///< the mesh's st primvar at the hit
+  TextureFootprint footprint;  ///< the ray cone's footprint in st (before any UsdTransform2d)
+  StFrame frame;               ///< dp/ds, dp/dt (world), for normal maps
   TextureThread* thread = nullptr;
 };
 

@@ -21,9 +21,9 @@ using Vec2f = glm::vec2;
 /// Camera parameters, in the units USD uses for them.
 struct CameraParams {
   bool orthographic = false;
-  double focalLength = 50;          ///< mm (perspective)
-  double horizontalAperture = 36;   ///< mm, or scene units of width (orthographic)
-  double verticalAperture = 24;     ///< mm, or scene units of height (orthographic)
+  double focalLength = 50;                ///< mm (perspective)
+  double horizontalAperture = 36;         ///< mm, or scene units of width (orthographic)
+  double verticalAperture = 24;           ///< mm, or scene units of height (orthographic)
   double nearClip = 1e-3, farClip = 1e7;  ///< scene units
   /// Thin-lens depth of field (UsdGeomCamera): the lens's f-number (unitless); 0 is a pinhole (no blur).
   double fStop = 0;
@@ -45,10 +45,10 @@ enum class LightType { Sphere, Distant, Rect, Disk, Dome };
 
 /// UsdLuxShapingAPI: the cone and focus of a light's emission about its primary axis (local -z).
 struct LightShaping {
-  bool enabled = false;     ///< the prim has ShapingAPI (otherwise the fields below are ignored)
-  float coneAngle = 90;     ///< degrees off the axis past which the light emits nothing
-  float coneSoftness = 0;   ///< [0, 1]: the fraction of the cone over which emission smoothsteps to 0
-  float focus = 0;          ///< exponent of |cos(off-axis angle)| (< 0: ignored)
+  bool enabled = false;          ///< the prim has ShapingAPI (otherwise the fields below are ignored)
+  float coneAngle = 90;          ///< degrees off the axis past which the light emits nothing
+  float coneSoftness = 0;        ///< [0, 1]: the fraction of the cone over which emission smoothsteps to 0
+  float focus = 0;               ///< exponent of |cos(off-axis angle)| (< 0: ignored)
   glm::vec3 focusTint{0, 0, 0};  ///< colour the focus falloff tends to off the axis (white: no focus)
 };
 
@@ -67,9 +67,9 @@ struct LightParams {
   /// Sphere: render as a point light with the sphere's radiant intensity (pi r^2 L, r in world units).
   bool treatAsPoint = false;
   LightShaping shaping;
-  float radius = 0.5f;      ///< sphere, disk (scene units)
+  float radius = 0.5f;          ///< sphere, disk (scene units)
   float width = 1, height = 1;  ///< rect (scene units)
-  float angle = 0.53f;      ///< distant: angular diameter, degrees
+  float angle = 0.53f;          ///< distant: angular diameter, degrees
   /// Dome: a lat-long image; rect: an image over the rectangle (RenderLight::rectImage's orientation). Any
   /// format OpenImageIO reads; empty: a constant colour.
   std::string textureFile;
@@ -86,7 +86,16 @@ struct LightParams {
 
 /// The UsdPreviewSurface inputs a texture can drive.
 enum class MaterialInput {
-  DiffuseColor, EmissiveColor, Roughness, Metallic, Opacity, Ior, Normal, SpecularColor, Clearcoat, ClearcoatRoughness,
+  DiffuseColor,
+  EmissiveColor,
+  Roughness,
+  Metallic,
+  Opacity,
+  Ior,
+  Normal,
+  SpecularColor,
+  Clearcoat,
+  ClearcoatRoughness,
   Count
 };
 constexpr int kMaterialInputCount = int(MaterialInput::Count);
@@ -97,7 +106,7 @@ struct TextureInput {
   TextureParams texture;  ///< texture.file empty: the input is not textured
   int channel = -1;       ///< the UsdUVTexture output: -1 rgb, 0..3 r, g, b, a (float inputs take one)
   glm::vec2 scale{1, 1};
-  float rotation = 0;     ///< degrees, counter-clockwise
+  float rotation = 0;  ///< degrees, counter-clockwise
   glm::vec2 translation{0, 0};
   bool Active() const { return !texture.file.empty(); }
 };
@@ -113,7 +122,7 @@ struct MaterialParams {
   /// [0, 1]. Above 0: a point whose opacity is below it is not there (card eyelashes, leaves), and one
   /// at or above it is opaque.
   float opacityThreshold = 0;
-  float ior = 1.5f;        ///< dielectric index of refraction (>= 1)
+  float ior = 1.5f;  ///< dielectric index of refraction (>= 1)
   /// useSpecularWorkflow: the specular lobe's colour at normal incidence is specularColor (white at the
   /// edge) instead of coming from metallic and ior.
   bool useSpecularWorkflow = false;
@@ -129,7 +138,7 @@ struct MaterialParams {
 
 /// An eye's parameters (the EyeAPI schema's attributes). Lengths in the canonical frame are mm.
 struct EyeParams {
-  eyelib::ChamberParams chamber;          ///< model, iris depth, pupil, limbus ratios, cornea ior
+  eyelib::ChamberParams chamber;           ///< model, iris depth, pupil, limbus ratios, cornea ior
   glm::vec3 irisColor{0.35f, 0.2f, 0.1f};  ///< diffuse albedo of the iris
   glm::vec3 scleraColor{0.8f, 0.78f, 0.75f};
   /// Image over the iris disk in the canonical frame (u along +x, v along +y, the disk of diameter

@@ -26,7 +26,9 @@ struct Frame {
 };
 
 /// Exact dielectric Fresnel reflectance from outside (cos > 0) for index ior over air; 0 for ior = 1.
-double FresnelCoat(double cosTheta, double ior) { return eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior); }
+double FresnelCoat(double cosTheta, double ior) {
+  return eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior);
+}
 
 /// Schlick's Fresnel from its normal-incidence reflectance f0 (white at grazing incidence).
 glm::dvec3 Schlick(const glm::dvec3& f0, double c) {
@@ -156,7 +158,8 @@ double ThinSheetReflectance(double cosTheta, double ior) {
   return r < 1 ? 2 * r / (1 + r) : 1.0;
 }
 
-glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
+glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo,
+                              const glm::dvec3& wi) {
   const Frame frame(n);
   const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
   if (!(lo.z > kMinCos) || !(li.z > kMinCos)) return glm::dvec3(0);

@@ -32,15 +32,15 @@
 namespace hdeye {
 
 struct PreviewSurface {
-  glm::dvec3 albedo{0.18};  ///< diffuseColor (or its texture), linear, >= 0
-  double roughness = 0.5;   ///< perceptual, [0, 1]
-  double metallic = 0;      ///< [0, 1]
-  double opacity = 1;       ///< [0, 1]; below 1 part of the surface is glass
-  double ior = 1.5;         ///< >= 1
-  bool thinWalled = false;  ///< the glass part is a thin sheet (no refraction, no inside)
-  bool specularWorkflow = false;   ///< useSpecularWorkflow: specularColor instead of metallic and ior
-  glm::dvec3 specularColor{0};     ///< linear, [0, 1]: the specular workflow's F0 (edge colour white)
-  double clearcoat = 0;            ///< [0, 1]: weight of the white clearcoat lobe
+  glm::dvec3 albedo{0.18};           ///< diffuseColor (or its texture), linear, >= 0
+  double roughness = 0.5;            ///< perceptual, [0, 1]
+  double metallic = 0;               ///< [0, 1]
+  double opacity = 1;                ///< [0, 1]; below 1 part of the surface is glass
+  double ior = 1.5;                  ///< >= 1
+  bool thinWalled = false;           ///< the glass part is a thin sheet (no refraction, no inside)
+  bool specularWorkflow = false;     ///< useSpecularWorkflow: specularColor instead of metallic and ior
+  glm::dvec3 specularColor{0};       ///< linear, [0, 1]: the specular workflow's F0 (edge colour white)
+  double clearcoat = 0;              ///< [0, 1]: weight of the white clearcoat lobe
   double clearcoatRoughness = 0.01;  ///< perceptual, [0, 1] (the spec's default is a mirror)
 
   /// A pure Lambertian reflector (the sclera, and anything that must stay Lambert).
@@ -63,11 +63,11 @@ constexpr double kMinAlpha = 1e-3;
 
 /// One sampled scattering direction.
 struct BsdfSample {
-  glm::dvec3 wi{0};      ///< unit, away from the surface
-  glm::dvec3 weight{0};  ///< f |cos_i| / pdf (delta lobes: their reflectance over their probability)
-  double pdf = 0;        ///< solid-angle pdf for non-delta samples (for MIS); for delta samples the
-                         ///< lobe's selection probability (not a density: never MIS-weighted)
-  bool delta = false;    ///< a mirror or glass event: lights it meets count in full
+  glm::dvec3 wi{0};          ///< unit, away from the surface
+  glm::dvec3 weight{0};      ///< f |cos_i| / pdf (delta lobes: their reflectance over their probability)
+  double pdf = 0;            ///< solid-angle pdf for non-delta samples (for MIS); for delta samples the
+                             ///< lobe's selection probability (not a density: never MIS-weighted)
+  bool delta = false;        ///< a mirror or glass event: lights it meets count in full
   bool transmitted = false;  ///< crossed to the other side of the surface (into or out of the glass)
 };
 

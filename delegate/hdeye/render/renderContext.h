@@ -32,12 +32,12 @@ struct SurfaceMaterial {
 };
 
 struct GeometryContext {
-  int primIndex = -1;                 ///< the primId AOV value
+  int primIndex = -1;  ///< the primId AOV value
   /// Inverse transpose of the transform's linear part: analytic eyes and meshes drawn once (eye meshes, which are
   /// never instanced, map hits with it); an instanced mesh's are per instance, in InstanceContext.
   glm::dmat3 normalToWorld{1.0};
-  MaterialParams material;            ///< resolved from the bound material (or the fallback)
-  bool materialBound = false;         ///< a material sprim is bound (else `material` is the fallback)
+  MaterialParams material;     ///< resolved from the bound material (or the fallback)
+  bool materialBound = false;  ///< a material sprim is bound (else `material` is the fallback)
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
   const std::vector<Vec3f>* displayColor = nullptr;
   const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle: indices into points, normals, rest
@@ -50,10 +50,10 @@ struct GeometryContext {
   /// Authored normals per rendered triangle corner (3 per triangle), object space, unit or zero; when
   /// set they replace vertexNormals (polygon meshes only: subdivided meshes keep their limit normals).
   const std::vector<Vec3f>* cornerNormals = nullptr;
-  const std::vector<Vec2f>* st = nullptr; ///< 3 per rendered triangle (corner order), or null
+  const std::vector<Vec2f>* st = nullptr;  ///< 3 per rendered triangle (corner order), or null
   /// Rest positions per rendered point (object space; refined to the limit like the points), or null.
   const std::vector<Vec3f>* restPoints = nullptr;
-  const EyeGeometry* eye = nullptr;   ///< set for analytic eyes (user geometry): shaded through the analytic model
+  const EyeGeometry* eye = nullptr;  ///< set for analytic eyes (user geometry): shaded through the analytic model
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
@@ -79,7 +79,7 @@ struct GeometryContext {
 /// instance. A mesh drawn once has one; an instanced mesh one per instance over the same prototype scene.
 struct InstanceContext {
   const GeometryContext* geometry = nullptr;  ///< the prototype mesh's context
-  glm::dmat3 normalToWorld{1.0};  ///< inverse transpose of this instance's object-to-world linear part
+  glm::dmat3 normalToWorld{1.0};              ///< inverse transpose of this instance's object-to-world linear part
   /// The instancer's displayColor for this instance (linear RGB), replacing the mesh's colour when hasColor.
   Vec3f color{0};
   bool hasColor = false;

@@ -82,9 +82,7 @@ glm::dvec2 DirectionToLatLong(const glm::dvec3& d, double* cosLat) {
   return {u, std::clamp(0.5 + lat / kPi, 0.0, 1.0)};
 }
 /// Solid-angle pdf from the (u, v) density: d omega = 2 pi^2 sin(theta) du dv.
-double UvToSolidAngle(double pdfUv, double cosLat) {
-  return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0;
-}
+double UvToSolidAngle(double pdfUv, double cosLat) { return cosLat > 1e-12 ? pdfUv / (2 * kPi * kPi * cosLat) : 0; }
 /// Radiance of a rect light at local point a axisU + b axisV (a, b in [-1, 1]; see RenderLight::rectImage).
 glm::dvec3 RectRadiance(const RenderLight& l, double a, double b) {
   if (!l.rectImage) return l.radiance;
@@ -103,11 +101,14 @@ glm::dvec3 DomeRadiance(const RenderLight& l, glm::dvec2 uv) {
 std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Texture> image) {
   if (!image) throw std::invalid_argument("DomeTexture::Build: no image");
   const std::vector<glm::vec3> texels = image->Texels();
-  if (texels.empty()) throw std::invalid_argument("DomeTexture::Build: " + (image->Valid() ? std::string("a UDIM set is no lat-long image") : image->Error()));
+  if (texels.empty())
+    throw std::invalid_argument("DomeTexture::Build: " +
+                                (image->Valid() ? std::string("a UDIM set is no lat-long image") : image->Error()));
   const int w = image->Width(), h = image->Height();
   std::vector<double> luminance(std::size_t(w) * std::size_t(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
+    for (int x = 0; x < w; ++x)
+      luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
   // Distribution row r is image row h-1-r (v = 0 at the bottom).
   std::vector<double> weights(luminance.size());
   for (int r = 0; r < h; ++r) {
@@ -352,7 +353,8 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       const glm::dvec3 q = p + t * dir - l.position;
       *radiance = l.radiance;
       if (l.type == LightType::Rect) {
-        const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU), b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
+        const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU),
+                     b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
         if (std::abs(a) > 1 || std::abs(b) > 1) return false;
         *radiance = RectRadiance(l, a, b);
       } else if (glm::dot(q, q) > l.radius * l.radius) {

@@ -35,9 +35,9 @@ struct DomeTexture {
 /// UsdLuxShapingAPI as the renderer evaluates it (see EmissionShaping).
 struct ShapingRt {
   bool enabled = false;
-  double cutoff = kHalfTurn;      ///< cone angle, radians off the axis
-  double smoothStart = kHalfTurn; ///< radians: emission smoothsteps from 1 here to 0 at cutoff
-  double focus = 0;               ///< exponent of |cos| (0: none)
+  double cutoff = kHalfTurn;       ///< cone angle, radians off the axis
+  double smoothStart = kHalfTurn;  ///< radians: emission smoothsteps from 1 here to 0 at cutoff
+  double focus = 0;                ///< exponent of |cos| (0: none)
   glm::dvec3 focusTint{0};
   static constexpr double kHalfTurn = 3.14159265358979323846;
 };
@@ -50,13 +50,13 @@ struct RenderLight {
   /// A point (sphere with treatAsPoint) or a parallel beam (distant with angle 0): sampled with pdf 1 in
   /// LightSample::delta, never met by a ray.
   bool delta = false;
-  glm::dvec3 position{0};    ///< sphere centre, rect/disk centre
+  glm::dvec3 position{0};  ///< sphere centre, rect/disk centre
   /// distant: towards the light; rect/disk: emitting normal; sphere: the primary axis (local -z) shaping uses.
   glm::dvec3 direction{0, 0, 1};
   ShapingRt shaping;
   glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};  ///< rect: half-extent vectors; disk: unit in-plane axes
-  double radius = 0;         ///< sphere, disk
-  double cosHalfAngle = 1;   ///< distant
+  double radius = 0;                          ///< sphere, disk
+  double cosHalfAngle = 1;                    ///< distant
   /// Dome with a texture: the image (radiance = `radiance` x texel) and its sampling distribution;
   /// null for a constant dome.
   std::shared_ptr<const DomeTexture> dome;
@@ -98,11 +98,11 @@ inline bool CastsShadow(const RenderLight& light, int primIndex) {
 
 /// A sampled direction towards a light from a shading point.
 struct LightSample {
-  glm::dvec3 dir{0};         ///< unit, towards the light
-  double distance = 0;       ///< to the sampled point (infinity for distant and dome)
-  glm::dvec3 radiance{0};    ///< delta: the irradiance normal to dir it delivers at p (pdf 1)
-  double pdf = 0;            ///< solid angle; 0 if the light cannot be sampled from here
-  bool delta = false;        ///< a point or a parallel beam: no BSDF sample can find it (no MIS)
+  glm::dvec3 dir{0};       ///< unit, towards the light
+  double distance = 0;     ///< to the sampled point (infinity for distant and dome)
+  glm::dvec3 radiance{0};  ///< delta: the irradiance normal to dir it delivers at p (pdf 1)
+  double pdf = 0;          ///< solid angle; 0 if the light cannot be sampled from here
+  bool delta = false;      ///< a point or a parallel beam: no BSDF sample can find it (no MIS)
   /// A sphere so small seen from p (angular radius below 1e-5 rad) that it is sampled in its point-light
   /// limit: `dir` is exactly towards its centre, `distance` the centre's, and radiance / pdf its intensity
   /// over distance^2 (radiance x pi radius^2 / distance^2, to 1e-10).

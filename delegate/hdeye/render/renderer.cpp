@@ -22,10 +22,10 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <type_traits>
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 namespace hdeye {
 
@@ -70,21 +70,20 @@ SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
   return SurfaceMaterial{context.material, context.textures, context.materialBound};
 }
 
-
 struct SurfaceHit {
   double t;
-  glm::dvec3 p, n;  // n (the shading normal) faces the incoming ray
+  glm::dvec3 p, n;   // n (the shading normal) faces the incoming ray
   glm::dvec3 ng{0};  // the geometric normal, facing the incoming ray
   glm::dvec3 albedo, emission;
   int primIndex;
   const GeometryContext* context;
-  unsigned part;    // the primitive; for eyes, EyeGeometry::Part
-  double u = 0, v = 0;  // barycentrics of the hit in triangle `part` (meshes)
-  glm::dvec2 st{0};     // the mesh's "st" primvar at the hit (0 where not authored)
-  SurfaceMaterial material;  // the material of the hit's face (geomSubsets), else the prim's
-  StFrame stFrame;      // dp/ds, dp/dt of the hit triangle (world), where st and points are known
-  bool normalMapped = false;  // n comes from a normal map (it may lean below the surface itself)
-  glm::dmat3 normalToWorld{1.0};       // the hit instance's (object-space normals to world)
+  unsigned part;                         // the primitive; for eyes, EyeGeometry::Part
+  double u = 0, v = 0;                   // barycentrics of the hit in triangle `part` (meshes)
+  glm::dvec2 st{0};                      // the mesh's "st" primvar at the hit (0 where not authored)
+  SurfaceMaterial material;              // the material of the hit's face (geomSubsets), else the prim's
+  StFrame stFrame;                       // dp/ds, dp/dt of the hit triangle (world), where st and points are known
+  bool normalMapped = false;             // n comes from a normal map (it may lean below the surface itself)
+  glm::dmat3 normalToWorld{1.0};         // the hit instance's (object-space normals to world)
   const Vec3f* instanceColor = nullptr;  // the instancer's displayColor for the hit instance, or null
 };
 
@@ -117,13 +116,15 @@ struct EyeSwitches {
   bool scleraScattering = true, limbalArc = true;
 };
 
-EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye, const RenderSettings& settings) {
+EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye,
+                               const RenderSettings& settings) {
   if (options.planned)
-    return {options.mnee,          options.allSolutions,     &options.mneeLights, options.maxChamberEvents,
-            options.scleraScattering, options.limbalArc};
+    return {
+        options.mnee,     options.allSolutions, &options.mneeLights, options.maxChamberEvents, options.scleraScattering,
+        options.limbalArc};
   static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
-  return {settings.mnee,          settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents,
-          settings.scleraScattering, eye.limbalArc};
+  return {settings.mnee, settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents, settings.scleraScattering,
+          eye.limbalArc};
 }
 
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
@@ -143,7 +144,7 @@ struct PathState {
 
   glm::dvec3 o, d;  ///< the next ray
   double tNear, tFar;
-  RayCone cone;     ///< the next ray's footprint (rayCone.h), for texture filtering
+  RayCone cone;             ///< the next ray's footprint (rayCone.h), for texture filtering
   int cutoutCrossings = 0;  ///< cut-outs the path has passed through (bounded by kMaxCutoutCrossings)
   glm::dvec3 beta{1};
   // How the current ray was chosen, for weighting the lights it meets: after a specular event (the camera,
@@ -156,10 +157,10 @@ struct PathState {
   // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
   // by light, never a mixture.
   bool specular = true, skipLights = false, skipMnee = false;
-  int fromPrim = -1;         ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
-  double bsdfPdf = 0;        ///< the pdf the current ray was sampled with (after a diffuse bounce)
-  EyeLighting eyeLighting;   ///< the lights and switches of the eye last met
-  EyeLighting skipMneeOf;    ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
+  int fromPrim = -1;        ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
+  double bsdfPdf = 0;       ///< the pdf the current ray was sampled with (after a diffuse bounce)
+  EyeLighting eyeLighting;  ///< the lights and switches of the eye last met
+  EyeLighting skipMneeOf;   ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
   // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry no
   // front/back flag, so this assumes the camera is outside and glass objects are closed and do not nest.
   bool insideGlass = false;
@@ -194,7 +195,10 @@ class Tracer {
 
   /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
   Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
-      : scene_(scene), lights_(lights), settings_(settings), cutouts_(cutouts),
+      : scene_(scene),
+        lights_(lights),
+        settings_(settings),
+        cutouts_(cutouts),
         textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
@@ -312,18 +316,18 @@ class Tracer {
       local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
     }
     const WorldNormal shading(hit->normalToWorld, local);
-    hit->n = !shading.Valid()                    ? hit->ng
+    hit->n = !shading.Valid()                   ? hit->ng
              : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
-                                                 : shading.v / shading.length;
+                                                : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
     hit->material = MaterialAt(ctx, hit->part);
     // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
     // with a bound material shows the material's.
-    hit->albedo = hit->material.bound     ? glm::dvec3(hit->material.params.diffuseColor)
-                  : hit->instanceColor   ? glm::dvec3(*hit->instanceColor)
-                  : ctx.displayColor     ? glm::dvec3(atCorners(*ctx.displayColor))
-                                         : glm::dvec3(hit->material.params.diffuseColor);
+    hit->albedo = hit->material.bound  ? glm::dvec3(hit->material.params.diffuseColor)
+                  : hit->instanceColor ? glm::dvec3(*hit->instanceColor)
+                  : ctx.displayColor   ? glm::dvec3(atCorners(*ctx.displayColor))
+                                       : glm::dvec3(hit->material.params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
@@ -467,9 +471,10 @@ class Tracer {
     lighting.mneeLights = switches.mneeLights;
     lighting.maxChamberEvents = switches.maxChamberEvents;
     lighting.receiver = hit->primIndex;
-    const EyeEvent ev = ctx.eye ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
-                                : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
-                                                   path->d, lighting, random);
+    const EyeEvent ev = ctx.eye
+                            ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
+                            : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
+                                               path->d, lighting, random);
     sample->L += path->beta * ev.radiance;
     sample->irisMnee += path->beta * ev.radiance;
     if (ev.kind == EyeEvent::Continue) {
@@ -498,15 +503,17 @@ class Tracer {
   void ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,
                           SurfaceHit* hit) const {
     if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
-    if (!ev.scleraOnSurface || !eye.scleraUsesMaterial) hit->albedo = ev.scleraAlbedo;
-    else hit->albedo = TexturedAlbedo(hit->material, hit->albedo, SiteOf(*hit, d, cone));
+    if (!ev.scleraOnSurface || !eye.scleraUsesMaterial)
+      hit->albedo = ev.scleraAlbedo;
+    else
+      hit->albedo = TexturedAlbedo(hit->material, hit->albedo, SiteOf(*hit, d, cone));
     hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
   }
 
   /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
   /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
-  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random,
-                         SurfaceHit* hit, PathState* path, const glm::dvec3& L) const {
+  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random, SurfaceHit* hit,
+                         PathState* path, const glm::dvec3& L) const {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
     if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
@@ -535,7 +542,7 @@ class Tracer {
   /// What a sclera hit on an eye mesh did: reflected off the wet surface, or entered, walked and left.
   struct ScleraStep {
     enum Kind { Reflected, Exited, Ended } kind = Ended;
-    glm::dvec3 origin{0}, dir{0};  ///< Reflected: the mirror ray
+    glm::dvec3 origin{0}, dir{0};    ///< Reflected: the mirror ray
     glm::dvec3 point{0}, normal{0};  ///< Exited: the exit (world) and the outward shading normal there
     glm::dvec3 weight{0};            ///< Exited: the walk's RGB throughput
     bool teleported = false;         ///< Exited: the walk lit the limbal arc
@@ -600,12 +607,14 @@ class Tracer {
 
   /// The outward shading normal where a sclera walk left the mesh: the mesh's interpolated normals at the last
   /// crossing, if they agree with the geometric normal's side; else the geometric normal `outward`.
-  static glm::dvec3 ExitShadingNormal(const GeometryContext& ctx, const MeshCrossing& crossing, const glm::dvec3& outward) {
+  static glm::dvec3 ExitShadingNormal(const GeometryContext& ctx, const MeshCrossing& crossing,
+                                      const glm::dvec3& outward) {
     if (!ctx.vertexNormals || !ctx.triangleVertices || crossing.triangle == RTC_INVALID_GEOMETRY_ID ||
         3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
       return outward;
     const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
-    const WorldNormal shading(ctx.normalToWorld, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+    const WorldNormal shading(ctx.normalToWorld,
+                              InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
     return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
   }
 

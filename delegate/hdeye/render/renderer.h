@@ -39,10 +39,10 @@ struct RenderStats {
   std::int64_t samples = 0;  ///< pixel samples traced
   std::int64_t rays = 0;     ///< rays cast (closest-hit and shadow)
   double seconds = 0;
-  int passes = 0;            ///< samples per pixel completed
+  int passes = 0;                     ///< samples per pixel completed
   std::int64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped (a bug if ever non-zero)
   bool timeLimitReached = false;
-  std::int64_t scleraWalks = 0;    ///< sclera random walks run (eye meshes with RenderSettings::scleraScattering)
+  std::int64_t scleraWalks = 0;      ///< sclera random walks run (eye meshes with RenderSettings::scleraScattering)
   std::int64_t teleportedWalks = 0;  ///< walks that crossed the teleportation cylinder at least once
   /// Walks dropped at their step cap (ScleraScatteringSettings::maxSteps): energy lost, reported.
   std::int64_t cappedWalks = 0;

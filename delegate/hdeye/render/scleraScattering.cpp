@@ -40,8 +40,8 @@ ScleraExit ScatterInSclera(const EyeGeometry& eye, const glm::dvec3& entry, cons
   s.teleport = settings.limbalArc;
   s.cylinder = eyelib::TeleportationCylinder(2 * eye.chamber.LimbusOuterRadius());
   const eyelib::SssMedium medium = eyelib::SssMediumFromArtist(scleraColor, meanFreePathMm);
-  const eyelib::WalkResult w = eyelib::RandomWalkSss(medium, s, eye.ToCanonical(entry),
-                                                     eye.DirToCanonical(inwardDir), canonical, random);
+  const eyelib::WalkResult w =
+      eyelib::RandomWalkSss(medium, s, eye.ToCanonical(entry), eye.DirToCanonical(inwardDir), canonical, random);
   out.status = w.status;
   out.steps = w.steps;
   out.teleports = w.teleports;
@@ -67,8 +67,10 @@ double MaxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.
 double BoxExit(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, const glm::dvec3& hi) {
   double t = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
-    if (d[a] > 0) t = std::min(t, (hi[a] - o[a]) / d[a]);
-    else if (d[a] < 0) t = std::min(t, (lo[a] - o[a]) / d[a]);
+    if (d[a] > 0)
+      t = std::min(t, (hi[a] - o[a]) / d[a]);
+    else if (d[a] < 0)
+      t = std::min(t, (lo[a] - o[a]) / d[a]);
   }
   return std::max(0.0, t);
 }
@@ -76,8 +78,11 @@ double BoxExit(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, c
 class MeshBoundaryQuery {
  public:
   MeshBoundaryQuery(RTCScene scene, const glm::dmat4& objectToWorld, std::int64_t* rays, MeshCrossing* last)
-      : scene_(scene), worldToObject_(glm::inverse(objectToWorld)),
-        normalToWorld_(glm::transpose(glm::inverse(glm::dmat3(objectToWorld)))), rays_(rays), last_(last) {
+      : scene_(scene),
+        worldToObject_(glm::inverse(objectToWorld)),
+        normalToWorld_(glm::transpose(glm::inverse(glm::dmat3(objectToWorld)))),
+        rays_(rays),
+        last_(last) {
     RTCBounds b;
     rtcGetSceneBounds(scene, &b);
     // A margin of 1% of the box: the backward ray starts strictly outside the mesh.
@@ -129,7 +134,7 @@ class MeshBoundaryQuery {
       const double nLength = glm::length(n);
       ng = nLength > 0 && std::isfinite(nLength) ? n / nLength : glm::dvec3(0.0);
       crossing = MeshCrossing{rh.hit.primID, rh.hit.u, rh.hit.v};
-      sNear = s + tNear;  // past this crossing by its rounding bound
+      sNear = s + tNear;                // past this crossing by its rounding bound
       if (!(sNear < T - tNear)) break;  // nothing nearer can be told apart from the origin's own surface
     }
     if (best >= 0 && !(sNear < T - tNear)) {

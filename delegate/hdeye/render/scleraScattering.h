@@ -1,8 +1,8 @@
 #pragma once
-// Sclera subsurface scattering for the eye shading code (docs/limbal_arc.md): a thin adapter that runs eyelib's random walk in the eye's canonical frame, so the
-// limbal-arc teleportation cylinder follows the eye wherever it is and however it is turned, and hands
-// back a world-space exit. The renderer supplies the eyeball's boundary as a world-space closest-hit
-// callback; EyeMeshBoundary builds that callback from an eye mesh's own Embree scene.
+// Sclera subsurface scattering for the eye shading code (docs/limbal_arc.md): a thin adapter that runs eyelib's random
+// walk in the eye's canonical frame, so the limbal-arc teleportation cylinder follows the eye wherever it is and
+// however it is turned, and hands back a world-space exit. The renderer supplies the eyeball's boundary as a
+// world-space closest-hit callback; EyeMeshBoundary builds that callback from an eye mesh's own Embree scene.
 //
 // Called by the renderer (renderer.cpp, Tracer::ScleraWalk) for eye-mesh hits the eye shading classifies
 // as sclera (and the sclera share of the limbus blend); docs/limbal_arc.md describes the integration.
@@ -21,14 +21,14 @@ namespace hdeye {
 /// not report the surface the origin lies on at t ~ 0 (Embree: tnear from an error bound). A query it
 /// cannot answer within its own bounds is reported by writing a non-finite *t (the walk then ends as
 /// WalkStatus::Invalid, which the renderer counts).
-using WorldBoundary = std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tMax,
-                                         double* t, glm::dvec3* normal)>;
+using WorldBoundary =
+    std::function<bool(const glm::dvec3& origin, const glm::dvec3& dir, double tMax, double* t, glm::dvec3* normal)>;
 
 struct ScleraScatteringSettings {
-  double ior = 1.376;       ///< sclera over outside
-  double g = 0;             ///< Henyey-Greenstein asymmetry (the albedo inversion assumes 0)
-  int maxSteps = 1024;      ///< every scattering, internal reflection and teleport counts
-  bool limbalArc = true;    ///< the teleportation cylinder (diameter = the eye's outer limbus edge)
+  double ior = 1.376;     ///< sclera over outside
+  double g = 0;           ///< Henyey-Greenstein asymmetry (the albedo inversion assumes 0)
+  int maxSteps = 1024;    ///< every scattering, internal reflection and teleport counts
+  bool limbalArc = true;  ///< the teleportation cylinder (diameter = the eye's outer limbus edge)
 };
 
 struct ScleraExit {

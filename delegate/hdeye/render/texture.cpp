@@ -1,7 +1,7 @@
 #include "hdeye/render/texture.h"
 
-#include <OpenImageIO/texture.h>
 #include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/texture.h>
 
 #include <algorithm>
 #include <cmath>
@@ -142,12 +142,14 @@ void Texture::OpenFile() {
   }
   for (const oiio::ustring& f : files) {
     std::error_code ec;
-    if (!std::filesystem::exists(f.string(), ec)) return fail(udim_ ? "tile " + f.string() + " not found" : "file not found");
+    if (!std::filesystem::exists(f.string(), ec))
+      return fail(udim_ ? "tile " + f.string() + " not found" : "file not found");
     int exists = 0;
     ts->get_texture_info(f, 0, oiio::ustring("exists"), oiio::TypeInt, &exists);
     if (!exists) return fail(PendingError("not an image OpenImageIO can read"));
     const oiio::ImageSpec* spec = ts->imagespec(f, 0);
-    if (!spec || spec->width <= 0 || spec->height <= 0 || spec->nchannels <= 0) return fail(PendingError("no image in the file"));
+    if (!spec || spec->width <= 0 || spec->height <= 0 || spec->nchannels <= 0)
+      return fail(PendingError("no image in the file"));
     if (f == files.front()) {
       width_ = spec->width, height_ = spec->height, channels_ = std::min(4, spec->nchannels);
       const bool eightBit = spec->format.basetype == oiio::TypeDesc::UINT8;
@@ -167,7 +169,6 @@ void Texture::OpenFile() {
   handle_ = ts->get_texture_handle(name);
   if (!handle_) return fail(PendingError("OpenImageIO gave no handle"));
 }
-
 
 glm::vec4 Texture::Decode(const float raw[4]) const {
   glm::vec4 c;
@@ -203,10 +204,10 @@ glm::vec4 Texture::Lookup(glm::vec2 st, const TextureFootprint& footprint, Textu
     t = row + (1 - (st.y - row));
   }
   float raw[4] = {0, 0, 0, 1};
-  const bool ok = ts->texture(reinterpret_cast<oiio::TextureSystem::TextureHandle*>(handle_),
-                              reinterpret_cast<oiio::TextureSystem::Perthread*>(thread), opt, st.x, t,
-                              footprint.dstDx.x, -footprint.dstDx.y, footprint.dstDy.x, -footprint.dstDy.y,
-                              channels_, raw);
+  const bool ok =
+      ts->texture(reinterpret_cast<oiio::TextureSystem::TextureHandle*>(handle_),
+                  reinterpret_cast<oiio::TextureSystem::Perthread*>(thread), opt, st.x, t, footprint.dstDx.x,
+                  -footprint.dstDx.y, footprint.dstDy.x, -footprint.dstDy.y, channels_, raw);
   if (!ok) {  // a UDIM tile the set does not have, or a tile that failed to read
     if (ts->has_error()) ts->geterror();
     return params_.fallback;

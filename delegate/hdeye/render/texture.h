@@ -34,9 +34,9 @@ struct TextureParams {
   std::string file;  ///< an image path; "<UDIM>" in it names a UDIM set (tile 1001 + u + 10 v)
   TextureWrap wrapS = TextureWrap::UseMetadata, wrapT = TextureWrap::UseMetadata;
   TextureColorSpace colorSpace = TextureColorSpace::Auto;
-  glm::vec4 scale{1, 1, 1, 1};      ///< result = decoded texel * scale + bias
+  glm::vec4 scale{1, 1, 1, 1};  ///< result = decoded texel * scale + bias
   glm::vec4 bias{0, 0, 0, 0};
-  glm::vec4 fallback{1, 0, 1, 1};   ///< returned as is where the file cannot be read (magenta: visible)
+  glm::vec4 fallback{1, 0, 1, 1};  ///< returned as is where the file cannot be read (magenta: visible)
 
   /// A plain colour image (iris, dome): repeat in s, `wrapT` in t, colour space auto, magenta fallback.
   static TextureParams Image(std::string file, TextureWrap wrapT = TextureWrap::Repeat);
@@ -69,10 +69,10 @@ class Texture {
   /// Why the file cannot be used ("" when Valid()): "cannot read texture <file>: <reason>".
   const std::string& Error() const { return error_; }
   const TextureParams& Params() const { return params_; }
-  int Width() const { return width_; }    ///< texels of the finest level (UDIM: of the first tile)
+  int Width() const { return width_; }  ///< texels of the finest level (UDIM: of the first tile)
   int Height() const { return height_; }
   int Channels() const { return channels_; }
-  bool Srgb() const { return srgb_; }     ///< whether lookups decode the sRGB transfer curve
+  bool Srgb() const { return srgb_; }  ///< whether lookups decode the sRGB transfer curve
 
   /// RGBA at st (USD's convention: t = 0 is the image's bottom row) averaged over the footprint,
   /// decoded to linear, then scaled and biased. The fallback where the texture is invalid. Finite.

@@ -52,9 +52,9 @@ PrimId InMemorySceneDelegate::GetInstancerId(const PrimId& id) {
   return mesh == meshes_.end() ? PrimId{} : mesh->second.instancerId;
 }
 
-void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& topology,
-                                       const std::vector<Vec3f>& points, const EyeParams& eyeParams,
-                                       const Matrix4d& transform, const PrimId& materialId) {
+void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
+                                       const EyeParams& eyeParams, const Matrix4d& transform,
+                                       const PrimId& materialId) {
   CheckTransform(id, transform);
   meshes_[id] = MeshData{topology, points, {}, materialId};
   eyes_[id] = eyeParams;
@@ -117,7 +117,8 @@ void InMemorySceneDelegate::SetPoints(const PrimId& id, const std::vector<Vec3f>
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPoints);
 }
 
-void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points) {
+void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& topology,
+                                        const std::vector<Vec3f>& points) {
   meshes_.at(id).topology = topology;
   meshes_.at(id).points = points;
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
@@ -144,15 +145,19 @@ void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& trans
 }
 
 void InMemorySceneDelegate::SetVisible(const PrimId& id, bool visible) {
-  if (visible) hidden_.erase(id);
-  else hidden_.insert(id);
+  if (visible)
+    hidden_.erase(id);
+  else
+    hidden_.insert(id);
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyVisibility);
 }
 
 void InMemorySceneDelegate::SetPrimvar(const PrimId& id, const std::string& name, const Primvar& primvar) {
   std::map<std::string, Primvar>& primvars = meshes_.at(id).primvars;
-  if (primvar.Empty()) primvars.erase(name);
-  else primvars[name] = primvar;
+  if (primvar.Empty())
+    primvars.erase(name);
+  else
+    primvars[name] = primvar;
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPrimvar);
 }
 

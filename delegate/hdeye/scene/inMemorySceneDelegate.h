@@ -19,7 +19,8 @@ class InMemorySceneDelegate final : public SceneDelegate {
   /// instancerId: the instancer (AddInstancer, added first) whose instances draw this mesh, at
   /// instanceTransform * transform each; empty: drawn once at `transform`.
   void AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
-               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "", const PrimId& instancerId = "");
+               const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "",
+               const PrimId& instancerId = "");
   /// BasisCurves (primTypes::kBasisCurves) over `points`; widths and normals through SetPrimvar.
   void AddBasisCurves(const PrimId& id, const BasisCurvesTopology& topology, const std::vector<Vec3f>& points,
                       const Matrix4d& transform = Matrix4d(1.0), const PrimId& materialId = "");
@@ -49,7 +50,8 @@ class InMemorySceneDelegate final : public SceneDelegate {
   void SetPoints(const PrimId& id, const std::vector<Vec3f>& points);
   void SetTopology(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points);
   /// A mesh's subdivision scheme and tags and its holes (the rest of its topology kept). Marks DirtyTopology.
-  void SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags, const std::vector<int>& holeIndices);
+  void SetSubdivision(const PrimId& id, SubdivScheme scheme, const SubdivTags& tags,
+                      const std::vector<int>& holeIndices);
   /// A mesh's per-face materials (the rest of its topology kept). Marks DirtyTopology.
   void SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets);
   void SetTransform(const PrimId& id, const Matrix4d& transform);

@@ -48,7 +48,8 @@ void AddSideLitEye(InMemorySceneDelegate& scene, double keyAngleDegrees, float k
 }
 
 void AddBallOnFloor(InMemorySceneDelegate& scene, float keyScale) {
-  const MeshTopology cube{{4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
+  const MeshTopology cube{
+      {4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
   const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                       {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
   MaterialParams red, grey;

@@ -31,8 +31,7 @@ template <class T> struct IrisHit {
 template <class T> class AnteriorChamber {
  public:
   /// `params` must pass ValidateChamberParams (checked by callers that take user input).
-  explicit AnteriorChamber(const ChamberParams& params = {})
-      : params_(params), surface_(params.model) {
+  explicit AnteriorChamber(const ChamberParams& params = {}) : params_(params), surface_(params.model) {
     irisZ_ = T(-params.irisDepth);
     irisRadius_ = std::min(surface_.RimRadius(), surface_.InverseSag(irisZ_));
     pupilRadius_ = T(params.pupilDiameter / 2);
@@ -52,8 +51,7 @@ template <class T> class AnteriorChamber {
   T CorneaIor() const { return T(params_.corneaIor); }
 
   /// Crossing of the iris disk (pupilRadius <= r <= irisRadius) for 0 < t <= tMax, from either side.
-  std::optional<IrisHit<T>> IntersectIris(const Ray<T>& ray,
-                                          T tMax = std::numeric_limits<T>::infinity()) const {
+  std::optional<IrisHit<T>> IntersectIris(const Ray<T>& ray, T tMax = std::numeric_limits<T>::infinity()) const {
     if (!(ray.dir.z != 0) || !IsFinite(ray.origin) || !IsFinite(ray.dir)) return std::nullopt;
     const T t = (irisZ_ - ray.origin.z) / ray.dir.z;
     if (!(t > 0) || !(t <= tMax)) return std::nullopt;

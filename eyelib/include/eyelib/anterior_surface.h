@@ -41,11 +41,11 @@ template <class T> struct HeightDerivatives {
 
 /// A ray's first crossing of the anterior surface.
 template <class T> struct SurfaceHit {
-  T t;                 ///< ray parameter, in units of |ray.dir|
-  Vec3<T> point;       ///< mm
-  Vec3<T> normal;      ///< unit, outward (away from the anterior chamber)
+  T t;             ///< ray parameter, in units of |ray.dir|
+  Vec3<T> point;   ///< mm
+  Vec3<T> normal;  ///< unit, outward (away from the anterior chamber)
   SurfacePiece piece;
-  bool fromOutside;    ///< the ray arrives against the outward normal
+  bool fromOutside;  ///< the ray arrives against the outward normal
 };
 
 template <class T> class AnteriorSurface {
@@ -94,9 +94,7 @@ template <class T> class AnteriorSurface {
 
   /// Sag f(r), mm (0 at the apex, negative below). Defined for r >= 0; past the rim it extrapolates
   /// the outer piece.
-  T Sag(T r) const {
-    return PieceAt(r) == SurfacePiece::Cone ? ConeSag(r) : PrimarySag(r);
-  }
+  T Sag(T r) const { return PieceAt(r) == SurfacePiece::Cone ? ConeSag(r) : PrimarySag(r); }
 
   /// Slope df/dr (dimensionless).
   T Slope(T r) const { return PieceAt(r) == SurfacePiece::Cone ? -tanCone_ : r * SlopeOverRadius(r); }
@@ -169,16 +167,14 @@ template <class T> class AnteriorSurface {
   /// The radius where f(r) = z, for z in [Sag(rim), 0] (mm); clamps outside that range.
   T InverseSag(T z) const {
     if (z >= 0) return 0;
-    if (model_ == CorneaModel::EllipsoidCone && z <= zJunction_)
-      return junction_ + (zJunction_ - z) / tanCone_;
+    if (model_ == CorneaModel::EllipsoidCone && z <= zJunction_) return junction_ + (zJunction_ - z) / tanCone_;
     return std::sqrt(std::max(T(0), -(primary_.b * z + primary_.c) * z));
   }
 
   /// First crossing of the ray with the surface cap (r <= rim) for 0 < t <= tMax. Rays with a
   /// non-finite or zero direction or origin miss. A ray starting on the surface does not hit its own
   /// origin.
-  std::optional<SurfaceHit<T>> Intersect(const Ray<T>& ray,
-                                         T tMax = std::numeric_limits<T>::infinity()) const {
+  std::optional<SurfaceHit<T>> Intersect(const Ray<T>& ray, T tMax = std::numeric_limits<T>::infinity()) const {
     // Bring |dir| near 1 by a power of two when it is far from it: exact, so the ray is not
     // perturbed the way dividing by its length would (at 1 km, one rounding of the direction moves
     // the hit by 0.06 mm in float).
@@ -201,9 +197,9 @@ template <class T> class AnteriorSurface {
         if (!OnPiece(piece, p)) continue;
         // Within a few ulps of the junction a root of one piece may be accepted; the radius decides
         // which piece, and so which normal, the hit reports.
-        const SurfacePiece owner =
-            model_ == CorneaModel::Paraboloid ? piece
-            : RadiusSquared(p) < junction_ * junction_ ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
+        const SurfacePiece owner = model_ == CorneaModel::Paraboloid          ? piece
+                                   : RadiusSquared(p) < junction_ * junction_ ? SurfacePiece::Ellipsoid
+                                                                              : SurfacePiece::Cone;
         const Vec3<T> n = glm::normalize(Quadric(owner).Gradient(p));
         best = SurfaceHit<T>{t, p, n, owner, glm::dot(n, d) < 0};
         return;  // roots ascend; the first valid one is this piece's nearest

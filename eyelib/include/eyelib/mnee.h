@@ -24,14 +24,14 @@ namespace eyelib {
 using Vec3d = Vec3<double>;
 
 enum class MneeStatus : std::uint8_t {
-  Converged,         ///< |C| below tolerance, the path is a valid refraction within the rim
-  InvalidInput,      ///< NaN/Inf input, or x not below the surface
-  NoConvergence,     ///< the iteration bound was reached
-  Stalled,           ///< the line search could not reduce |C| (no solution near this seed)
-  BeyondRim,         ///< converged to a point of the extended surface outside the 15.08 mm rim
-  WrongSide,         ///< converged, but the light is not in front of the surface there (a light behind the eye)
-  Occluded,          ///< the light is behind the sclera: below the rim plane
-  OffPiece,          ///< converged on a piece's analytic extension, outside the radii that piece owns
+  Converged,      ///< |C| below tolerance, the path is a valid refraction within the rim
+  InvalidInput,   ///< NaN/Inf input, or x not below the surface
+  NoConvergence,  ///< the iteration bound was reached
+  Stalled,        ///< the line search could not reduce |C| (no solution near this seed)
+  BeyondRim,      ///< converged to a point of the extended surface outside the 15.08 mm rim
+  WrongSide,      ///< converged, but the light is not in front of the surface there (a light behind the eye)
+  Occluded,       ///< the light is behind the sclera: below the rim plane
+  OffPiece,       ///< converged on a piece's analytic extension, outside the radii that piece owns
 };
 
 const char* ToString(MneeStatus status);
@@ -61,8 +61,8 @@ struct MneeOptions {
 
 struct MneeSolution {
   MneeStatus status = MneeStatus::InvalidInput;
-  Vec3d p;            ///< cornea point, mm
-  Vec3d normal;       ///< outward unit normal at p
+  Vec3d p;                                       ///< cornea point, mm
+  Vec3d normal;                                  ///< outward unit normal at p
   SurfacePiece piece = SurfacePiece::Ellipsoid;  ///< the piece that owns p
   int iterations = 0;
   double residual = 0;  ///< max |C_i| at the end
@@ -93,7 +93,7 @@ struct SeedStrategy {
   /// Seeds along the light's azimuth through x (where a fold's second solution lies), spread
   /// across the cap. 0 turns them off.
   int meridianSeeds = 6;
-  int rings = 0;              ///< optional polar grid over the cap: rings x segments seeds
+  int rings = 0;  ///< optional polar grid over the cap: rings x segments seeds
   int segments = 8;
   double uniqueDistance = 1e-6;  ///< mm; solutions closer than this (on the same piece) are the same
   /// Ellipsoid-cone model: a solution whose cornea point lies within this distance (mm, in radius) of the

@@ -10,9 +10,7 @@
 namespace eyelib {
 
 /// Mirror reflection of wo (pointing away from the surface) about the unit normal n.
-template <class T> inline Vec3<T> Reflect(const Vec3<T>& wo, const Vec3<T>& n) {
-  return -wo + 2 * glm::dot(wo, n) * n;
-}
+template <class T> inline Vec3<T> Reflect(const Vec3<T>& wo, const Vec3<T>& n) { return -wo + 2 * glm::dot(wo, n) * n; }
 
 /// Unpolarised Fresnel reflectance of a smooth dielectric boundary. cosThetaI is the cosine between
 /// the incident direction and the normal on the incident side's convention: positive when light

@@ -40,8 +40,8 @@ namespace eyelib {
 /// are written and true is returned. A walker that has just reflected off the boundary starts on it:
 /// the callback must not report that surface again at t ~ 0 (Embree: a tnear from an error bound;
 /// analytic shapes: the far root, or only crossings that move outward).
-using SssBoundary = std::function<bool(const Vec3<double>& origin, const Vec3<double>& dir, double tMax,
-                                       double* t, Vec3<double>* normal)>;
+using SssBoundary = std::function<bool(const Vec3<double>& origin, const Vec3<double>& dir, double tMax, double* t,
+                                       Vec3<double>* normal)>;
 /// Uniform random numbers in [0, 1), caller-supplied.
 using SssRandom = std::function<double()>;
 
@@ -67,13 +67,13 @@ constexpr double kMaxMeanFreePathMm = 1000.0;
 std::string ValidateSssArtistParams(const Vec3<double>& surfaceAlbedo, const Vec3<double>& meanFreePath);
 
 struct RandomWalkSettings {
-  double ior = 1.376;    ///< medium index over outside index, >= 1 (1: index-matched, no Fresnel)
-  double g = 0;          ///< Henyey-Greenstein asymmetry, (-1, 1); the albedo inversion assumes 0
-  int maxSteps = 1024;   ///< every event counts: scattering, internal reflection, teleportation
+  double ior = 1.376;   ///< medium index over outside index, >= 1 (1: index-matched, no Fresnel)
+  double g = 0;         ///< Henyey-Greenstein asymmetry, (-1, 1); the albedo inversion assumes 0
+  int maxSteps = 1024;  ///< every event counts: scattering, internal reflection, teleportation
   /// Russian roulette once the largest channel weight falls below this (0: never). Unbiased, but it
   /// makes the per-path energy balance (escaped + absorbed = 1) hold only on average.
   double rouletteWeight = 0.05;
-  bool teleport = false;  ///< the limbal-arc teleportation cylinder (canonical frame only)
+  bool teleport = false;             ///< the limbal-arc teleportation cylinder (canonical frame only)
   TeleportationCylinder cylinder{};  ///< default: the outer limbus, 12.89 mm, infinite along z
 };
 
@@ -94,9 +94,9 @@ struct WalkResult {
   /// An unbiased estimate of the energy deposited in the medium (RGB, per unit entering energy); for a
   /// grey medium without roulette, escaped + absorbed + dropped = 1 exactly on every path: the audit.
   Vec3<double> absorbed{0.0};
-  int steps = 0;                ///< events taken (scattering + internal reflection + teleportation)
+  int steps = 0;  ///< events taken (scattering + internal reflection + teleportation)
   int internalReflections = 0;
-  int teleports = 0;            ///< > 0: the path lit the limbal arc (a later `limbalArc` AOV)
+  int teleports = 0;  ///< > 0: the path lit the limbal arc (a later `limbalArc` AOV)
   bool Teleported() const { return teleports > 0; }
 };
 
@@ -105,8 +105,7 @@ struct WalkResult {
 /// Hyperion). At the boundary the walk reflects with the dielectric Fresnel probability (total internal
 /// reflection included) and continues, or refracts out and exits. Every loop is bounded by maxSteps;
 /// no NaN or Inf leaves this function.
-WalkResult RandomWalkSss(const SssMedium& medium, const RandomWalkSettings& settings,
-                         const Vec3<double>& entryPoint, const Vec3<double>& inwardDir,
-                         const SssBoundary& boundary, const SssRandom& random);
+WalkResult RandomWalkSss(const SssMedium& medium, const RandomWalkSettings& settings, const Vec3<double>& entryPoint,
+                         const Vec3<double>& inwardDir, const SssBoundary& boundary, const SssRandom& random);
 
 }  // namespace eyelib

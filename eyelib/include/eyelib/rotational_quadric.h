@@ -64,17 +64,15 @@ template <class T> inline T DifferenceOfProducts(T a, T b, T c, T d) {
 /// within a few binades of 1 so that dir*dir neither overflows nor underflows) with q for t > 0.
 /// `center` and `reach` describe where the surface lives (a sphere bounding the part of interest):
 /// origins outside it are re-originated near `center` first.
-template <class T>
-QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
-                                 const Vec3<T>& center, T reach) {
+template <class T> QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
+                                                    const Vec3<T>& center, T reach) {
   QuadricRoots<T> out;
   // Re-originate far rays at their closest approach to `center`; fma keeps the new origin on the ray.
   T tShift = 0;
   const Vec3<T> toCenter = center - origin;
   if (glm::dot(toCenter, toCenter) > reach * reach) {
     tShift = glm::dot(toCenter, dir) / glm::dot(dir, dir);
-    origin = {std::fma(tShift, dir.x, origin.x), std::fma(tShift, dir.y, origin.y),
-              std::fma(tShift, dir.z, origin.z)};
+    origin = {std::fma(tShift, dir.x, origin.x), std::fma(tShift, dir.y, origin.y), std::fma(tShift, dir.z, origin.z)};
   }
 
   const T A = dir.x * dir.x + dir.y * dir.y + q.b * dir.z * dir.z;
