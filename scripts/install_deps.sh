@@ -53,9 +53,8 @@ pip_missing=()
 "$PYTHON" -c "import scikit_build_core" 2>/dev/null || pip_missing+=("scikit-build-core>=0.10")
 # The linter `make lint` and `make test` run; its rules change between minor versions, so the minor is pinned.
 "$PYTHON" -m ruff --version 2>/dev/null | grep -q "^ruff 0\.17\." || pip_missing+=("ruff>=0.17,<0.18")
-# bench/bench_iris.py: reads EXR renders and draws its plot.
+# bench/bench_iris.py reads EXR renders (its plot uses matplotlib, above).
 "$PYTHON" -c "import OpenEXR" 2>/dev/null || pip_missing+=(openexr)
-"$PYTHON" -c "import matplotlib" 2>/dev/null || pip_missing+=(matplotlib)
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"
