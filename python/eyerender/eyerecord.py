@@ -28,6 +28,7 @@ from .job import (
     session_options,
 )
 from .output_files import COLOR_CORRECTION_MODES, partial_failure
+from .plan import plan_json
 
 RENDERERS = ("Eye", "hdeye")  # --renderer: the display name and the delegate's name; there is no other renderer
 
@@ -151,8 +152,6 @@ def render_locally(args, spp):
         options = dataclasses.replace(options, aovs=tuple(dict.fromkeys(("color", *options.aovs, *GUIDE_AOVS))))
     session = open_session(stage, options, frames[0])
     if args.plan:
-        from .plan import plan_json
-
         print(plan_json(session.plan()))
         return 0
     report_plan_and_warnings(session, planned=not args.no_auto_plan, usd_warnings=diagnostics.take_warnings())

@@ -12,6 +12,7 @@ from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_r
 from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
 from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
+from .plan import PlanOverrides, plan_json
 from .usd_scene_delegate import UsdSceneDelegate
 
 # AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
@@ -171,8 +172,6 @@ class RenderSession:
     def plan(self, overrides=None):
         """The render plan for the current frame (syncs; renders nothing, changes no setting). overrides: a
         PlanOverrides, default the session's (or none)."""
-        from .plan import PlanOverrides
-
         overrides = overrides or self.plan_overrides or PlanOverrides()
         self.scene.apply_stage_changes()
         try:
@@ -185,8 +184,6 @@ class RenderSession:
         .png (the colour after `exposure` stops, encoded by `color_correction`, one of COLOR_CORRECTION_MODES).
         Atomic. denoise: also the OIDN-denoised beauty (eyerender.denoise; the session must render the albedo and
         normal AOVs)."""
-        from .plan import plan_json
-
         attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
         write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
                      color_correction=color_correction, denoise=denoise)
