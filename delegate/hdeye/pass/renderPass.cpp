@@ -77,9 +77,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     if (!context) continue;
     primIndices[id] = context->primIndex = primIndex++;
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
-    context->material = bound.params;
-    context->materialBound = bound.bound;
-    context->textures = bound.textures;
+    context->surface = bound;
     context->subsetMaterials.clear();
     if (const auto* mesh = dynamic_cast<const Mesh*>(entry.prim.get()))
       for (const PrimId& subsetMaterial : mesh->SubsetMaterialIds())

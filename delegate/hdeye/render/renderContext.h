@@ -36,8 +36,7 @@ struct GeometryContext {
   /// Inverse transpose of the transform's linear part: analytic eyes and meshes drawn once (eye meshes, which are
   /// never instanced, map hits with it); an instanced mesh's are per instance, in InstanceContext.
   glm::dmat3 normalToWorld{1.0};
-  MaterialParams material;     ///< resolved from the bound material (or the fallback)
-  bool materialBound = false;  ///< a material sprim is bound (else `material` is the fallback)
+  SurfaceMaterial surface;  ///< the bound material (or the fallback), its textured inputs
   /// displayColor per rendered triangle corner (3 per triangle, corner order), or null.
   const std::vector<Vec3f>* displayColor = nullptr;
   const std::vector<int>* triangleVertices = nullptr;  ///< 3 per triangle: indices into points, normals, rest
@@ -57,10 +56,8 @@ struct GeometryContext {
   /// Set for eye meshes: a hit maps into the eye's canonical frame (EyeMeshHitToCanonical) and continues
   /// against the analytic model; hits from inside the mesh are ignored (the analytic model owns the inside).
   const EyeGeometry* meshEye = nullptr;
-  /// The bound material's textured inputs (owned by the Material sprim), looked up at the hit's st; or null.
-  const MaterialTextures* textures = nullptr;
   /// Per-face materials (geomSubsets): per rendered triangle, an index into subsetMaterials, or -1 for the
-  /// prim's own material above; null when the prim has no subsets.
+  /// prim's own `surface`; null when the prim has no subsets.
   const std::vector<int>* triangleSubsets = nullptr;
   std::vector<SurfaceMaterial> subsetMaterials;
   /// The mesh's own Embree scene (object space, its triangles alone), or null: an eye mesh's sclera walk

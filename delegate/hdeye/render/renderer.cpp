@@ -62,12 +62,12 @@ double PowerHeuristic(double a, double b) {
 constexpr int kMaxCutoutCrossings = 64;
 
 /// The material of triangle (or primitive) `part` of a geometry: its geomSubset's, else the prim's own.
-SurfaceMaterial MaterialAt(const GeometryContext& context, unsigned part) {
+const SurfaceMaterial& MaterialAt(const GeometryContext& context, unsigned part) {
   if (context.triangleSubsets && part < context.triangleSubsets->size()) {
     const int subset = (*context.triangleSubsets)[part];
     if (subset >= 0 && std::size_t(subset) < context.subsetMaterials.size()) return context.subsetMaterials[subset];
   }
-  return SurfaceMaterial{context.material, context.textures, context.materialBound};
+  return context.surface;
 }
 
 struct SurfaceHit {
@@ -77,14 +77,14 @@ struct SurfaceHit {
   glm::dvec3 albedo, emission;
   int primIndex;
   const GeometryContext* context;
-  unsigned part;                         // the primitive; for eyes, EyeGeometry::Part
-  double u = 0, v = 0;                   // barycentrics of the hit in triangle `part` (meshes)
-  glm::dvec2 st{0};                      // the mesh's "st" primvar at the hit (0 where not authored)
-  SurfaceMaterial material;              // the material of the hit's face (geomSubsets), else the prim's
-  StFrame stFrame;                       // dp/ds, dp/dt of the hit triangle (world), where st and points are known
-  bool normalMapped = false;             // n comes from a normal map (it may lean below the surface itself)
-  glm::dmat3 normalToWorld{1.0};         // the hit instance's (object-space normals to world)
-  const Vec3f* instanceColor = nullptr;  // the instancer's displayColor for the hit instance, or null
+  unsigned part;                              // the primitive; for eyes, EyeGeometry::Part
+  double u = 0, v = 0;                        // barycentrics of the hit in triangle `part` (meshes)
+  glm::dvec2 st{0};                           // the mesh's "st" primvar at the hit (0 where not authored)
+  const SurfaceMaterial* material = nullptr;  // the material of the hit's face (geomSubsets), else the prim's
+  StFrame stFrame;                            // dp/ds, dp/dt of the hit triangle (world), where st and points are known
+  bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
+  glm::dmat3 normalToWorld{1.0};              // the hit instance's (object-space normals to world)
+  const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -321,14 +321,14 @@ class Tracer {
                                                 : shading.v / shading.length;
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
-    hit->material = MaterialAt(ctx, hit->part);
+    hit->material = &MaterialAt(ctx, hit->part);
     // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
     // with a bound material shows the material's.
-    hit->albedo = hit->material.bound  ? glm::dvec3(hit->material.params.diffuseColor)
+    hit->albedo = hit->material->bound ? glm::dvec3(hit->material->params.diffuseColor)
                   : hit->instanceColor ? glm::dvec3(*hit->instanceColor)
                   : ctx.displayColor   ? glm::dvec3(atCorners(*ctx.displayColor))
-                                       : glm::dvec3(hit->material.params.diffuseColor);
-    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material.params.emissiveColor);
+                                       : glm::dvec3(hit->material->params.diffuseColor);
+    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material->params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
 
@@ -356,7 +356,7 @@ class Tracer {
 
   /// The bound material at a non-eye hit (materialShading.h); the hit takes its emission and shading normal.
   SurfaceShading ShadeMaterialHit(SurfaceHit* hit, const glm::dvec3& d, const RayCone& cone) const {
-    SurfaceShading shading = ShadeMaterial(hit->material, hit->albedo, -d, hit->n, SiteOf(*hit, d, cone));
+    SurfaceShading shading = ShadeMaterial(*hit->material, hit->albedo, -d, hit->n, SiteOf(*hit, d, cone));
     shading.bsdf.thinWalled = hit->context->thinWalled;
     hit->emission = shading.emission;
     hit->n = shading.normal;
@@ -412,8 +412,8 @@ class Tracer {
 
   /// Whether a ray along d passes a hit because its material is cut away there (opacityThreshold).
   bool CutAway(const SurfaceHit& hit, const glm::dvec3& d) const {
-    return cutouts_ && !EyeOf(*hit.context) && hit.material.params.opacityThreshold > 0 &&
-           !ShadeMaterial(hit.material, hit.albedo, -d, hit.n, SiteOf(hit, d, RayCone{})).present;
+    return cutouts_ && !EyeOf(*hit.context) && hit.material->params.opacityThreshold > 0 &&
+           !ShadeMaterial(*hit.material, hit.albedo, -d, hit.n, SiteOf(hit, d, RayCone{})).present;
   }
 
   /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
@@ -506,7 +506,7 @@ class Tracer {
     if (!ev.scleraOnSurface || !eye.scleraUsesMaterial)
       hit->albedo = ev.scleraAlbedo;
     else
-      hit->albedo = TexturedAlbedo(hit->material, hit->albedo, SiteOf(*hit, d, cone));
+      hit->albedo = TexturedAlbedo(*hit->material, hit->albedo, SiteOf(*hit, d, cone));
     hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
   }
 

@@ -14,8 +14,8 @@ thread_local bool tlsThinWallMet = false;
 }  // namespace
 
 double ThinWallTransmittance(const GeometryContext& context, double cosTheta) {
-  const double opacity = std::clamp(double(context.material.opacity), 0.0, 1.0);
-  return (1 - opacity) * (1 - ThinSheetReflectance(std::abs(cosTheta), context.material.ior));
+  const double opacity = std::clamp(double(context.surface.params.opacity), 0.0, 1.0);
+  return (1 - opacity) * (1 - ThinSheetReflectance(std::abs(cosTheta), context.surface.params.ior));
 }
 
 void ThinWallsMet::Reset() { tlsThinWallMet = false; }

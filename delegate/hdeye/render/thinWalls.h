@@ -14,7 +14,7 @@ namespace hdeye {
 
 /// Whether a geometry is a thin wall that shadow rays cross (open surface, opacity < 1, not an eye).
 inline bool IsThinWall(const GeometryContext& context) {
-  return context.thinWalled && context.material.opacity < 1 && !context.eye && !context.meshEye;
+  return context.thinWalled && context.surface.params.opacity < 1 && !context.eye && !context.meshEye;
 }
 
 /// The fraction of light a thin wall passes straight through at cosine `cosTheta` (to its normal, either side):
