@@ -78,8 +78,22 @@ void BindParams(nb::module_& m) {
       .def_rw("enabled", &LightShaping::enabled)
       .def_rw("cone_angle", &LightShaping::coneAngle, "degrees off the axis")
       .def_rw("cone_softness", &LightShaping::coneSoftness, "[0, 1]")
-      .def_rw("focus", &LightShaping::focus, "exponent of |cos|");
+      .def_rw("focus", &LightShaping::focus, "exponent of |cos|")
+      .def_rw("ies", &LightShaping::ies, "the parsed shaping:ies:file (parse_ies); empty: none")
+      .def_rw("ies_angle_scale", &LightShaping::iesAngleScale)
+      .def_rw("ies_normalize", &LightShaping::iesNormalize);
   Vec3Property<LightShaping, &LightShaping::focusTint>(shaping, "focus_tint");
+
+  nb::class_<IesProfile>(m, "IesProfile", "An IES LM-63 type C photometric web (candela).")
+      .def(nb::init<>())
+      .def_ro("vertical", &IesProfile::vertical, "degrees")
+      .def_ro("horizontal", &IesProfile::horizontal, "degrees")
+      .def_prop_ro("empty", &IesProfile::Empty)
+      .def("intensity", &IesProfile::Intensity, nb::arg("vertical"), nb::arg("horizontal"),
+           "candela towards (vertical, horizontal) degrees")
+      .def("mean_intensity", &IesProfile::MeanIntensity, "candela, over the sphere (hemisphere)");
+  m.def("parse_ies", &ParseIes, nb::arg("text"),
+        "Parses an IES LM-63 file's text; ValueError with a short reason if it cannot be used.");
 
   nb::class_<LightParams> light(m, "LightParams");
   light.def(nb::init<>())

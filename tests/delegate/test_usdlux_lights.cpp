@@ -230,6 +230,88 @@ TEST_CASE("a spot light's cone: full inside, smoothstep over the softness, zero 
   CHECK(worst < 1e-5);
 }
 
+namespace {
+
+/// One row of a Lambert plane 2 units below a point light of radiant intensity 1 shaped by `shaping` (its local
+/// frame the world's), against `expected(theta, phi)`, the profile's intensity in degrees (phi as the light
+/// sees it: from local +x towards +y of the direction from the plane to the light). Returns the worst relative
+/// error over the pixels (float geometry and buffers: about 1e-5), printing `what`.
+template <class Expected> double IesRowError(const char* what, const LightShaping& shaping, Expected expected) {
+  const double d = 2, span = 6;
+  LightParams point;
+  point.treatAsPoint = true;
+  point.normalize = true;
+  point.radius = 0;
+  point.intensity = 4;  // normalize: radiant intensity L / 4 = 1
+  point.shaping = shaping;
+  test::RenderStack s;
+  test::AddLambertPlane(s.scene, 100, kAlbedo);
+  s.scene.AddLight("/ies", primTypes::kSphereLight, point, test::LookDownZ(d));
+  CameraParams ortho;
+  ortho.orthographic = true;
+  ortho.horizontalAperture = span;  // x from -3 to 3: up to 56 degrees off the axis, both sides
+  ortho.verticalAperture = span / 60;
+  s.scene.AddCamera("/cam", ortho, test::LookDownZ(1));
+  const int width = 120;  // the aperture's aspect: square pixels
+  s.scene.AddRenderBuffer("/color", width, 2, 4);
+  s.delegate.Settings().samplesPerPixel = 1;
+  s.pass.Execute("/cam", {{"color", "/color"}});
+  const RenderBuffer& b = s.Buffer("/color");
+  double worst = 0;
+  for (int px = 0; px < width; ++px) {
+    const double x = ((px + 0.5) / width - 0.5) * span, y = span / 60 / 4, rho = std::hypot(x, y);
+    const double theta = std::atan(rho / d) * 180 / kPi, r2 = d * d + rho * rho;
+    double phi = std::atan2(-y, -x) * 180 / kPi;  // towards the light: (-x, -y, d)
+    if (phi < 0) phi += 360;
+    const double want = Lambert(expected(theta, phi) * std::cos(theta * kPi / 180) / r2);
+    worst = std::max(worst, std::abs(b.Resolved(px, 0, 0) - want) / want);
+  }
+  std::printf("%-58s worst relative error %.2e over %d px (0 to 56 deg)\n", what, worst, width);
+  return worst;
+}
+
+/// A whole-sphere web, bilinear so its lookups are exact: I = (200 - theta) (1 + phi / 180) candela over vertical
+/// angles 0, 90, 180 and horizontal 0, 180 (mirrored about the 0-180 plane).
+LightShaping IesShapingForTest() {
+  LightShaping s;
+  s.enabled = true;
+  s.coneAngle = 180;
+  s.ies = ParseIes("IESNA:LM-63-2002\n[TEST] a bilinear web\nTILT=NONE\n1 -1 1 3 2 1 2 0 0 0\n1 1 50\n"
+                   "0 90 180\n0 180\n200 110 20\n400 220 40\n");
+  return s;
+}
+
+double IesForTest(double theta, double phi) {
+  if (phi > 180) phi = 360 - phi;
+  return (200 - theta) * (1 + phi / 180);
+}
+
+}  // namespace
+
+TEST_CASE("an IES profile multiplies a point light by its candela at the direction's vertical and horizontal angle ",
+          "[usdlux][ies]") {
+  CHECK(IesRowError("IES web, angleScale 0", IesShapingForTest(), IesForTest) < 5e-5);
+}
+
+TEST_CASE("shaping:ies:angleScale looks the profile up at (theta - 180) / (1 + angleScale) + 180 ", "[usdlux][ies]") {
+  LightShaping s = IesShapingForTest();
+  s.iesAngleScale = 1;  // theta 0..56 reads the web at 90..118
+  CHECK(IesRowError("IES web, angleScale 1", s,
+                    [](double theta, double phi) { return IesForTest(90 + theta / 2, phi); }) < 5e-5);
+  s.iesAngleScale = -0.5f;  // 2 theta - 180 < 0: every direction of the lower hemisphere reads vertical angle 0
+  CHECK(IesRowError("IES web, angleScale -0.5", s, [](double, double phi) { return IesForTest(0, phi); }) < 5e-5);
+}
+
+TEST_CASE("shaping:ies:normalize divides the profile by its mean intensity over the sphere ", "[usdlux][ies]") {
+  LightShaping s = IesShapingForTest();
+  s.iesNormalize = true;
+  // Mean over phi of (1 + phi / 180): 1.5; int (200 - theta) sin = 400 - 180 = 220; flux 2 pi 1.5 220 over 4 pi.
+  const double mean = 1.5 * 220 / 2;
+  CHECK(s.ies.MeanIntensity() == Approx(mean).epsilon(1e-12));
+  CHECK(IesRowError("IES web, normalize (mean 165 cd)", s,
+                    [mean](double theta, double phi) { return IesForTest(theta, phi) / mean; }) < 5e-5);
+}
+
 TEST_CASE("ShapingAPI's focus multiplies by lerp(focusTint, 1, |cos|^focus) ", "[usdlux]") {
   LightParams p;
   p.shaping.enabled = true;

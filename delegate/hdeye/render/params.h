@@ -2,6 +2,7 @@
 // What the renderer is given of cameras, lights, materials and eyes: the parameters a scene delegate returns
 // (hd/sceneDelegate.h) and the prims hand on to the renderer. World units are whatever the scene uses (USD:
 // usually cm or m); eyes carry their own transform into eyelib's canonical millimetre frame.
+#include "hdeye/render/iesProfile.h"
 #include "hdeye/render/texture.h"
 
 #include <eyelib/anterior_chamber.h>
@@ -50,6 +51,13 @@ struct LightShaping {
   float coneSoftness = 0;        ///< [0, 1]: the fraction of the cone over which emission smoothsteps to 0
   float focus = 0;               ///< exponent of |cos(off-axis angle)| (< 0: ignored)
   glm::vec3 focusTint{0, 0, 0};  ///< colour the focus falloff tends to off the axis (white: no focus)
+  /// shaping:ies:file, parsed (the scene delegate reads the file); empty: no profile. Its intensity (candela)
+  /// multiplies the emission (RenderLight::FromParams has the angles).
+  IesProfile ies;
+  /// shaping:ies:angleScale: the profile is looked up at vertical angle (theta - 180) / (1 + angleScale) + 180
+  /// degrees (clamped to [0, 180]; angleScale below -1 taken as -1).
+  float iesAngleScale = 0;
+  bool iesNormalize = false;  ///< divide the profile by its mean intensity (IesProfile::MeanIntensity)
 };
 
 /// Light parameters (UsdLux). Radiance = color (or the colorTemperature's blackbody colour, times color)

@@ -48,6 +48,13 @@ ShapingRt ShapingOf(const LightShaping& s) {
   r.smoothStart = r.cutoff * (1 - std::clamp(double(s.coneSoftness), 0.0, 1.0));
   r.focus = s.focus > 0 ? double(s.focus) : 0.0;
   r.focusTint = glm::dvec3(s.focusTint);
+  if (!s.ies.Empty()) {
+    r.iesProfileScale = std::max(0.0, 1.0 + double(s.iesAngleScale));
+    const double mean = s.ies.MeanIntensity();
+    // A profile that is dark everywhere has no shape to normalize: it stays dark.
+    r.iesFactor = s.iesNormalize ? (mean > 0 ? 1 / mean : 0.0) : 1.0;
+    r.ies = std::make_shared<const IesProfile>(s.ies);
+  }
   return r;
 }
 
@@ -142,6 +149,9 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
   const double scale = std::max({glm::length(x), glm::length(y), glm::length(z)});
   if (p.type != LightType::Dome && p.type != LightType::Distant) {
     l.direction = -glm::normalize(z);
+    const glm::dmat3 frame = RotationOf(m);
+    l.frameX = frame[0];
+    l.frameY = frame[1];
     l.shaping = ShapingOf(p.shaping);
   }
   double sizeFactor = 1;  // UsdLux's, for normalize
@@ -210,9 +220,37 @@ glm::dvec3 EmissionShaping(const RenderLight& l, const glm::dvec3& emitDir) {
     const double t = (offAxis - s.smoothStart) / (s.cutoff - s.smoothStart);
     cone = 1 - t * t * (3 - 2 * t);
   }
+  if (s.ies) {
+    cone *= IesShaping(s, {glm::dot(emitDir, l.frameX), glm::dot(emitDir, l.frameY), -cosOff});
+    if (cone == 0) return glm::dvec3(0);
+  }
   if (!(s.focus > 0)) return glm::dvec3(cone);
   const double focus = std::pow(std::abs(cosOff), s.focus);
   return cone * (s.focusTint + (glm::dvec3(1) - s.focusTint) * focus);
+}
+
+double IesShaping(const ShapingRt& s, const glm::dvec3& localEmitDir) {
+  if (!s.ies) return 1;
+  const glm::dvec3 w = -localEmitDir;
+  const double theta = std::acos(std::clamp(w.z, -1.0, 1.0)) * 180 / kPi;
+  double phi = std::atan2(w.y, w.x) * 180 / kPi;
+  if (phi < 0) phi += 360;
+  // angleScale scales about theta = 180 degrees (RenderMan's profile scale); a scale of 0 (angleScale -1)
+  // squeezes every direction but the back onto vertical angle 0.
+  const double thetaIes =
+      s.iesProfileScale > 0 ? std::clamp((theta - 180) / s.iesProfileScale + 180, 0.0, 180.0) : (theta < 180 ? 0 : 180);
+  return s.ies->Intensity(thetaIes, phi) * s.iesFactor;
+}
+
+glm::dvec3 EmittedRadiance(const RenderLight& l, const glm::dvec3& y, const glm::dvec3& emitDir) {
+  glm::dvec3 radiance = l.radiance;
+  if (l.type == LightType::Rect && l.rectImage) {
+    const glm::dvec3 q = y - l.position;
+    const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU),
+                 b = glm::dot(q, l.axisV) / glm::dot(l.axisV, l.axisV);
+    radiance = RectRadiance(l, std::clamp(a, -1.0, 1.0), std::clamp(b, -1.0, 1.0));
+  }
+  return radiance * EmissionShaping(l, emitDir);
 }
 
 LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {

@@ -39,6 +39,11 @@ struct ShapingRt {
   double smoothStart = kHalfTurn;  ///< radians: emission smoothsteps from 1 here to 0 at cutoff
   double focus = 0;                ///< exponent of |cos| (0: none)
   glm::dvec3 focusTint{0};
+  /// The IES profile (null: none), its angleScale's profile scale 1 + angleScale (>= 0), and the factor its
+  /// candela values are multiplied by (1, or 1 / MeanIntensity with shaping:ies:normalize).
+  std::shared_ptr<const IesProfile> ies;
+  double iesProfileScale = 1;
+  double iesFactor = 1;
   static constexpr double kHalfTurn = 3.14159265358979323846;
 };
 
@@ -55,6 +60,8 @@ struct RenderLight {
   glm::dvec3 direction{0, 0, 1};
   ShapingRt shaping;
   glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};  ///< rect: half-extent vectors; disk: unit in-plane axes
+  /// Unit local x and y axes in the world (with `direction`, the light's frame: IES horizontal angles).
+  glm::dvec3 frameX{1, 0, 0}, frameY{0, 1, 0};
   double radius = 0;                          ///< sphere, disk
   double cosHalfAngle = 1;                    ///< distant
   /// Dome with a texture: the image (radiance = `radiance` x texel) and its sampling distribution;
@@ -111,8 +118,21 @@ struct LightSample {
 
 /// The ShapingAPI factor of light emitted along unit `emitDir` (from the light towards the receiver): 0 past
 /// the cone angle, the cone softness's smoothstep (1 - smoothstep(angle, smoothStart, cutoff)), times
-/// lerp(focusTint, 1, |emitDir . axis|^focus) per channel. 1 for a light without shaping.
+/// lerp(focusTint, 1, |emitDir . axis|^focus) per channel, times the IES profile's IesShaping. 1 for a light
+/// without shaping.
 glm::dvec3 EmissionShaping(const RenderLight& light, const glm::dvec3& emitDir);
+
+/// The IES profile's factor for light emitted along unit `localEmitDir`, in the light's local frame (it emits
+/// along -z). As hdEmbree (UsdLux's reference implementation) reads a profile: with w = -localEmitDir (towards
+/// the light), theta = acos(w.z), so vertical angle 0 lies along the emitting axis, and the horizontal angle
+/// phi = atan2(w.y, w.x) in [0, 360) degrees; the profile is looked up at
+/// clamp((theta - 180) / profileScale + 180, 0, 180) and multiplied by iesFactor (candela, or a unitless
+/// shape with normalize). 1 without a profile.
+double IesShaping(const ShapingRt& shaping, const glm::dvec3& localEmitDir);
+
+/// Radiance the light emits from `pointOnLight` along unit `emitDir` (sphere, rect, disk; the texture of a
+/// textured rect at that point, times EmissionShaping). For a point light, its intensity along emitDir.
+glm::dvec3 EmittedRadiance(const RenderLight& light, const glm::dvec3& pointOnLight, const glm::dvec3& emitDir);
 
 /// Samples a direction towards the light from point p, from two uniform numbers.
 LightSample SampleLight(const RenderLight& light, const glm::dvec3& p, double u1, double u2);
