@@ -4,9 +4,10 @@ The attributes go to the delegate as authored; the delegate applies UsdLux's for
 radiance = color x blackbody(colorTemperature) x intensity x 2^exposure / sizeFactor with normalize, a distant
 light's intensity the radiance of its disc, treatAsPoint, ShapingAPI's cone and focus, the dome's poleAxis).
 Dome and rect light textures are read through eyerender.textures (any OpenImageIO format, .usdz).
+IES profiles (ShapingAPI's shaping:ies:file) are read through Ar by eyerender.ies_profiles and handed over parsed.
 Light and shadow linking: the collections' membership over the rendered prims, handed over as the rprim ids each
-light does not light / is not shadowed by (link_excludes). What the renderer does not do (CylinderLight, IES
-profiles) is reported once per prim (docs/lights.md).
+light does not light / is not shadowed by (link_excludes). What the renderer does not do (PortalLight) is
+reported once per prim (docs/lights.md).
 """
 import math
 
@@ -14,6 +15,7 @@ from pxr import Usd, UsdGeom, UsdLux
 
 from ._hdeye import LightParams
 from .errors import EyeRenderError
+from .ies_profiles import read_ies_profile
 from .textures import TextureWarning, resolve_texture
 from .validation import as_float, as_vector
 
@@ -50,8 +52,9 @@ def _finite(path, **values):
             raise EyeRenderError(f"{path}: {name} = {v:g} must be finite")
 
 
-def _read_shaping(prim, time, p):
-    """ShapingAPI's cone and focus into p.shaping (IES profiles are reported by unsupported_light_features)."""
+def _read_shaping(prim, time, p, warnings):
+    """ShapingAPI's cone, focus and IES profile into p.shaping (a profile that cannot be read is a ProfileWarning
+    appended to `warnings`, a list, if given)."""
     if not prim.HasAPI(UsdLux.ShapingAPI):
         return
     api = UsdLux.ShapingAPI(prim)
@@ -61,8 +64,18 @@ def _read_shaping(prim, time, p):
     s.cone_softness = float(api.GetShapingConeSoftnessAttr().Get(time))
     s.focus = float(api.GetShapingFocusAttr().Get(time))
     s.focus_tint = tuple(float(c) for c in api.GetShapingFocusTintAttr().Get(time))
+    s.ies_angle_scale = float(api.GetShapingIesAngleScaleAttr().Get(time))
+    s.ies_normalize = bool(api.GetShapingIesNormalizeAttr().Get(time))
     _finite(prim.GetPath(), **{"inputs:shaping:cone:angle": s.cone_angle, "inputs:shaping:cone:softness":
-                               s.cone_softness, "inputs:shaping:focus": s.focus})
+                               s.cone_softness, "inputs:shaping:focus": s.focus,
+                               "inputs:shaping:ies:angleScale": s.ies_angle_scale})
+    if prim.GetTypeName() not in ("DistantLight", "DomeLight", "DomeLight_1"):
+        profile, problem = read_ies_profile(api.GetShapingIesFileAttr(), time,
+                                            f"{prim.GetPath()}: inputs:shaping:ies:file")
+        if profile is not None:
+            s.ies = profile
+        if problem and warnings is not None:
+            warnings.append(problem)
     p.shaping = s
 
 
@@ -76,8 +89,8 @@ def _dome_pole_z(prim):
 
 def read_light(prim, time, warnings=None):
     """LightParams for a UsdLux light prim at `time` (its size in the world comes from its transform, in the
-    delegate). A dome or rect texture that cannot be read is a TextureWarning appended to `warnings` (a list, if
-    given)."""
+    delegate). A dome or rect texture or an IES profile that cannot be read is a TextureWarning appended to
+    `warnings` (a list, if given)."""
     api = UsdLux.LightAPI(prim)
     path = prim.GetPath()
     p = LightParams()
@@ -93,7 +106,7 @@ def read_light(prim, time, warnings=None):
         raise EyeRenderError(f"{path}: inputs:colorTemperature = {p.color_temperature:g} K must be in "
                              "[1000, 40000] (UsdLux: 1000-10000)")
     kind = prim.GetTypeName()
-    _read_shaping(prim, time, p)
+    _read_shaping(prim, time, p, warnings)
     if kind == "SphereLight":
         light = UsdLux.SphereLight(prim)
         p.radius = as_float(path, "inputs:radius", light.GetRadiusAttr().Get(time))
@@ -137,8 +150,6 @@ def unsupported_light_features(prim, time):
     if kind in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time) and \
             not (point and api.GetNormalizeAttr().Get(time)):
         notes.append(f"{path}: radius 0 emits nothing (intensity is radiance)")
-    if prim.HasAPI(UsdLux.ShapingAPI) and UsdLux.ShapingAPI(prim).GetShapingIesFileAttr().Get(time):
-        notes.append(f"{path}: inputs:shaping:ies:file is ignored (IES profiles are not rendered)")
     if prim.HasAPI(UsdLux.ShapingAPI) and kind in ("DistantLight", "DomeLight", "DomeLight_1"):
         notes.append(f"{path}: ShapingAPI is ignored on a {kind}")
     intensity, exposure = api.GetIntensityAttr().Get(time), api.GetExposureAttr().Get(time)

@@ -39,8 +39,7 @@ std::string ParseError(const std::string& text) {
 
 TEST_CASE("an LM-63-2002 file parses: angles, candela times the multiplier, numbers across lines and commas ",
           "[ies]") {
-  const IesProfile p =
-      ParseIes(IesText(k2002, "0 45 90\n0", "100, 50\n  10", 3, 1, 2.0));
+  const IesProfile p = ParseIes(IesText(k2002, "0 45 90\n0", "100, 50\n  10", 3, 1, 2.0));
   REQUIRE(p.vertical.size() == 3);
   REQUIRE(p.horizontal.size() == 1);
   CHECK(p.candela[0] == Approx(200));
@@ -79,8 +78,7 @@ TEST_CASE("files the renderer cannot use are refused with their reason ", "[ies]
   CHECK_THAT(ParseError(huge), Catch::Contains("too many"));
 }
 
-TEST_CASE("the horizontal sets' symmetries: 0-90 mirrors each quadrant, 0-180 and 90-270 mirror a plane ",
-          "[ies]") {
+TEST_CASE("the horizontal sets' symmetries: 0-90 mirrors each quadrant, 0-180 and 90-270 mirror a plane ", "[ies]") {
   // Intensity rising with the horizontal angle, so every fold shows.
   const IesProfile quadrant = ParseIes(IesText(k2002, "0 90\n0 45 90", "0 0 10 10 20 20", 2, 3));
   for (double phi : {10.0, 30.0, 80.0}) {

@@ -276,8 +276,9 @@ LightShaping IesShapingForTest() {
   LightShaping s;
   s.enabled = true;
   s.coneAngle = 180;
-  s.ies = ParseIes("IESNA:LM-63-2002\n[TEST] a bilinear web\nTILT=NONE\n1 -1 1 3 2 1 2 0 0 0\n1 1 50\n"
-                   "0 90 180\n0 180\n200 110 20\n400 220 40\n");
+  s.ies = ParseIes(
+      "IESNA:LM-63-2002\n[TEST] a bilinear web\nTILT=NONE\n1 -1 1 3 2 1 2 0 0 0\n1 1 50\n"
+      "0 90 180\n0 180\n200 110 20\n400 220 40\n");
   return s;
 }
 

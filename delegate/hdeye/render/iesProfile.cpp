@@ -103,8 +103,9 @@ IesProfile ParseIes(const std::string& text) {
   const long nh = in.Count("number of horizontal angles", 1, 100000);
   if (nv * nh > kMaxValues) throw std::invalid_argument("the web has too many angles");
   const long type = in.Count("photometric type", 1, 3);
-  if (type != 1) throw std::invalid_argument(std::string("type ") + (type == 2 ? "B" : "A") +
-                                             " photometry is not supported (type C only)");
+  if (type != 1)
+    throw std::invalid_argument(std::string("type ") + (type == 2 ? "B" : "A") +
+                                " photometry is not supported (type C only)");
   in.Next("units type");
   in.Next("width");
   in.Next("length");
@@ -121,8 +122,8 @@ IesProfile ParseIes(const std::string& text) {
   p.vertical = Angles(in, nv, 0, 180, "vertical angles");
   p.horizontal = Angles(in, nh, 0, 360, "horizontal angles");
   const double h0 = p.horizontal.front(), h1 = p.horizontal.back();
-  const bool known = nh == 1 || (Near(h0, 0) && (Near(h1, 90) || Near(h1, 180) || Near(h1, 360))) ||
-                     (Near(h0, 90) && Near(h1, 270));
+  const bool known =
+      nh == 1 || (Near(h0, 0) && (Near(h1, 90) || Near(h1, 180) || Near(h1, 360))) || (Near(h0, 90) && Near(h1, 270));
   if (!known)
     throw std::invalid_argument("horizontal angles " + std::to_string(h0) + " to " + std::to_string(h1) +
                                 " are none of LM-63's sets (0, 0-90, 0-180, 90-270, 0-360)");
@@ -141,9 +142,7 @@ double IesProfile::Intensity(double verticalDeg, double horizontalDeg) const {
   std::size_t vi;
   double vt;
   Bracket(vertical, verticalDeg, &vi, &vt);
-  const auto column = [&](std::size_t h) {
-    return candela[h * nv + vi] * (1 - vt) + candela[h * nv + vi + 1] * vt;
-  };
+  const auto column = [&](std::size_t h) { return candela[h * nv + vi] * (1 - vt) + candela[h * nv + vi + 1] * vt; };
   if (horizontal.size() == 1) return column(0);
   // Fold the horizontal angle into the set's range by its symmetry.
   double phi = std::fmod(horizontalDeg, 360.0);

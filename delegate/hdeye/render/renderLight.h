@@ -62,8 +62,8 @@ struct RenderLight {
   glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};  ///< rect: half-extent vectors; disk: unit in-plane axes
   /// Unit local x and y axes in the world (with `direction`, the light's frame: IES horizontal angles).
   glm::dvec3 frameX{1, 0, 0}, frameY{0, 1, 0};
-  double radius = 0;                          ///< sphere, disk
-  double cosHalfAngle = 1;                    ///< distant
+  double radius = 0;        ///< sphere, disk
+  double cosHalfAngle = 1;  ///< distant
   /// Dome with a texture: the image (radiance = `radiance` x texel) and its sampling distribution;
   /// null for a constant dome.
   std::shared_ptr<const DomeTexture> dome;
