@@ -12,6 +12,7 @@
 #include "hdeye/render/renderLight.h"
 #include "hdeye/render/texture.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
+#include "hdeye/scene/sampleScenes.h"
 #include "scene_helpers.h"
 #include "test_support.h"
 
@@ -685,4 +686,54 @@ TEST_CASE(
       CHECK(glm::length(radiance - s.radiance) < 1e-6);
       CHECK(pdf == Approx(s.pdf).epsilon(1e-9));
     }
+}
+
+namespace {
+
+/// The iris's MNEE light (the irisMnee AOV summed over a 24 x 24 image, 32 spp) of the side-lit eye with its key
+/// replaced by a `width` x 6 mm rect light of radiance 300 at 150 mm, 60 degrees off the eye's axis, facing
+/// the eye, its centre `shift` mm along its local x; `texture` on it if not empty.
+double IrisMneeUnderRect(double width, double shift, const std::string& texture) {
+  test::RenderStack s;
+  sampleScenes::AddSideLitEye(s.scene, 60);
+  LightParams key = s.scene.GetLightParams("/World/key");
+  key.intensity = 0;  // the sphere key off
+  s.scene.SetLightParams("/World/key", key);
+  const double a = 60 * kPi / 180;
+  const glm::dvec3 z(std::sin(a), 0, std::cos(a)), x = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), z)),
+                                                   y = glm::cross(z, x), centre = 150.0 * z + shift * x;
+  Matrix4d m(1.0);  // local -z towards the eye
+  m[0] = glm::dvec4(x, 0), m[1] = glm::dvec4(y, 0), m[2] = glm::dvec4(z, 0), m[3] = glm::dvec4(centre, 1);
+  LightParams rect;
+  rect.width = float(width);
+  rect.height = 6;
+  rect.intensity = 300;
+  rect.textureFile = texture;
+  s.scene.AddLight("/World/rect", primTypes::kRectLight, rect, m);
+  s.scene.AddRenderBuffer("/color", 24, 24, 4);
+  s.scene.AddRenderBuffer("/iris", 24, 24, 3);
+  s.delegate.Settings().samplesPerPixel = 32;
+  s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
+  double sum = 0;
+  for (int py = 0; py < 24; ++py)
+    for (int px = 0; px < 24; ++px) sum += s.Buffer("/iris").Resolved(px, py, 0);
+  return sum;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "MNEE evaluates a rect light's texture at the solved light point: a half-black texture gives the caustic "
+    "of the lit half alone",
+    "[texture][light][mnee]") {
+  ScratchDir dir;
+  // The image's left half white: UsdLux puts it at local +x (RenderLight::rectImage).
+  WriteImage(dir / "half.exr", 64, 8, 3, Halves(64, 8, 3, 1, 0), OIIO::TypeDesc::FLOAT);
+  const double whole = IrisMneeUnderRect(6, 0, ""), textured = IrisMneeUnderRect(6, 0, dir / "half.exr"),
+               half = IrisMneeUnderRect(3, 1.5, "");
+  std::printf("iris MNEE light: untextured 6 x 6 rect %.4f, half-black texture %.4f, the lit 3 x 6 half alone %.4f\n",
+              whole, textured, half);
+  REQUIRE(whole > 0);
+  CHECK(textured == Approx(half).epsilon(0.03));
+  CHECK(half < 0.8 * whole);  // the check above can tell the lit half from the whole rect
 }

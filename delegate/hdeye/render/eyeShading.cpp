@@ -89,9 +89,9 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     }
     const double transmittance = lighting.transmittance(index, Offset(eye, p, n), toLight, tFar);
     if (!(transmittance > 0)) continue;
-    // Emission towards this path's own cornea point (ShapingAPI; the apex sample's radiance for distant
-    // lights and domes, which have no shaping).
-    const glm::dvec3 le = distant ? ls.radiance : light.radiance * EmissionShaping(light, -toLight);
+    // Emission from the sampled light point towards this path's own cornea point (a rect's texture there,
+    // ShapingAPI; the apex sample's radiance for distant lights and domes, which have no shaping).
+    const glm::dvec3 le = distant ? ls.radiance : EmittedRadiance(light, y, -toLight);
     E += le * (s.transfer * cosEmit * weight * transmittance);
   }
   return E * double(counted);
