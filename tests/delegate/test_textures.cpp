@@ -270,12 +270,14 @@ TEST_CASE(
   std::vector<float> noise(256 * 256 * 3);
   for (std::size_t i = 0; i < noise.size(); ++i) noise[i] = float((i * 7919) % 251) / 250.0f;
   WriteImage(dir / "good.png", 256, 256, 3, noise);
-  {
-    std::ifstream in(dir / "good.png", std::ios::binary);
+  // A truncated JPEG: libjpeg decodes it without failing (grey where the bytes ran out), only warning.
+  WriteImage(dir / "good.jpg", 256, 256, 3, noise);
+  for (const std::string ext : {"png", "jpg"}) {
+    std::ifstream in(dir / ("good." + ext), std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::ofstream(dir / "cut.png", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream(dir / ("cut." + ext), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   }
-  for (const std::string name : {"missing.png", "junk.png", "text.tif", "cut.png"}) {
+  for (const std::string name : {"missing.png", "junk.png", "text.tif", "cut.png", "cut.jpg"}) {
     INFO(name);
     const auto t = Texture::Open(Params(dir / name));
     CHECK_FALSE(t->Valid());
@@ -287,7 +289,9 @@ TEST_CASE(
   }
   CHECK_THAT(TextureProblem(dir / "missing.png"), Catch::Contains("file not found"));
   CHECK_THAT(TextureProblem(dir / "cut.png"), Catch::Contains("decoded"));
+  CHECK_THAT(TextureProblem(dir / "cut.jpg"), Catch::Contains("Premature end of JPEG file"));
   CHECK(TextureProblem(dir / "good.png").empty());
+  CHECK(TextureProblem(dir / "good.jpg").empty());
 
   TextureCache cache;
   const auto a = cache.Get(dir / "good.png");

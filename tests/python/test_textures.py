@@ -229,8 +229,12 @@ def test_corrupted_and_unsupported_textures_are_warnings_and_magenta_without_a_f
     write_image(str(tmp_path / "good.png"), np.random.default_rng(1).random((128, 128, 3), np.float32))
     data = (tmp_path / "good.png").read_bytes()
     (tmp_path / "cut.png").write_bytes(data[:len(data) // 2])
+    # A truncated JPEG decodes without an error in libjpeg (grey where the bytes end): caught all the same.
+    write_image(str(tmp_path / "good.jpg"), np.random.default_rng(1).random((128, 128, 3), np.float32))
+    data = (tmp_path / "good.jpg").read_bytes()
+    (tmp_path / "cut.jpg").write_bytes(data[:len(data) // 2])
     (tmp_path / "notes.tif").write_text("not an image")
-    for name in ("cut.png", "notes.tif"):
+    for name in ("cut.png", "cut.jpg", "notes.tif"):
         stage, _ = card_stage(tmp_path / f"{name}.usda", name)
         s, img = render(stage, size=8, spp=1)
         problems = [w for w in s.scene.warnings if isinstance(w, TextureWarning)]

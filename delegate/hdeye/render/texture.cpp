@@ -1,6 +1,7 @@
 #include "hdeye/render/texture.h"
 
 #include <OpenImageIO/imagecache.h>
+#include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 
 #include <algorithm>
@@ -64,6 +65,26 @@ bool SaysLinear(const std::string& colorSpace) {
   return s == "linear" || s == "scene_linear" || s == "lin_srgb" || s == "lin_rec709" || s == "raw";
 }
 
+/// For a JPEG, the decoder's complaint about its bytes, else "". libjpeg decodes a truncated or corrupt
+/// stream without failing (it pads what is missing with grey and only warns, "Premature end of JPEG file"),
+/// and OIIO's ImageCache drops that warning; an ImageInput keeps it in its error. Other formats' decoders
+/// fail outright, which DecodeAll sees, so only JPEGs pay for this second decode.
+std::string TruncationWarning(const std::string& file) {
+  auto in = oiio::ImageInput::open(file);
+  if (!in || std::string(in->format_name()) != "jpeg") {
+    if (!in) oiio::geterror();  // the cache read it; drop the global error this open left
+    return "";
+  }
+  const oiio::ImageSpec& spec = in->spec();
+  std::vector<unsigned char> pixels(std::size_t(spec.width) * spec.height * std::size_t(spec.nchannels));
+  const bool read = in->read_image(0, 0, 0, spec.nchannels, oiio::TypeUInt8, pixels.data());
+  std::string e = in->geterror();
+  e = e.substr(0, e.find('\n'));
+  if (read && e.empty()) return "";
+  if (e.empty()) e = "its pixels cannot be decoded";
+  return e.size() > 160 ? e.substr(0, 157) + "..." : e;
+}
+
 /// Reads every texel of `file`'s coarsest MIP level (which OIIO builds from all of the finest, or reads
 /// from a .tx): "" if they decode, else why not.
 std::string DecodeAll(oiio::TextureSystem* ts, oiio::ustring file) {
@@ -77,7 +98,7 @@ std::string DecodeAll(oiio::TextureSystem* ts, oiio::ustring file) {
   if (!cache->get_pixels(file, 0, level, coarse.x, coarse.x + coarse.width, coarse.y, coarse.y + coarse.height, 0, 1,
                          oiio::TypeFloat, pixels.data()))
     return PendingError("its pixels cannot be decoded");
-  return "";
+  return TruncationWarning(file.string());
 }
 
 /// DecodeAll's answer for `file`, computed once per process: the shared cache keeps what it decoded, and
