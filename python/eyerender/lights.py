@@ -1,8 +1,9 @@
-"""UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, dome).
+"""UsdLux lights to the delegate's light prims (sphere, distant, rect, disk, cylinder, dome).
 
 The attributes go to the delegate as authored; the delegate applies UsdLux's formulas (RenderLight::FromParams:
 radiance = color x blackbody(colorTemperature) x intensity x 2^exposure / sizeFactor with normalize, a distant
-light's intensity the radiance of its disc, treatAsPoint, ShapingAPI's cone and focus, the dome's poleAxis).
+light's intensity the radiance of its disc, treatAsPoint, treatAsLine, ShapingAPI's cone and focus, the dome's
+poleAxis).
 Dome and rect light textures are read through eyerender.textures (any OpenImageIO format, .usdz).
 IES profiles (ShapingAPI's shaping:ies:file) are read through Ar by eyerender.ies_profiles and handed over parsed.
 Light and shadow linking: the collections' membership over the rendered prims, handed over as the rprim ids each
@@ -25,13 +26,13 @@ LIGHT_TYPES = {
     "DistantLight": "distantLight",
     "RectLight": "rectLight",
     "DiskLight": "diskLight",
+    "CylinderLight": "cylinderLight",
     "DomeLight": "domeLight",
     "DomeLight_1": "domeLight",
 }
 
 # UsdLux lights the renderer skips, with why (one warning each).
 SKIPPED_LIGHTS = {
-    "CylinderLight": "CylinderLight is not rendered",
     "PortalLight": "PortalLight is not rendered (the dome is sampled without portals)",
 }
 
@@ -113,6 +114,11 @@ def read_light(prim, time, warnings=None):
         p.treat_as_point = bool(light.GetTreatAsPointAttr().Get(time))
     elif kind == "DiskLight":
         p.radius = as_float(path, "inputs:radius", UsdLux.DiskLight(prim).GetRadiusAttr().Get(time))
+    elif kind == "CylinderLight":
+        light = UsdLux.CylinderLight(prim)
+        p.radius = as_float(path, "inputs:radius", light.GetRadiusAttr().Get(time))
+        p.length = as_float(path, "inputs:length", light.GetLengthAttr().Get(time))
+        p.treat_as_line = bool(light.GetTreatAsLineAttr().Get(time))
     elif kind == "RectLight":
         light = UsdLux.RectLight(prim)
         p.width = as_float(path, "inputs:width", light.GetWidthAttr().Get(time))
@@ -134,7 +140,7 @@ def read_light(prim, time, warnings=None):
                 raise EyeRenderError(f"{path}: inputs:texture:format '{fmt}' is not supported (latlong only)")
         if problem and warnings is not None:
             warnings.append(TextureWarning(f"{problem}; the dome renders magenta"))
-    for name in ("radius", "width", "height"):
+    for name in ("radius", "width", "height", "length"):
         if not (getattr(p, name) >= 0 and math.isfinite(getattr(p, name))):
             raise EyeRenderError(f"{path}: inputs:{name} = {getattr(p, name):g} must be finite and non-negative")
     return p
@@ -146,8 +152,9 @@ def unsupported_light_features(prim, time):
     notes = []
     path = prim.GetPath()
     kind = prim.GetTypeName()
-    point = kind == "SphereLight" and UsdLux.SphereLight(prim).GetTreatAsPointAttr().Get(time)
-    if kind in ("SphereLight", "DiskLight") and not prim.GetAttribute("inputs:radius").Get(time) and \
+    point = (kind == "SphereLight" and UsdLux.SphereLight(prim).GetTreatAsPointAttr().Get(time)) or \
+        (kind == "CylinderLight" and UsdLux.CylinderLight(prim).GetTreatAsLineAttr().Get(time))
+    if kind in ("SphereLight", "DiskLight", "CylinderLight") and not prim.GetAttribute("inputs:radius").Get(time) and \
             not (point and api.GetNormalizeAttr().Get(time)):
         notes.append(f"{path}: radius 0 emits nothing (intensity is radiance)")
     if prim.HasAPI(UsdLux.ShapingAPI) and kind in ("DistantLight", "DomeLight", "DomeLight_1"):

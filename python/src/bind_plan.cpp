@@ -52,6 +52,7 @@ void BindPlan(nb::module_& m) {
       .value("DISTANT", LightType::Distant)
       .value("RECT", LightType::Rect)
       .value("DISK", LightType::Disk)
+      .value("CYLINDER", LightType::Cylinder)
       .value("DOME", LightType::Dome);
   nb::enum_<LightStrategy>(m, "LightStrategy", "How the iris gets a light's direct light.")
       .value("MNEE", LightStrategy::Mnee, "manifold next event estimation through the cornea")

@@ -19,12 +19,15 @@ constexpr double kAlbedo = 0.5;
 
 /// A light at height `height` above the centre of a Lambert plane (z = 0) of albedo 0.5, looking down (-z, so
 /// distant, rect and disk lights shine onto it), and an orthographic camera over a `patch`-wide square at its
-/// centre (`pixels` wide). Returns the mean RGB of the plane's outgoing radiance over the patch.
+/// centre (`pixels` wide). Returns the mean RGB of the plane's outgoing radiance over the patch. `shift` moves the
+/// light sideways (scene units).
 glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, double height, double patch = 0.02,
-                            int pixels = 4, int spp = 128) {
+                            int pixels = 4, int spp = 128, const glm::dvec3& shift = glm::dvec3(0)) {
   test::RenderStack s;
   test::AddLambertPlane(s.scene, 100, kAlbedo);
-  s.scene.AddLight("/light", type, light, test::LookDownZ(height));
+  Matrix4d at = test::LookDownZ(height);
+  at[3] += glm::dvec4(shift, 0);
+  s.scene.AddLight("/light", type, light, at);
   CameraParams ortho;
   ortho.orthographic = true;
   ortho.horizontalAperture = ortho.verticalAperture = patch;
@@ -313,6 +316,105 @@ TEST_CASE("shaping:ies:normalize divides the profile by its mean intensity over 
                     [mean](double theta, double phi) { return IesForTest(theta, phi) / mean; }) < 5e-5);
 }
 
+namespace {
+
+/// Irradiance on a horizontal plane at a point a horizontal distance `offset` (across the axis, in line with the
+/// centre along it) from below a cylinder light of radiance L, radius r and half-length a whose axis is
+/// horizontal at height h. A direction at angle beta from the normal in the cross-section and gamma along the
+/// axis meets the side at cross-section distance s(beta) (the near root), within the length while
+/// tan(gamma) <= a / s, and cos(theta) = cos(beta) cos(gamma); so
+/// E = L int cos(beta) (g0 + sin g0 cos g0) dbeta over the silhouette, tan g0 = a / s(beta) (Simpson, 2000 steps).
+double CylinderIrradiance(double L, double r, double a, double h, double offset) {
+  const double D = std::hypot(h, offset), centre = std::atan2(offset, h), half = std::asin(r / D);
+  const auto f = [&](double beta) {
+    const double uc = D * std::cos(beta - centre), s = uc - std::sqrt(std::max(0.0, r * r - (D * D - uc * uc)));
+    const double g0 = std::atan(a / s);
+    return std::cos(beta) * (g0 + std::sin(g0) * std::cos(g0));
+  };
+  const int n = 2000;
+  const double lo = centre - half, step = 2 * half / n;
+  double sum = f(lo) + f(lo + 2 * half);
+  for (int i = 1; i < n; ++i) sum += f(lo + i * step) * (i % 2 ? 4 : 2);
+  return L * sum * step / 3;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "a cylinder light emits from its side: the plane's irradiance under it and beside it, normalize divides by "
+    "2 pi r l ",
+    "[usdlux][cylinder]") {
+  const double r = 0.1, l = 2, h = 1, L = 2;
+  LightParams tube;  // along the world x (its local x), 1 above the plane
+  tube.radius = float(r), tube.length = float(l), tube.intensity = float(L);
+  for (double offset : {0.0, 0.8}) {
+    const double E = CylinderIrradiance(L, r, l / 2, h, offset);
+    const double got = RenderUnderLight(primTypes::kCylinderLight, tube, h, 0.02, 4, 2048, {0, -offset, 0}).x;
+    char what[80];
+    std::snprintf(what, sizeof what, "cylinder r 0.1 l 2 at 1, %.1f to the side", offset);
+    Report(what, got, Lambert(E));
+    CHECK(got == Approx(Lambert(E)).epsilon(0.01));
+  }
+  tube.normalize = true;
+  const double on = RenderUnderLight(primTypes::kCylinderLight, tube, h, 0.02, 4, 2048).x;
+  const double E = CylinderIrradiance(L / (2 * kPi * r * l), r, l / 2, h, 0);
+  Report("cylinder, normalize on", on, Lambert(E));
+  CHECK(on == Approx(Lambert(E)).epsilon(0.01));
+}
+
+TEST_CASE("treatAsLine renders the cylinder as a line of 2 r L sin(angle) per unit length (L / (pi l) normalized) ",
+          "[usdlux][cylinder]") {
+  // Under the centre of a line of intensity K sin(alpha) per unit length: E = K (a / (h^2 + a^2) + atan(a/h) / h).
+  const double r = 0.1, l = 2, h = 1, L = 2, a = l / 2;
+  const auto lineE = [&](double K) { return K * (a / (h * h + a * a) + std::atan(a / h) / h); };
+  LightParams line;
+  line.radius = float(r), line.length = float(l), line.intensity = float(L), line.treatAsLine = true;
+  const double off = RenderUnderLight(primTypes::kCylinderLight, line, h, 0.02, 4, 2048).x;
+  Report("line (cylinder r 0.1 l 2) at 1", off, Lambert(lineE(2 * r * L)));
+  CHECK(off == Approx(Lambert(lineE(2 * r * L))).epsilon(0.01));
+  line.normalize = true;
+  line.radius = 0;
+  const double on = RenderUnderLight(primTypes::kCylinderLight, line, h, 0.02, 4, 2048).x;
+  Report("line, radius 0, normalize on", on, Lambert(lineE(L / (kPi * l))));
+  CHECK(on == Approx(Lambert(lineE(L / (kPi * l)))).epsilon(0.01));
+}
+
+TEST_CASE("a cylinder light's sampled points are what rays towards them meet, with the same pdf ",
+          "[usdlux][cylinder]") {
+  LightParams tube;
+  tube.radius = 0.3f, tube.length = 2, tube.intensity = 5;
+  Matrix4d m(1.0);  // axis along world y, centre at (1, 0, 2)
+  m[0] = glm::dvec4(0, 1, 0, 0), m[1] = glm::dvec4(-1, 0, 0, 0), m[3] = glm::dvec4(1, 0, 2, 1);
+  const RenderLight light = RenderLight::FromParams(
+      [&] {
+        LightParams p = tube;
+        p.type = LightType::Cylinder;
+        return p;
+      }(),
+      m);
+  const glm::dvec3 from(0.2, 0.5, -1);
+  int sampled = 0;
+  for (double u1 : {0.05, 0.3, 0.6, 0.95})
+    for (double u2 : {0.02, 0.4, 0.7, 0.99}) {
+      const LightSample s = SampleLight(light, from, u1, u2);
+      REQUIRE(s.pdf > 0);
+      glm::dvec3 radiance(0);
+      double pdf = 0, distance = 0;
+      REQUIRE(IntersectLight(light, from, s.dir, 1e30, &radiance, &pdf, &distance));
+      CHECK(distance == Approx(s.distance).epsilon(1e-9));
+      CHECK(pdf == Approx(s.pdf).epsilon(1e-9));
+      CHECK(radiance == s.radiance);
+      ++sampled;
+    }
+  CHECK(sampled == 16);
+  // From inside the tube nothing is sampled or met; a ray past its end cap meets nothing.
+  CHECK(SampleLight(light, {1, 0, 2.1}, 0.5, 0.5).pdf == 0);
+  glm::dvec3 radiance(0);
+  double pdf = 0, distance = 0;
+  CHECK_FALSE(IntersectLight(light, {1, 0, 2.1}, {0, 0, 1}, 1e30, &radiance, &pdf, &distance));
+  CHECK_FALSE(IntersectLight(light, {1, 3, 2}, {0, -1, 0}, 1e30, &radiance, &pdf, &distance));  // along the axis
+}
+
 TEST_CASE("ShapingAPI's focus multiplies by lerp(focusTint, 1, |cos|^focus) ", "[usdlux]") {
   LightParams p;
   p.shaping.enabled = true;
@@ -327,6 +429,37 @@ TEST_CASE("ShapingAPI's focus multiplies by lerp(focusTint, 1, |cos|^focus) ", "
   CHECK(off.x == Approx(0.5 + 0.5 * std::pow(c, 4)).epsilon(1e-12));
   CHECK(off.y == Approx(std::pow(c, 4)).epsilon(1e-12));
   CHECK(EmissionShaping(l, {1, 0, 0.01}) == glm::dvec3(0));  // behind the 90 degree cone
+}
+
+TEST_CASE("MNEE under a line light (treatAsLine) brings the caustic of the thin cylinder it stands for ",
+          "[usdlux][cylinder]") {
+  // The side-lit eye's key replaced by a 6 mm tube of radius 0.5 mm at 150 mm, across the view (along y).
+  auto irisLight = [](bool line) {
+    test::RenderStack s;
+    sampleScenes::AddSideLitEye(s.scene, 60);
+    LightParams key = s.scene.GetLightParams("/World/key");
+    key.intensity = 0;  // the sphere key off
+    s.scene.SetLightParams("/World/key", key);
+    LightParams tube;
+    tube.radius = 0.5f, tube.length = 6, tube.intensity = 2000, tube.treatAsLine = line;
+    const double a = 60 * kPi / 180;
+    Matrix4d m(1.0);
+    m[0] = glm::dvec4(0, 1, 0, 0), m[1] = glm::dvec4(-1, 0, 0, 0);
+    m[3] = glm::dvec4(150 * std::sin(a), 0, 150 * std::cos(a), 1);
+    s.scene.AddLight("/World/tube", primTypes::kCylinderLight, tube, m);
+    s.scene.AddRenderBuffer("/color", 24, 24, 4);
+    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
+    s.delegate.Settings().samplesPerPixel = 16;
+    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
+    double sum = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
+    return sum;
+  };
+  const double tube = irisLight(false), line = irisLight(true);
+  Report("iris MNEE light under the line", line, tube, "0.5 mm tube");
+  REQUIRE(tube > 0);
+  CHECK(line == Approx(tube).epsilon(0.03));
 }
 
 TEST_CASE("MNEE under a point light (treatAsPoint) brings the caustic of the sphere it stands for ", "[usdlux]") {

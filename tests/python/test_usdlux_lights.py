@@ -108,9 +108,26 @@ def test_camera_depth_of_field_is_read_and_a_missing_focus_distance_warned_about
 
 def test_lights_the_renderer_skips_are_warned_about_by_prim():
     stage = card_stage()
-    UsdLux.CylinderLight.Define(stage, "/tube")
+    UsdLux.PortalLight.Define(stage, "/portal")
     warnings = render(stage, spp=1).scene.warnings
-    assert "/tube: CylinderLight is not rendered; skipped" in warnings
+    assert any(w.startswith("/portal: PortalLight is not rendered") for w in warnings), warnings
+
+
+def test_a_cylinder_light_lights_the_card_along_its_axis_and_treat_as_line_is_read():
+    stage = card_stage()
+    tube = UsdLux.CylinderLight.Define(stage, "/tube")  # along x, 1 unit above the card
+    tube.CreateLengthAttr(3.0)
+    tube.CreateRadiusAttr(0.05)
+    tube.CreateIntensityAttr(50.0)
+    tube.AddTranslateOp().Set(Gf.Vec3d(0, 0, 1))
+    s = render(stage, spp=16, width=33, height=33)
+    assert s.scene.warnings == []
+    image = s.image("color")[:, :, 0]
+    middle, along, across = image[16, 16], image[16, 24], image[24, 16]  # 1.7 units off the middle each
+    assert middle > along > 3 * across > 0, (middle, along, across)
+    tube.CreateTreatAsLineAttr(True)
+    p = read_light(tube.GetPrim(), Usd.TimeCode.Default())
+    assert p.treat_as_line and (p.length, p.radius) == (3.0, pytest.approx(0.05))
 
 
 def test_a_catch_light_linked_to_one_card_lights_that_card_alone():

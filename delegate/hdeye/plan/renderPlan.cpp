@@ -57,6 +57,7 @@ const char* ToString(LightType type) {
     case LightType::Rect: return "rect";
     case LightType::Disk: return "disk";
     case LightType::Dome: return "dome";
+    case LightType::Cylinder: return "cylinder";
   }
   return "?";
 }
@@ -168,6 +169,17 @@ LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const E
       const double sinA = light.radius / d;
       f.angularRadiusDeg = std::asin(sinA) * kDeg;
       f.solidAngleSr = ConeSolidAngle(std::sqrt(1 - sinA * sinA));
+      break;
+    }
+    case LightType::Cylinder: {
+      // Its silhouette from p, 2 r l sin(angle to the axis) over d^2 (a line: its radius is 0, nothing to
+      // resolve), as the cone of the same solid angle.
+      const glm::dvec3 to = light.position - p;
+      const double d = glm::length(to);
+      dir = d > 0 ? to / d : gaze;
+      const double width = 2 * std::max(light.radius, 0.0) * 2 * light.halfLength;
+      f.solidAngleSr = d > 0 ? std::min(2 * kPi, width * glm::length(glm::cross(dir, light.axisU)) / (d * d)) : 2 * kPi;
+      f.angularRadiusDeg = std::acos(std::clamp(1 - f.solidAngleSr / (2 * kPi), -1.0, 1.0)) * kDeg;
       break;
     }
     case LightType::Rect:

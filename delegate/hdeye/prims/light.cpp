@@ -20,8 +20,10 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
     p.type = type_;
     if (!std::isfinite(p.intensity) || p.intensity < 0)
       throw std::runtime_error("light " + Id() + ": intensity must be >= 0");
-    if (p.type == LightType::Sphere && !(p.radius >= 0))
+    if ((p.type == LightType::Sphere || p.type == LightType::Cylinder) && !(p.radius >= 0))
       throw std::runtime_error("light " + Id() + ": radius must be >= 0");
+    if (p.type == LightType::Cylinder && !(p.length >= 0 && std::isfinite(p.length)))
+      throw std::runtime_error("light " + Id() + ": length must be finite and >= 0");
     std::shared_ptr<const DomeTexture> dome;
     if (p.type == LightType::Dome && !p.textureFile.empty()) {
       // Repeat around the dome, clamp at the poles (repeat would blend the two poles).

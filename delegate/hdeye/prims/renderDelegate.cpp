@@ -44,8 +44,8 @@ const std::vector<std::string>& RenderDelegate::SupportedRprimTypes() {
 }
 const std::vector<std::string>& RenderDelegate::SupportedSprimTypes() {
   static const std::vector<std::string> types = {
-      primTypes::kCamera,    primTypes::kSphereLight, primTypes::kDistantLight, primTypes::kRectLight,
-      primTypes::kDiskLight, primTypes::kDomeLight,   primTypes::kMaterial};
+      primTypes::kCamera,    primTypes::kSphereLight, primTypes::kDistantLight,  primTypes::kRectLight,
+      primTypes::kDiskLight, primTypes::kDomeLight,   primTypes::kCylinderLight, primTypes::kMaterial};
   return types;
 }
 const std::vector<std::string>& RenderDelegate::SupportedBprimTypes() {
@@ -70,6 +70,7 @@ std::unique_ptr<Sprim> RenderDelegate::CreateSprim(const std::string& type, cons
   if (type == primTypes::kRectLight) return std::make_unique<Light>(id, LightType::Rect);
   if (type == primTypes::kDiskLight) return std::make_unique<Light>(id, LightType::Disk);
   if (type == primTypes::kDomeLight) return std::make_unique<Light>(id, LightType::Dome);
+  if (type == primTypes::kCylinderLight) return std::make_unique<Light>(id, LightType::Cylinder);
   return nullptr;
 }
 

@@ -26,6 +26,7 @@ inline const std::string kDistantLight = "distantLight";
 inline const std::string kRectLight = "rectLight";
 inline const std::string kDiskLight = "diskLight";
 inline const std::string kDomeLight = "domeLight";
+inline const std::string kCylinderLight = "cylinderLight";
 inline const std::string kMaterial = "material";
 inline const std::string kRenderBuffer = "renderBuffer";
 }  // namespace primTypes

@@ -51,8 +51,9 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     end.direction = eye.DirToCanonical(ls.dir);
     weight = 1 / ls.pdf;  // E_perp = L dw
   } else if (light.delta) {
-    // A point of radiant intensity I: E = I x transfer, the transfer per mm^2 and I per world unit^2.
-    y = light.position;
+    // A point of radiant intensity I: E = I x transfer, the transfer per mm^2 and I per world unit^2 (a line:
+    // its sampled point, standing for its whole length).
+    y = light.type == LightType::Cylinder ? apex + ls.dir * ls.distance : light.position;
     end.position = eye.ToCanonical(y);
     weight = 1 / (eye.worldPerMm * eye.worldPerMm);
   } else if (ls.pointLimit) {
@@ -62,7 +63,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     weight = kPi * (light.radius / eye.worldPerMm) * (light.radius / eye.worldPerMm);
   } else {
     y = apex + ls.dir * ls.distance;
-    emitterNormal = light.type == LightType::Sphere ? glm::normalize(y - light.position) : light.direction;
+    emitterNormal = EmitterNormal(light, y);
     const double cosY = std::abs(glm::dot(emitterNormal, ls.dir));
     if (!(cosY > 0)) return glm::dvec3(0);
     const double pdfArea = ls.pdf * cosY / (ls.distance * ls.distance);

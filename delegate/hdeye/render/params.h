@@ -42,7 +42,7 @@ inline double LensApertureDiameter(const CameraParams& p) {
 }
 
 /// The light kinds the delegate renders.
-enum class LightType { Sphere, Distant, Rect, Disk, Dome };
+enum class LightType { Sphere, Distant, Rect, Disk, Dome, Cylinder };
 
 /// UsdLuxShapingAPI: the cone and focus of a light's emission about its primary axis (local -z).
 struct LightShaping {
@@ -75,7 +75,11 @@ struct LightParams {
   /// Sphere: render as a point light with the sphere's radiant intensity (pi r^2 L, r in world units).
   bool treatAsPoint = false;
   LightShaping shaping;
-  float radius = 0.5f;          ///< sphere, disk (scene units)
+  /// Cylinder: render as a line along its axis with the cylinder's radiant intensity (2 r L sin of the angle
+  /// to the axis per unit length, r and the length in world units).
+  bool treatAsLine = false;
+  float radius = 0.5f;          ///< sphere, disk, cylinder (scene units)
+  float length = 1;             ///< cylinder, along its local x (scene units)
   float width = 1, height = 1;  ///< rect (scene units)
   float angle = 0.53f;          ///< distant: angular diameter, degrees
   /// Dome: a lat-long image; rect: an image over the rectangle (RenderLight::rectImage's orientation). Any

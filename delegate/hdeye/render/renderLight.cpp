@@ -32,6 +32,16 @@ double PlanarArea(const RenderLight& l) {
   return l.type == LightType::Rect ? 4 * glm::length(glm::cross(l.axisU, l.axisV)) : kPi * l.radius * l.radius;
 }
 
+/// Density over a cylinder light's side of a point sampled from p (CylinderSide): uniform along its length
+/// and over the arc of its cross-section p sees, of half-angle acos(r / rho), rho p's distance from the axis.
+/// 0 from inside the cylinder (rho <= r).
+double CylinderAreaPdf(const RenderLight& l, const glm::dvec3& p) {
+  const glm::dvec3 toP = p - l.position, perp = toP - glm::dot(toP, l.axisU) * l.axisU;
+  const double rho = glm::length(perp);
+  if (!(rho > l.radius) || !(l.radius > 0) || !(l.halfLength > 0)) return 0;
+  return 1 / (2 * std::acos(l.radius / rho) * l.radius * 2 * l.halfLength);
+}
+
 /// UsdLux's sizeFactor of a distant light of half-angle theta (radians): what normalize divides by, so that
 /// its radiance times sizeFactor is the illuminance of a surface facing it.
 double DistantSizeFactor(double theta) {
@@ -188,6 +198,19 @@ RenderLight RenderLight::FromParams(const LightParams& p, const glm::dmat4& m, s
       l.radius = p.radius * scale;
       sizeFactor = PlanarArea(l);
       break;
+    case LightType::Cylinder:
+      l.axisU = glm::normalize(x);
+      l.radius = p.radius * std::max(glm::length(y), glm::length(z));
+      l.halfLength = p.length * glm::length(x) / 2;
+      sizeFactor = 2 * kPi * l.radius * 2 * l.halfLength;
+      if (p.treatAsLine) {
+        // Per unit length, what the cylinder sends broadside on (its width 2 r times L); with normalize,
+        // 2 r L / (2 pi r l) at any radius.
+        l.radiance *= p.normalize ? 1 / (kPi * 2 * l.halfLength) : 2 * l.radius;
+        l.delta = true;
+        sizeFactor = 1;
+      }
+      break;
     case LightType::Dome:
       if (!p.textureFile.empty()) {
         if (!dome) {
@@ -242,8 +265,19 @@ double IesShaping(const ShapingRt& s, const glm::dvec3& localEmitDir) {
   return s.ies->Intensity(thetaIes, phi) * s.iesFactor;
 }
 
+glm::dvec3 EmitterNormal(const RenderLight& l, const glm::dvec3& y) {
+  if (l.type == LightType::Sphere) return glm::normalize(y - l.position);
+  if (l.type == LightType::Cylinder) {
+    const glm::dvec3 q = y - l.position;
+    return glm::normalize(q - glm::dot(q, l.axisU) * l.axisU);
+  }
+  return l.direction;
+}
+
 glm::dvec3 EmittedRadiance(const RenderLight& l, const glm::dvec3& y, const glm::dvec3& emitDir) {
   glm::dvec3 radiance = l.radiance;
+  if (l.type == LightType::Cylinder && l.delta)
+    radiance *= 2 * l.halfLength * glm::length(glm::cross(emitDir, l.axisU));
   if (l.type == LightType::Rect && l.rectImage) {
     const glm::dvec3 q = y - l.position;
     const double a = glm::dot(q, l.axisU) / glm::dot(l.axisU, l.axisU),
@@ -320,6 +354,39 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       s.pdf = 1 / (4 * kPi);
       return s;
     }
+    case LightType::Cylinder: {
+      if (!(l.halfLength > 0)) return s;
+      const double along = (2 * u1 - 1) * l.halfLength;
+      glm::dvec3 q = l.position + along * l.axisU;
+      double pdfArea = 0;
+      glm::dvec3 normal(0);
+      if (!l.delta) {
+        // A point on the arc of the side p sees (CylinderAreaPdf): the half-angle acos(r / rho) about the
+        // direction from the axis towards p.
+        pdfArea = CylinderAreaPdf(l, p);
+        if (!(pdfArea > 0)) return s;  // inside the light, or a zero radius: nothing to sample
+        const glm::dvec3 toP = p - l.position, perp = toP - glm::dot(toP, l.axisU) * l.axisU;
+        const double rho = glm::length(perp), phi = (2 * u2 - 1) * std::acos(l.radius / rho);
+        const glm::dvec3 e1 = perp / rho, e2 = glm::cross(l.axisU, e1);
+        normal = std::cos(phi) * e1 + std::sin(phi) * e2;
+        q += l.radius * normal;
+      }
+      const glm::dvec3 toQ = q - p;
+      s.distance = glm::length(toQ);
+      if (!(s.distance > 0) || !std::isfinite(s.distance)) return LightSample{};
+      s.dir = toQ / s.distance;
+      if (l.delta) {  // a line: one point of it stands for its whole length (EmittedRadiance)
+        s.radiance = EmittedRadiance(l, q, -s.dir) / (s.distance * s.distance);
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // on the line
+        s.pdf = 1;
+        s.delta = true;
+        return s;
+      }
+      s.pdf = AreaToSolidAngle(pdfArea, s.distance, glm::dot(-s.dir, normal));
+      if (!std::isfinite(s.pdf)) return LightSample{};
+      if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
+      return s;
+    }
     case LightType::Rect:
     case LightType::Disk: {
       if (!(PlanarArea(l) > 0)) return s;  // a zero width, height or radius emits nothing
@@ -382,6 +449,27 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       *radiance = l.radiance;
       *pdf = 1 / (4 * kPi);
       return true;
+    case LightType::Cylinder: {
+      // The side's outside only (the caps do not emit): the near root of the infinite cylinder, within the length.
+      const double pdfArea = CylinderAreaPdf(l, p);
+      if (!(pdfArea > 0)) return false;
+      const glm::dvec3 o = p - l.position, op = o - glm::dot(o, l.axisU) * l.axisU,
+                       dp = dir - glm::dot(dir, l.axisU) * l.axisU;
+      const double a = glm::dot(dp, dp), b = glm::dot(op, dp), c = glm::dot(op, op) - l.radius * l.radius;
+      const double disc = b * b - a * c;
+      if (!(a > 0) || disc < 0) return false;
+      const double t = (-b - std::sqrt(disc)) / a;
+      if (!(t > 0) || t >= maxDistance) return false;
+      const glm::dvec3 hit = o + t * dir;
+      const double along = glm::dot(hit, l.axisU);
+      if (std::abs(along) > l.halfLength) return false;
+      const double cosL = -glm::dot(dir, (hit - along * l.axisU) / l.radius);
+      if (!(cosL > 0)) return false;
+      *radiance = l.radiance * EmissionShaping(l, -dir);
+      *pdf = AreaToSolidAngle(pdfArea, t, cosL);
+      *distance = t;
+      return true;
+    }
     case LightType::Rect:
     case LightType::Disk: {
       const double cosL = glm::dot(-dir, l.direction);

@@ -50,19 +50,22 @@ struct ShapingRt {
 struct RenderLight {
   LightType type = LightType::Sphere;
   /// Emitted radiance (distant: of the sun disk). For a delta light, what it delivers instead: the radiant
-  /// intensity of a point (radiance x world area, per steradian) or the irradiance normal to a parallel beam.
+  /// intensity of a point (radiance x world area, per steradian), the irradiance normal to a parallel beam, or a
+  /// line's radiant intensity per unit length broadside on (2 r L; it falls as the sine of the angle to the axis).
   glm::dvec3 radiance{0};
-  /// A point (sphere with treatAsPoint) or a parallel beam (distant with angle 0): sampled with pdf 1 in
-  /// LightSample::delta, never met by a ray.
+  /// A point (sphere with treatAsPoint), a line (cylinder with treatAsLine) or a parallel beam (distant with
+  /// angle 0): sampled with pdf 1 in LightSample::delta, never met by a ray.
   bool delta = false;
-  glm::dvec3 position{0};  ///< sphere centre, rect/disk centre
+  glm::dvec3 position{0};  ///< sphere centre, rect/disk/cylinder centre
   /// distant: towards the light; rect/disk: emitting normal; sphere: the primary axis (local -z) shaping uses.
   glm::dvec3 direction{0, 0, 1};
   ShapingRt shaping;
-  glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};  ///< rect: half-extent vectors; disk: unit in-plane axes
+  /// rect: half-extent vectors; disk: unit in-plane axes; cylinder: axisU its unit axis (local x)
+  glm::dvec3 axisU{1, 0, 0}, axisV{0, 1, 0};
   /// Unit local x and y axes in the world (with `direction`, the light's frame: IES horizontal angles).
   glm::dvec3 frameX{1, 0, 0}, frameY{0, 1, 0};
-  double radius = 0;        ///< sphere, disk
+  double radius = 0;        ///< sphere, disk, cylinder
+  double halfLength = 0;    ///< cylinder: half its length along axisU
   double cosHalfAngle = 1;  ///< distant
   /// Dome with a texture: the image (radiance = `radiance` x texel) and its sampling distribution;
   /// null for a constant dome.
@@ -77,13 +80,15 @@ struct RenderLight {
   std::shared_ptr<const Texture> rectImage;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
-  /// disk emit along their local -z, a distant light shines along -z). The radiance, as UsdLuxLightAPI
+  /// disk emit along their local -z, a distant light shines along -z, a cylinder from its side around its local
+  /// x, not its caps). The radiance, as UsdLuxLightAPI
   /// writes it: color (times BlackbodyColor(colorTemperature) when enabled) * intensity * 2^exposure /
   /// sizeFactor, where sizeFactor is 1 without `normalize`, else the world-space area (sphere 4 pi r^2,
-  /// disk pi r^2, rect w h, with the transform's scale), for a distant light of half-angle t pi sin^2(t)
-  /// (t <= pi/2; (2 - sin^2 t) pi above; 1 at t = 0), and 1 for a dome. A sphere with treatAsPoint becomes a
+  /// disk pi r^2, rect w h, cylinder side 2 pi r l, with the transform's scale), for a distant light of half-angle t pi
+  /// sin^2(t) (t <= pi/2; (2 - sin^2 t) pi above; 1 at t = 0), and 1 for a dome. A sphere with treatAsPoint becomes a
   /// point of radiant intensity pi r^2 times that radiance (what the sphere sends any way: at r = 0 nothing
-  /// without normalize, L / 4 with it). A dome whose params name a
+  /// without normalize, L / 4 with it); a cylinder with treatAsLine a line of what the cylinder sends broadside
+  /// on, 2 r L per unit length (L / (pi l) with normalize, at any radius). A dome whose params name a
   /// texture uses `dome` if given (the Light sprim builds it once per texture), else loads the file
   /// and builds the distribution here (slow: for tests and one-off callers). Throws
   /// std::runtime_error naming the file if it cannot be read. A rect light takes its texture from
@@ -130,9 +135,15 @@ glm::dvec3 EmissionShaping(const RenderLight& light, const glm::dvec3& emitDir);
 /// shape with normalize). 1 without a profile.
 double IesShaping(const ShapingRt& shaping, const glm::dvec3& localEmitDir);
 
-/// Radiance the light emits from `pointOnLight` along unit `emitDir` (sphere, rect, disk; the texture of a
-/// textured rect at that point, times EmissionShaping). For a point light, its intensity along emitDir.
+/// Radiance the light emits from `pointOnLight` along unit `emitDir` (sphere, rect, disk, cylinder; the texture
+/// of a textured rect at that point, times EmissionShaping). For a point light, its intensity along emitDir; for
+/// a line, the intensity of its whole length were it all at that point (what one uniform sample along it stands
+/// for: 2 halfLength x radiance x sin of emitDir's angle to the axis).
 glm::dvec3 EmittedRadiance(const RenderLight& light, const glm::dvec3& pointOnLight, const glm::dvec3& emitDir);
+
+/// The outward unit normal of the emitting surface at `pointOnLight` (sphere and cylinder: radial; rect and
+/// disk: `direction`).
+glm::dvec3 EmitterNormal(const RenderLight& light, const glm::dvec3& pointOnLight);
 
 /// Samples a direction towards the light from point p, from two uniform numbers.
 LightSample SampleLight(const RenderLight& light, const glm::dvec3& p, double u1, double u2);
