@@ -127,4 +127,17 @@ struct RenderStack {
   }
 };
 
+/// The iris's MNEE light of the stack's scene seen from `camera`: the irisMnee AOV's first channel summed over a
+/// pixels x pixels image rendered at `spp` samples per pixel.
+inline double IrisMneeSum(RenderStack& s, const hdeye::PrimId& camera, int pixels, int spp) {
+  s.scene.AddRenderBuffer("/color", pixels, pixels, 4);
+  s.scene.AddRenderBuffer("/iris", pixels, pixels, 3);
+  s.delegate.Settings().samplesPerPixel = spp;
+  s.pass.Execute(camera, {{"color", "/color"}, {"irisMnee", "/iris"}});
+  double sum = 0;
+  for (int y = 0; y < pixels; ++y)
+    for (int x = 0; x < pixels; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
+  return sum;
+}
+
 }  // namespace test

@@ -714,14 +714,7 @@ double IrisMneeUnderRect(double width, double shift, const std::string& texture)
   rect.intensity = 300;
   rect.textureFile = texture;
   s.scene.AddLight("/World/rect", primTypes::kRectLight, rect, m);
-  s.scene.AddRenderBuffer("/color", 24, 24, 4);
-  s.scene.AddRenderBuffer("/iris", 24, 24, 3);
-  s.delegate.Settings().samplesPerPixel = 32;
-  s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
-  double sum = 0;
-  for (int py = 0; py < 24; ++py)
-    for (int px = 0; px < 24; ++px) sum += s.Buffer("/iris").Resolved(px, py, 0);
-  return sum;
+  return test::IrisMneeSum(s, sampleScenes::kCamera, 24, 32);
 }
 
 }  // namespace

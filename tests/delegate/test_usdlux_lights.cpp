@@ -447,14 +447,7 @@ TEST_CASE("MNEE under a line light (treatAsLine) brings the caustic of the thin 
     m[0] = glm::dvec4(0, 1, 0, 0), m[1] = glm::dvec4(-1, 0, 0, 0);
     m[3] = glm::dvec4(150 * std::sin(a), 0, 150 * std::cos(a), 1);
     s.scene.AddLight("/World/tube", primTypes::kCylinderLight, tube, m);
-    s.scene.AddRenderBuffer("/color", 24, 24, 4);
-    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
-    s.delegate.Settings().samplesPerPixel = 16;
-    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
-    double sum = 0;
-    for (int y = 0; y < 24; ++y)
-      for (int x = 0; x < 24; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
-    return sum;
+    return test::IrisMneeSum(s, sampleScenes::kCamera, 24, 16);
   };
   const double tube = irisLight(false), line = irisLight(true);
   Report("iris MNEE light under the line", line, tube, "0.5 mm tube");
@@ -471,14 +464,7 @@ TEST_CASE("MNEE under a point light (treatAsPoint) brings the caustic of the sph
     LightParams key = s.scene.GetLightParams("/World/key");
     key.treatAsPoint = point;
     s.scene.SetLightParams("/World/key", key);
-    s.scene.AddRenderBuffer("/color", 24, 24, 4);
-    s.scene.AddRenderBuffer("/iris", 24, 24, 3);
-    s.delegate.Settings().samplesPerPixel = 16;
-    s.pass.Execute(sampleScenes::kCamera, {{"color", "/color"}, {"irisMnee", "/iris"}});
-    double sum = 0;
-    for (int y = 0; y < 24; ++y)
-      for (int x = 0; x < 24; ++x) sum += s.Buffer("/iris").Resolved(x, y, 0);
-    return sum;
+    return test::IrisMneeSum(s, sampleScenes::kCamera, 24, 16);
   };
   const double sphere = irisLight(false), point = irisLight(true);
   Report("iris MNEE light under the point", point, sphere, "3 mm sphere");

@@ -32,7 +32,7 @@ double PlanarArea(const RenderLight& l) {
   return l.type == LightType::Rect ? 4 * glm::length(glm::cross(l.axisU, l.axisV)) : kPi * l.radius * l.radius;
 }
 
-/// Density over a cylinder light's side of a point sampled from p (CylinderSide): uniform along its length
+/// Density over a cylinder light's side of the point SampleLight picks from p: uniform along its length
 /// and over the arc of its cross-section p sees, of half-angle acos(r / rho), rho p's distance from the axis.
 /// 0 from inside the cylinder (rho <= r).
 double CylinderAreaPdf(const RenderLight& l, const glm::dvec3& p) {
