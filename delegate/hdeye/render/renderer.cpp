@@ -247,8 +247,9 @@ class Tracer {
       const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
-      sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
-      if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
+      const PreviewSurfaceAt bsdfAt(bsdf, hit.n, -path.d);  // wo's Fresnel and lobes, shared by both
+      sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
+      if (!SampleContinuation(hit, bsdf, bsdfAt, origin, depth, rng, &path)) break;
     }
     if (path.arc) sample.limbalArc = sample.L - path.lAtArc;
     return sample;
@@ -621,10 +622,10 @@ class Tracer {
   /// Next event estimation (pbrt's SampleLd): one light chosen uniformly, sampled from `origin`, weighted by the
   /// power heuristic against BSDF sampling; nothing for mirrors and glass (delta lobes). Returns beta times the
   /// light's contribution. Always takes three random numbers.
-  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& wo, const glm::dvec3& origin,
+  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf, const glm::dvec3& origin,
                       const glm::dvec3& beta, SampleStream& rng) const {
     const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
-    if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
+    if (lights_.empty() || !bsdf.HasSmoothLobe()) return glm::dvec3(0);
     const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
     if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
     const LightSample ls = SampleLight(light, origin, u1, u2);
@@ -632,23 +633,23 @@ class Tracer {
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
     if (hit.normalMapped && glm::dot(ls.dir, hit.ng) <= 0) return glm::dvec3(0);
-    const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
+    const glm::dvec3 f = bsdf.Eval(ls.dir);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
     const double transmittance = Transmittance(light, origin, ls.dir, ls.distance * (1 - 1e-6));
     if (!(transmittance > 0)) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
     // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
-    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, bsdf.Pdf(ls.dir)) : 1.0;
     return beta * f * ls.radiance * (cosS * w * transmittance / pl);
   }
 
   /// The path's next ray, sampled from the BSDF (its weight f |cos| / pdf), then Russian roulette after three
   /// bounces. False: the path ends here.
-  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& origin, int depth,
-                          SampleStream& rng, PathState* path) const {
+  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const PreviewSurfaceAt& bsdfAt,
+                          const glm::dvec3& origin, int depth, SampleStream& rng, PathState* path) const {
     const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
     BsdfSample bs;
-    if (!SamplePreviewSurface(bsdf, hit.n, -path->d, path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
+    if (!bsdfAt.Sample(path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
     if (bs.transmitted && bsdf.thinWalled) {
       // Straight through a thin wall: the same ray, continued past the wall. Origin and weighting state stay
       // the previous vertex's, so a light met beyond is weighted (and its pdf taken) as from there, as next
