@@ -715,9 +715,9 @@ BareBuild MeasureBareBuild(RTCDevice device, const Torus& torus, int runs) {
 
 Table RenderTable(const std::vector<RenderResult>& results, const std::vector<RayMix>& mixes,
                   const std::vector<RenderCase>& cases) {
-  Table t{
-      {"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s", "Msamples/s"},
-      {}};
+  Table t{{"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s",
+           "Msamples/s", "Msamples/CPU-s (1 thread)"},
+          {}};
   for (const RenderResult& r : results) {
     const auto c = std::find_if(cases.begin(), cases.end(), [&](const RenderCase& k) { return k.name == r.scene; });
     const RayMix& mix = mixes[std::size_t(c - cases.begin())];
@@ -725,7 +725,8 @@ Table RenderTable(const std::vector<RenderResult>& results, const std::vector<Ra
                       std::to_string(r.threads), std::to_string(r.stats.rays),
                       Format("%.2f", double(r.stats.rays) / double(r.stats.samples)),
                       Format("%.1f%%", 100 * mix.ShadowFraction()), Format("%.3f", r.medianSeconds),
-                      Format("%.3f", r.RaysPerSecond() * 1e-6), Format("%.3f", r.SamplesPerSecond() * 1e-6)});
+                      Format("%.3f", r.RaysPerSecond() * 1e-6), Format("%.3f", r.SamplesPerSecond() * 1e-6),
+                      r.threads == 1 ? Format("%.3f", double(r.stats.samples) / r.medianCpuSeconds * 1e-6) : ""});
   }
   return t;
 }
