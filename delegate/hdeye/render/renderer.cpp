@@ -21,7 +21,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -206,13 +205,13 @@ class Tracer {
   /// cone: the camera ray's footprint, carried along the path for texture filtering.
   PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng) const {
     PathSample sample;
-    const std::function<double()> random = [&rng] { return rng.Next(); };
+    const auto random = [&rng] { return rng.Next(); };
+    // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
+    const auto transmittance = [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
+      return Transmittance(lights_[k], po, pd, t);
+    };
     PathState path(ray, cone);
-    path.eyeLighting = EyeLighting{&lights_,
-                                   [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                                     return Transmittance(lights_[k], po, pd, t);
-                                   },
-                                   -1, settings_.mneeAllSolutions, settings_.mnee};
+    path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
@@ -462,7 +461,7 @@ class Tracer {
 
   /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
   /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
-  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, const std::function<double()>& random, SurfaceHit* hit,
+  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
                          PathState* path, PathSample* sample) const {
     const GeometryContext& ctx = *hit->context;
     const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
@@ -513,7 +512,7 @@ class Tracer {
 
   /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
   /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
-  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random, SurfaceHit* hit,
+  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
                          PathState* path, const glm::dvec3& L) const {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
@@ -555,7 +554,7 @@ class Tracer {
   /// with the teleportation cylinder if the eye asks for it. Both Fresnel choices are sampled with their own
   /// probability, so no weight changes there.
   ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
-                        bool limbalArc, const std::function<double()>& random) const {
+                        bool limbalArc, eyelib::FunctionRef<double()> random) const {
     ScleraStep step;
     const double ior = eye.chamber.CorneaIor();
     // Fresnel against the shading normal (smooth highlights); which side is inside, against the
