@@ -66,7 +66,6 @@ double GgxLambda(double alpha, const glm::dvec3& w) {
   const double tan2 = std::max(0.0, 1 - c2) / std::max(c2, 1e-300);
   return 0.5 * (std::sqrt(1 + alpha * alpha * tan2) - 1);
 }
-double GgxG1(double alpha, const glm::dvec3& w) { return 1 / (1 + GgxLambda(alpha, w)); }
 
 /// A microfacet normal from the distribution of normals visible from wo (Heitz 2018, "Sampling the
 /// GGX distribution of visible normals"); its reflection pdf is D(h) G1(wo) / (4 cos_o).
@@ -111,47 +110,16 @@ LobeProbabilities SelectLobes(const PreviewSurface& s, const FresnelTerms& fo, d
   return {wD / total, wS / total, wC / total, wG / total};
 }
 
-/// GGX reflection with masking-shadowing for alpha at local directions above: D G2 / (4 cos_o cos_i), and h.
-double GgxReflection(double alpha, const glm::dvec3& wo, const glm::dvec3& wi, glm::dvec3* h) {
-  const glm::dvec3 sum = wo + wi;
-  const double len = glm::length(sum);
-  if (!(len > 0)) return 0;
-  *h = sum / len;
-  const double g2 = 1 / (1 + GgxLambda(alpha, wo) + GgxLambda(alpha, wi));
-  return GgxD(alpha, *h) * g2 / (4 * wo.z * wi.z);
-}
-
-/// The solid-angle pdf of reflecting wo into wi about a visible GGX normal.
-double GgxReflectionPdf(double alpha, const glm::dvec3& wo, const glm::dvec3& wi) {
-  const glm::dvec3 sum = wo + wi;
-  const double len = glm::length(sum);
-  return len > 0 ? GgxD(alpha, sum / len) * GgxG1(alpha, wo) / (4 * wo.z) : 0;
-}
-
-/// Clearcoat, diffuse and rough specular f (1/sr), without the opacity factor, both directions above (local);
-/// diffuseO, underO: DiffuseFresnel(s, wo.z) and UnderCoat(s, wo.z).
-glm::dvec3 OpaqueF(const PreviewSurface& s, const glm::dvec3& wo, const glm::dvec3& wi, double diffuseO,
-                   double underO) {
-  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - diffuseO) * (1 - DiffuseFresnel(s, wi.z));
-  glm::dvec3 h;
-  if (!IsMirror(s)) {
-    const double g = GgxReflection(Alpha(s), wo, wi, &h);
-    if (g > 0) base += g * SpecularFresnel(s, glm::dot(wo, h));
-  }
-  glm::dvec3 f = base * (underO * UnderCoat(s, wi.z));
-  if (s.clearcoat > 0 && !CoatIsMirror(s)) {
-    const double g = GgxReflection(CoatAlpha(s), wo, wi, &h);
-    if (g > 0) f += glm::dvec3(g * CoatFresnel(s, glm::dot(wo, h)));
-  }
-  return f;
-}
-
-/// Non-delta pdf, local directions, both above.
-double OpaquePdf(const PreviewSurface& s, const LobeProbabilities& p, const glm::dvec3& wo, const glm::dvec3& wi) {
-  double pdf = p.diffuse * wi.z / kPi;
-  if (!IsMirror(s) && p.specular > 0) pdf += p.specular * GgxReflectionPdf(Alpha(s), wo, wi);
-  if (!CoatIsMirror(s) && p.coat > 0) pdf += p.coat * GgxReflectionPdf(CoatAlpha(s), wo, wi);
-  return pdf;
+/// One rough GGX lobe (alpha; lambdaO = GgxLambda(alpha, wo)) at the half vector h of local directions wo, wi
+/// (both above): the reflection with height-correlated masking-shadowing D G2 / (4 cos_o cos_i), and the
+/// solid-angle pdf of reflecting wo into wi about a visible normal, D G1(wo) / (4 cos_o).
+struct GgxTerms {
+  double reflection = 0, pdf = 0;
+};
+GgxTerms GgxLobe(double alpha, double lambdaO, const glm::dvec3& wo, const glm::dvec3& wi, const glm::dvec3& h) {
+  const double d = GgxD(alpha, h);
+  const double g2 = 1 / (1 + lambdaO + GgxLambda(alpha, wi));
+  return {d * g2 / (4 * wo.z * wi.z), d * (1 / (1 + lambdaO)) / (4 * wo.z)};
 }
 
 // Below this cosine a direction is treated as lying in the surface: no scattering from or into it.
@@ -174,6 +142,32 @@ PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n,
   specularO_ = fo.specular, diffuseO_ = fo.diffuse;
   coatO_ = CoatFresnel(s, lo_.z), underO_ = 1 - coatO_;
   lobes_ = SelectLobes(s, fo, underO_, coatO_);
+  if (!IsMirror(s)) lambdaO_ = GgxLambda(Alpha(s), lo_);
+  if (!CoatIsMirror(s)) coatLambdaO_ = GgxLambda(CoatAlpha(s), lo_);
+}
+
+void PreviewSurfaceAt::OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const {
+  const PreviewSurface& s = s_;
+  const LobeProbabilities& p = lobes_;
+  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - diffuseO_) * (1 - DiffuseFresnel(s, li.z));
+  double density = p.diffuse * li.z / kPi;
+  // Both rough lobes reflect about the same half vector.
+  const glm::dvec3 sum = lo_ + li;
+  const double len = glm::length(sum);
+  const bool halfway = len > 0;
+  const glm::dvec3 h = halfway ? sum / len : glm::dvec3(0);
+  if (halfway && !IsMirror(s)) {
+    const GgxTerms g = GgxLobe(Alpha(s), lambdaO_, lo_, li, h);
+    if (g.reflection > 0) base += g.reflection * SpecularFresnel(s, glm::dot(lo_, h));
+    if (p.specular > 0) density += p.specular * g.pdf;
+  }
+  glm::dvec3 value = base * (underO_ * UnderCoat(s, li.z));
+  if (halfway && !CoatIsMirror(s)) {
+    const GgxTerms g = GgxLobe(CoatAlpha(s), coatLambdaO_, lo_, li, h);
+    if (s.clearcoat > 0 && g.reflection > 0) value += glm::dvec3(g.reflection * CoatFresnel(s, glm::dot(lo_, h)));
+    if (p.coat > 0) density += p.coat * g.pdf;
+  }
+  *f = value, *pdf = density;
 }
 
 glm::dvec3 PreviewSurfaceAt::ToLocal(const glm::dvec3& v) const {
@@ -187,18 +181,27 @@ bool PreviewSurfaceAt::HasSmoothLobe() const {
   return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s_)) || (p.coat > 0 && !CoatIsMirror(s_));
 }
 
-glm::dvec3 PreviewSurfaceAt::Eval(const glm::dvec3& wi) const {
+glm::dvec3 PreviewSurfaceAt::EvalAndPdf(const glm::dvec3& wi, double* pdf) const {
+  *pdf = 0;
   const glm::dvec3 li = ToLocal(wi);
   if (!above_ || !(li.z > kMinCos)) return glm::dvec3(0);
-  const glm::dvec3 f = s_.opacity * OpaqueF(s_, lo_, li, diffuseO_, underO_);
+  glm::dvec3 opaque;
+  double density;
+  OpaqueTerms(li, &opaque, &density);
+  if (std::isfinite(density)) *pdf = density;
+  const glm::dvec3 f = s_.opacity * opaque;
   return Finite(f) ? f : glm::dvec3(0);
 }
 
+glm::dvec3 PreviewSurfaceAt::Eval(const glm::dvec3& wi) const {
+  double pdf;
+  return EvalAndPdf(wi, &pdf);
+}
+
 double PreviewSurfaceAt::Pdf(const glm::dvec3& wi) const {
-  const glm::dvec3 li = ToLocal(wi);
-  if (!above_ || !(li.z > kMinCos)) return 0;
-  const double pdf = OpaquePdf(s_, lobes_, lo_, li);
-  return std::isfinite(pdf) ? pdf : 0;
+  double pdf;
+  EvalAndPdf(wi, &pdf);
+  return pdf;
 }
 
 bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, BsdfSample* out) const {
@@ -265,10 +268,12 @@ bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, Bsdf
     li = 2 * glm::dot(lo, h) * h - lo;
   }
   if (!(li.z > kMinCos)) return false;  // a microfacet reflection below the horizon: lost energy
-  const double pdf = OpaquePdf(s, p, lo, li);
+  glm::dvec3 f;
+  double pdf;
+  OpaqueTerms(li, &f, &pdf);
   if (!(pdf > 0) || !std::isfinite(pdf)) return false;
   out->wi = glm::normalize(ToWorld(li));
-  out->weight = s.opacity * OpaqueF(s, lo, li, diffuseO_, underO_) * (li.z / pdf);
+  out->weight = s.opacity * f * (li.z / pdf);
   out->pdf = pdf;
   return Finite(out->weight);
 }

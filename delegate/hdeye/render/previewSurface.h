@@ -86,6 +86,8 @@ class PreviewSurfaceAt {
   glm::dvec3 Eval(const glm::dvec3& wi) const;
   /// The solid-angle pdf (1/sr) with which Sample returns the non-delta direction wi, as PdfPreviewSurface.
   double Pdf(const glm::dvec3& wi) const;
+  /// Eval(wi), with Pdf(wi) written to *pdf: the two share their half vector and microfacet terms.
+  glm::dvec3 EvalAndPdf(const glm::dvec3& wi, double* pdf) const;
   /// A direction sampled from three uniform numbers, as SamplePreviewSurface.
   bool Sample(bool inside, double u0, double u1, double u2, BsdfSample* sample) const;
 
@@ -97,14 +99,17 @@ class PreviewSurfaceAt {
  private:
   glm::dvec3 ToLocal(const glm::dvec3& v) const;
   glm::dvec3 ToWorld(const glm::dvec3& v) const;
+  /// f without the opacity factor (1/sr) and the non-delta pdf (1/sr) at local li (above the surface).
+  void OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const;
 
   const PreviewSurface& s_;
-  glm::dvec3 n_, t_, b_;           ///< the shading frame (z along n)
-  glm::dvec3 wo_, lo_;             ///< wo in world space and in the frame
-  bool above_ = false;             ///< wo is above the surface (lo_.z > the smallest cosine scattered from)
-  glm::dvec3 specularO_{0};        ///< the specular lobe's Fresnel at cos_o
-  double diffuseO_ = 0;            ///< what the specular lobe takes from the diffuse at cos_o
-  double coatO_ = 0, underO_ = 1;  ///< the clearcoat's reflectance at cos_o, and 1 minus it
+  glm::dvec3 n_, t_, b_;                  ///< the shading frame (z along n)
+  glm::dvec3 wo_, lo_;                    ///< wo in world space and in the frame
+  bool above_ = false;                    ///< wo is above the surface (lo_.z > the smallest cosine scattered from)
+  glm::dvec3 specularO_{0};               ///< the specular lobe's Fresnel at cos_o
+  double diffuseO_ = 0;                   ///< what the specular lobe takes from the diffuse at cos_o
+  double coatO_ = 0, underO_ = 1;         ///< the clearcoat's reflectance at cos_o, and 1 minus it
+  double lambdaO_ = 0, coatLambdaO_ = 0;  ///< GGX Smith Lambda(wo) of the rough specular and clearcoat lobes
   Lobes lobes_;
 };
 

@@ -632,13 +632,14 @@ class Tracer {
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
     if (hit.normalMapped && glm::dot(ls.dir, hit.ng) <= 0) return glm::dvec3(0);
-    const glm::dvec3 f = bsdf.Eval(ls.dir);
+    double bsdfPdf;
+    const glm::dvec3 f = bsdf.EvalAndPdf(ls.dir, &bsdfPdf);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
     const double transmittance = Transmittance(light, origin, ls.dir, ls.distance * (1 - 1e-6));
     if (!(transmittance > 0)) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
     // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
-    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, bsdf.Pdf(ls.dir)) : 1.0;
+    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, bsdfPdf) : 1.0;
     return beta * f * ls.radiance * (cosS * w * transmittance / pl);
   }
 
