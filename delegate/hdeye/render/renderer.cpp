@@ -349,7 +349,8 @@ class Tracer {
     TextureSite site;
     site.st = hit.st;
     site.frame = hit.stFrame;
-    if (settings_.textureFiltering) site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
+    if (settings_.textureFiltering && hit.material->textures)  // only textured inputs look at the footprint
+      site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
     site.thread = textureThread_;
     return site;
   }
@@ -744,7 +745,7 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
 
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
                  const AovBuffers& aovs, SharedCounts* counts) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
@@ -759,7 +760,10 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
         const bool lens = camera.HasLens();
         const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
                                                 lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
-        const RayCone cone = PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale);
+        // Only texture lookups read the cone (and only when filtering): without them it is never computed.
+        const RayCone cone = textured && settings.textureFiltering
+                                 ? PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
+                                 : RayCone{};
         if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng))) ++counts->nonFinite;
       }
   }
@@ -785,7 +789,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts);
       });
     });
     ++stats.passes;
