@@ -126,6 +126,15 @@ EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometr
           eye.limbalArc};
 }
 
+/// What the data AOVs show of the first surface a camera path met (a copy of the whole hit would cost more).
+struct FirstHit {
+  double t = 0;                ///< distance along the camera ray
+  glm::dvec3 n{0}, albedo{0};  ///< the shading normal and the albedo shaded there
+  int primIndex = -1;
+  FirstHit() = default;
+  explicit FirstHit(const SurfaceHit& hit) : t(hit.t), n(hit.n), albedo(hit.albedo), primIndex(hit.primIndex) {}
+};
+
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
 /// it met (for the data AOVs).
 struct PathSample {
@@ -133,7 +142,7 @@ struct PathSample {
   glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
   glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
   bool hitAny = false;      ///< the camera ray met geometry
-  SurfaceHit first{};       ///< that first hit (its albedo the one shaded); meaningful when hitAny
+  FirstHit first{};         ///< that first hit (its albedo the one shaded); meaningful when hitAny
 };
 
 /// What a path carries from one vertex to the next.
@@ -217,7 +226,7 @@ class Tracer {
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
       if (depth == 0) {
         sample.hitAny = hitGeometry;
-        if (hitGeometry) sample.first = hit;
+        if (hitGeometry) sample.first = FirstHit(hit);
       }
       const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
@@ -716,7 +725,7 @@ bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sampl
   AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
   AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
   if (s != 0) return finite;
-  const SurfaceHit& first = sample.first;
+  const FirstHit& first = sample.first;
   AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));
   AddRgb(aovs.normal, x, y, sample.hitAny ? first.n : glm::dvec3(0));
   const float depth = sample.hitAny ? float(first.t) : 0.0f, id = sample.hitAny ? float(first.primIndex) : -1.0f;
