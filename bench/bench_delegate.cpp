@@ -27,10 +27,14 @@
 //      times the parts alone: SubdivRefiner construction, EvaluatePoints and EvaluateLimit on the same
 //      torus, and bare Embree building (and, in a dynamic scene, refitting) a mesh of as many triangles.
 // Times are steady_clock; the 1-minute load average is printed at the start and the end, since other
-// work on the machine skews the all-threads numbers. The default run takes about 40 s on 2 cores.
+// work on the machine skews the all-threads numbers. The 1-thread renders and bare passes also report
+// the calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID), which other processes on a shared machine
+// skew far less than wall time; the most robust ratio pairs each 1-thread render with a bare pass right
+// after it (the median of the per-pair ratios). The default run takes about 40 s on 2 cores.
 //
-// Usage: bench_delegate [--quick] [--csv PREFIX] [--threads N]
+// Usage: bench_delegate [--quick] [--throughput-only] [--csv PREFIX] [--threads N]
 //   --quick       smaller images, fewer rays and frames (a smoke run of a few seconds)
+//   --throughput-only  measurements 1 and 2 only (no per-frame sync)
 //   --csv PREFIX  also write PREFIX_render.csv, PREFIX_embree.csv, PREFIX_sync.csv and
 //                 PREFIX_sync_reference.csv
 //   --threads N   the "all threads" count (default: std::thread::hardware_concurrency)
@@ -49,6 +53,7 @@
 #include <embree3/rtcore.h>
 
 #include <dlfcn.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
@@ -115,6 +120,7 @@ constexpr std::uint64_t kSeed = 0x5eedde1e;
 
 struct Options {
   bool quick = false;
+  bool throughputOnly = false;  ///< skip the per-frame sync measurement
   std::string csvPrefix;
   int threads = int(std::max(1u, std::thread::hardware_concurrency()));
   int renderRuns = 5;  ///< timed renders per scene and thread count
@@ -124,8 +130,9 @@ struct Options {
 
 [[noreturn]] void Usage(const char* argv0, int exitCode) {
   std::fprintf(exitCode ? stderr : stdout,
-               "usage: %s [--quick] [--csv PREFIX] [--threads N]\n"
+               "usage: %s [--quick] [--throughput-only] [--csv PREFIX] [--threads N]\n"
                "  --quick       smaller images, fewer rays and frames\n"
+               "  --throughput-only  renderer and bare Embree throughput only (no per-frame sync)\n"
                "  --csv PREFIX  also write PREFIX_{render,embree,sync,sync_reference}.csv\n"
                "  --threads N   the \"all threads\" count (default: hardware concurrency)\n",
                argv0);
@@ -137,6 +144,8 @@ Options ParseOptions(int argc, char** argv) {
   bench::ParseArgs(argc, argv, Usage, [&](const std::string& arg, const auto& value) {
     if (arg == "--quick")
       opt.quick = true;
+    else if (arg == "--throughput-only")
+      opt.throughputOnly = true;
     else if (arg == "--csv")
       opt.csvPrefix = value();
     else if (arg == "--threads")
@@ -153,6 +162,13 @@ Options ParseOptions(int argc, char** argv) {
 // --------------------------------------------------------------------------------------- helpers
 
 double Seconds(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// The calling thread's CPU time in seconds: what a 1-thread measurement costs, whatever else the machine runs.
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 /// The 1-minute load average: other work on the machine skews the "all threads" numbers.
 double LoadAverage() {
@@ -239,8 +255,10 @@ struct RenderResult {
   int threads = 0;
   RenderStats stats;  ///< of the first timed run (every run traces the same rays)
   double medianSeconds = 0;
+  double medianCpuSeconds = 0;        ///< the calling thread's CPU time (1 thread: the render runs on it)
   std::int64_t nonFiniteSamples = 0;  ///< summed over the runs
   double RaysPerSecond() const { return double(stats.rays) / medianSeconds; }
+  double RaysPerCpuSecond() const { return double(stats.rays) / medianCpuSeconds; }
   double SamplesPerSecond() const { return double(stats.samples) / medianSeconds; }
 };
 
@@ -259,14 +277,17 @@ RenderStats Render(Stage& stage, int spp, int threads) {
 RenderResult MeasureRender(Stage& stage, const RenderCase& c, int threads, int runs) {
   RenderResult r;
   r.scene = c.name, r.threads = threads;
-  std::vector<double> seconds;
+  std::vector<double> seconds, cpuSeconds;
   for (int run = 0; run < runs; ++run) {
+    const double cpuStart = ThreadCpuSeconds();
     const RenderStats s = Render(stage, c.spp, threads);
+    cpuSeconds.push_back(ThreadCpuSeconds() - cpuStart);
     if (run == 0) r.stats = s;
     seconds.push_back(s.seconds);
     r.nonFiniteSamples += s.nonFiniteSamples;
   }
   r.medianSeconds = Median(seconds);
+  r.medianCpuSeconds = Median(cpuSeconds);
   return r;
 }
 
@@ -405,10 +426,15 @@ void TraceShadow(RTCScene scene, const BareRay* rays, std::size_t n) {
 
 using TraceFn = void (*)(RTCScene, const BareRay*, std::size_t);
 
-/// Median seconds to trace the whole batch with `threads` std::threads (contiguous slices), after
-/// one untimed warm-up pass.
-double TimeBatch(TraceFn trace, RTCScene scene, const std::vector<BareRay>& rays, int threads, int runs) {
+struct BatchTime {
+  double seconds = 0, cpuSeconds = 0;  ///< medians; cpuSeconds: the calling thread's (1 thread only)
+};
+
+/// Median seconds to trace the whole batch with `threads` std::threads (contiguous slices; 1 thread:
+/// the calling thread, like a 1-thread render), after one untimed warm-up pass.
+BatchTime TimeBatch(TraceFn trace, RTCScene scene, const std::vector<BareRay>& rays, int threads, int runs) {
   auto pass = [&] {
+    if (threads == 1) return trace(scene, rays.data(), rays.size());
     std::vector<std::thread> workers;
     const std::size_t slice = (rays.size() + threads - 1) / threads;
     for (int t = 0; t < threads; ++t) {
@@ -418,18 +444,22 @@ double TimeBatch(TraceFn trace, RTCScene scene, const std::vector<BareRay>& rays
     for (std::thread& w : workers) w.join();
   };
   pass();
-  std::vector<double> seconds;
+  std::vector<double> seconds, cpuSeconds;
   for (int run = 0; run < runs; ++run) {
     const auto start = Clock::now();
+    const double cpuStart = ThreadCpuSeconds();
     pass();
+    cpuSeconds.push_back(ThreadCpuSeconds() - cpuStart);
     seconds.push_back(Seconds(start));
   }
-  return Median(seconds);
+  return {Median(seconds), Median(cpuSeconds)};
 }
 
 struct BareResult {
   std::size_t closestRays = 0, shadowRays = 0;
   double closestSeconds[2] = {0, 0}, shadowSeconds[2] = {0, 0};  ///< [1 thread, all threads]
+  double closestCpuSeconds = 0, shadowCpuSeconds = 0;            ///< 1 thread, the thread's CPU time
+  double pairedCpuRatio = 0;  ///< renderer / bare rays per CPU second, 1 thread, median over back-to-back pairs
 };
 
 BareResult MeasureBareEmbree(Stage& stage, const RayMix& mix, const RenderCase& c, const Options& opt) {
@@ -445,9 +475,25 @@ BareResult MeasureBareEmbree(Stage& stage, const RayMix& mix, const RenderCase& 
   r.closestRays = closest.size(), r.shadowRays = shadow.size();
   const int threadCounts[2] = {1, opt.threads};
   for (int k = 0; k < 2; ++k) {
-    r.closestSeconds[k] = TimeBatch(TraceClosest, scene, closest, threadCounts[k], opt.bareRuns);
-    r.shadowSeconds[k] = TimeBatch(TraceShadow, scene, shadow, threadCounts[k], opt.bareRuns);
+    const BatchTime closestTime = TimeBatch(TraceClosest, scene, closest, threadCounts[k], opt.bareRuns);
+    const BatchTime shadowTime = TimeBatch(TraceShadow, scene, shadow, threadCounts[k], opt.bareRuns);
+    r.closestSeconds[k] = closestTime.seconds, r.shadowSeconds[k] = shadowTime.seconds;
+    if (k == 0) r.closestCpuSeconds = closestTime.cpuSeconds, r.shadowCpuSeconds = shadowTime.cpuSeconds;
   }
+  // A 1-thread render and the 1-thread bare batches back to back meet the same load on a shared machine: the
+  // ratio of their rates per pair, median over the pairs.
+  std::vector<double> ratios;
+  for (int run = 0; run < opt.renderRuns; ++run) {
+    double start = ThreadCpuSeconds();
+    const RenderStats s = Render(stage, c.spp, 1);
+    const double renderCpu = ThreadCpuSeconds() - start;
+    start = ThreadCpuSeconds();
+    TraceClosest(scene, closest.data(), closest.size());
+    TraceShadow(scene, shadow.data(), shadow.size());
+    const double bareCpu = ThreadCpuSeconds() - start;
+    ratios.push_back((double(s.rays) / renderCpu) / (double(closest.size() + shadow.size()) / bareCpu));
+  }
+  r.pairedCpuRatio = Median(ratios);
   return r;
 }
 
@@ -685,9 +731,9 @@ BareBuild MeasureBareBuild(RTCDevice device, const Torus& torus, int runs) {
 
 Table RenderTable(const std::vector<RenderResult>& results, const std::vector<RayMix>& mixes,
                   const std::vector<RenderCase>& cases) {
-  Table t{
-      {"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s", "Msamples/s"},
-      {}};
+  Table t{{"scene", "image", "spp", "threads", "rays", "rays/sample", "shadow rays", "median s", "Mrays/s",
+           "Msamples/s", "Msamples/CPU-s (1 thread)"},
+          {}};
   for (const RenderResult& r : results) {
     const auto c = std::find_if(cases.begin(), cases.end(), [&](const RenderCase& k) { return k.name == r.scene; });
     const RayMix& mix = mixes[std::size_t(c - cases.begin())];
@@ -695,7 +741,8 @@ Table RenderTable(const std::vector<RenderResult>& results, const std::vector<Ra
                       std::to_string(r.threads), std::to_string(r.stats.rays),
                       Format("%.2f", double(r.stats.rays) / double(r.stats.samples)),
                       Format("%.1f%%", 100 * mix.ShadowFraction()), Format("%.3f", r.medianSeconds),
-                      Format("%.3f", r.RaysPerSecond() * 1e-6), Format("%.3f", r.SamplesPerSecond() * 1e-6)});
+                      Format("%.3f", r.RaysPerSecond() * 1e-6), Format("%.3f", r.SamplesPerSecond() * 1e-6),
+                      r.threads == 1 ? Format("%.3f", double(r.stats.samples) / r.medianCpuSeconds * 1e-6) : ""});
   }
   return t;
 }
@@ -723,7 +770,13 @@ Table EmbreeTable(const BareResult& bare, const RenderResult ours[2], int thread
     fractionBlend.push_back(Format("**%.1f%%**", 100 * ours[k].RaysPerSecond() / blended));
     fractionClosest.push_back(Format("%.1f%%", 100 * ours[k].RaysPerSecond() / closestRate));
   }
-  t.rows = {closest, shadow, blend, render, fractionBlend, fractionClosest};
+  const double blendedCpu =
+      double(bare.closestRays + bare.shadowRays) / (bare.closestCpuSeconds + bare.shadowCpuSeconds);
+  std::vector<std::string> fractionCpu{"renderer / blended bare Embree, by thread CPU time", "",
+                                       Format("%.1f%%", 100 * ours[0].RaysPerCpuSecond() / blendedCpu), ""};
+  std::vector<std::string> fractionPaired{"renderer / blended bare Embree, by thread CPU time, back-to-back pairs", "",
+                                          Format("%.1f%%", 100 * bare.pairedCpuRatio), ""};
+  t.rows = {closest, shadow, blend, render, fractionBlend, fractionClosest, fractionCpu, fractionPaired};
   return t;
 }
 
@@ -805,6 +858,11 @@ void Run(const Options& opt) {
       "The bare batches have the render's ray counts: %lld closest-hit rays (%lld of them camera rays) and\n"
       "%lld shadow rays. Blended = all bare rays / (intersect time + occluded time).\n\n",
       (long long)mixes[0].closestHit, (long long)mixes[0].samples, (long long)mixes[0].shadow);
+
+  if (opt.throughputOnly) {
+    std::printf("Load average %.2f at the end.\n", LoadAverage());
+    return;
+  }
 
   // 3: sync.
   std::vector<SyncResult> sync;

@@ -22,7 +22,7 @@ double Clamp01(double a) { return std::isnan(a) ? 0.0 : std::clamp(a, 0.0, 1.0);
 
 // A uniform sample strictly inside [0, 1): a caller's generator that returns 1 (or NaN) must not
 // produce an infinite free flight.
-double Draw(const SssRandom& random) {
+double Draw(SssRandom random) {
   const double u = random();
   if (!(u >= 0)) return 0;                      // NaN or negative
   return u < 1 ? u : std::nextafter(1.0, 0.0);  // -log1p(-u) <= 36.7
@@ -121,7 +121,7 @@ std::string ValidateSssArtistParams(const V3& surfaceAlbedo, const V3& meanFreeP
 }
 
 WalkResult RandomWalkSss(const SssMedium& medium, const RandomWalkSettings& settings, const V3& entryPoint,
-                         const V3& inwardDir, const SssBoundary& boundary, const SssRandom& random) {
+                         const V3& inwardDir, const SssBoundary& boundary, SssRandom random) {
   WalkResult r;
   if (!ValidMedium(medium) || !IsFinite(entryPoint) || !IsFinite(inwardDir) || !boundary || !random ||
       !(settings.ior >= 1) || !std::isfinite(settings.ior) || !(std::abs(settings.g) < 1) ||

@@ -505,7 +505,7 @@ TEST_CASE("no NaN or Inf leaves the walk, whatever the input", "[sss]") {
     const V entry = test::Uniform(gen) < 0.1 ? V(pick(-20, 20), pick(-20, 20), pick(-30, 5)) : c + 12.0 * n;
     const V dir = test::Uniform(gen) < 0.1 ? V(pick(-1, 1), pick(-1, 1), pick(-1, 1)) : -n;
     std::uint64_t k = 0;
-    const SssRandom junk = [&]() -> double {
+    const auto junk = [&]() -> double {
       ++k;
       return k % 97 == 0 ? specials[k % 10] : UniformAt(7, std::uint64_t(i), k);
     };

@@ -9,6 +9,7 @@
 #include "hdeye/prims/renderDelegate.h"
 #include "hdeye/render/renderContext.h"
 
+#include <algorithm>
 #include <map>
 #include <stdexcept>
 
@@ -38,7 +39,10 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
 /// The material sprim `id` as the renderer shades it; the fallback material when there is none.
 SurfaceMaterial Resolve(RenderIndex& index, const PrimId& id) {
   const auto* material = dynamic_cast<const Material*>(index.GetSprim(id));
-  return material ? SurfaceMaterial{material->Params(), &material->Textures(), true} : SurfaceMaterial{};
+  if (!material) return SurfaceMaterial{};
+  const MaterialTextures& textures = material->Textures();
+  const bool textured = std::any_of(textures.begin(), textures.end(), [](const BoundTexture& t) { return t.texture; });
+  return SurfaceMaterial{material->Params(), textured ? &textures : nullptr, true};
 }
 
 /// Flags, over every rprim index, the rprims named in `excludes` (ids of prims not in the index are skipped:
@@ -71,7 +75,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
   std::map<PrimId, int> primIndices;
-  bool cutouts = false;
+  bool cutouts = false, textured = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
@@ -83,8 +87,11 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
       for (const PrimId& subsetMaterial : mesh->SubsetMaterialIds())
         context->subsetMaterials.push_back(subsetMaterial.empty() ? bound : Resolve(*index_, subsetMaterial));
     cutouts = cutouts || bound.params.opacityThreshold > 0;
-    for (const SurfaceMaterial& subset : context->subsetMaterials)
+    textured = textured || bound.textures;
+    for (const SurfaceMaterial& subset : context->subsetMaterials) {
       cutouts = cutouts || subset.params.opacityThreshold > 0;
+      textured = textured || subset.textures;
+    }
   }
 
   std::vector<RenderLight> lights;
@@ -95,6 +102,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
       MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
     }
   renderer_.SetCutouts(cutouts);
+  renderer_.SetTextured(textured);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

@@ -26,7 +26,7 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
-                              const std::function<double()>& random) {
+                              eyelib::FunctionRef<double()> random) {
   const std::vector<RenderLight>& lights = *lighting.lights;
   // Only the lights MNEE counts; picking among them alone (not among all lights with zero for the rest)
   // spends every sample on light MNEE is responsible for. The random numbers drawn do not depend on the split.
@@ -99,7 +99,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
 }
 
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
-                      EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random) {
+                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random) {
   if (part == EyeGeometry::kBack) return EyeEvent{};  // the back of the eye: dark
   const glm::dvec3 d = eye.DirToCanonical(worldDir);
   const auto entry = eye.chamber.Surface().Intersect({eye.ToCanonical(worldOrigin), d});
@@ -108,7 +108,7 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
 }
 
 EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
-                          const EyeLighting& lighting, const std::function<double()>& random) {
+                          const EyeLighting& lighting, eyelib::FunctionRef<double()> random) {
   EyeEvent ev;
   if (!hit.fromOutside) {
     // The inside of an eye mesh belongs to the analytic model; the Embree filter already skips these
@@ -147,7 +147,7 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
 }
 
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
-                           const std::function<double()>& random) {
+                           eyelib::FunctionRef<double()> random) {
   EyeEvent ev;
   const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();
   const double ior = eye.chamber.CorneaIor();

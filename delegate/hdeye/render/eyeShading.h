@@ -14,7 +14,8 @@
 #include "hdeye/render/eyeMeshMapping.h"
 #include "hdeye/render/renderLight.h"
 
-#include <functional>
+#include <eyelib/function_ref.h>
+
 #include <vector>
 
 namespace hdeye {
@@ -24,8 +25,9 @@ struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
   /// The fraction of light `light` (an index into *lights) reaching `origin` from along unit `dir` within tFar
   /// (world units): 0 blocked, 1 clear, between for thin walls (an occlusion shell) on the way. The light's
-  /// shadow linking decides what blocks it.
-  std::function<double(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar)> transmittance;
+  /// shadow linking decides what blocks it. A reference: the renderer's callable outlives the lighting.
+  eyelib::FunctionRef<double(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar)>
+      transmittance;
   /// The eye's GeometryContext::primIndex: lights linked away from it (Illuminates) give it nothing, MNEE
   /// included.
   int receiver = -1;
@@ -88,7 +90,7 @@ struct CorneaEntry {
 /// again in the canonical frame in double precision: Embree reports a user geometry's distance in
 /// float, which puts the point microns off the cornea, on either side.
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
-                      EyeGeometry::Part part, const EyeLighting& lighting, const std::function<double()>& random);
+                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random);
 
 /// Scatters a world ray (unit direction) that hit an eye mesh, mapped by EyeMeshHitToCanonical.
 /// Off the cornea (past the outer limbus edge, below the iris plane, outside the projection) it is
@@ -98,18 +100,18 @@ EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, con
 /// local rotation; baseline hits leave as the analytic eye in the affine frame puts them (a reflection at
 /// entry from the mesh point). A hit from inside passes through.
 EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const glm::dvec3& worldDir,
-                          const EyeLighting& lighting, const std::function<double()>& random);
+                          const EyeLighting& lighting, eyelib::FunctionRef<double()> random);
 
 /// Everything from a point on the analytic cornea onward: the limbus (sclera with its weight's
 /// probability), Fresnel reflection or refraction, the chamber walk, the exit. World rays of Continue
 /// events come from the analytic geometry through eye.canonicalToWorld.
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
-                           const std::function<double()>& random);
+                           eyelib::FunctionRef<double()> random);
 
 /// Irradiance (world units) at iris point x (canonical, mm) from one of the lights MNEE counts
 /// (MneeCountsLight), chosen uniformly among them, through the cornea by MNEE: a one-sample estimate of
 /// their sum.
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
-                              const std::function<double()>& random);
+                              eyelib::FunctionRef<double()> random);
 
 }  // namespace hdeye

@@ -17,14 +17,6 @@ double Luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0
 
 bool Finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// The shading frame: z along n. Local vectors make the microfacet formulas short.
-struct Frame {
-  glm::dvec3 t, b, n;
-  explicit Frame(const glm::dvec3& normal) : n(normal) { eyelib::OrthonormalBasis(n, &t, &b); }
-  glm::dvec3 ToLocal(const glm::dvec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
-  glm::dvec3 ToWorld(const glm::dvec3& v) const { return v.x * t + v.y * b + v.z * n; }
-};
-
 /// Exact dielectric Fresnel reflectance from outside (cos > 0) for index ior over air; 0 for ior = 1.
 double FresnelCoat(double cosTheta, double ior) {
   return eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior);
@@ -74,7 +66,6 @@ double GgxLambda(double alpha, const glm::dvec3& w) {
   const double tan2 = std::max(0.0, 1 - c2) / std::max(c2, 1e-300);
   return 0.5 * (std::sqrt(1 + alpha * alpha * tan2) - 1);
 }
-double GgxG1(double alpha, const glm::dvec3& w) { return 1 / (1 + GgxLambda(alpha, w)); }
 
 /// A microfacet normal from the distribution of normals visible from wo (Heitz 2018, "Sampling the
 /// GGX distribution of visible normals"); its reflection pdf is D(h) G1(wo) / (4 cos_o).
@@ -92,60 +83,43 @@ glm::dvec3 SampleGgxVisibleNormal(double alpha, const glm::dvec3& wo, double u1,
   return len > 0 ? ne / len : glm::dvec3(0, 0, 1);
 }
 
-/// Lobe selection probabilities from wo, proportional to each lobe's estimated reflectance.
-struct LobeProbabilities {
-  double diffuse = 0, specular = 0, coat = 0, glass = 0;
+/// The specular lobe's Fresnel and what it takes from the diffuse, at one cosine c: one exact Fresnel (or
+/// Schlick) evaluation for both.
+struct FresnelTerms {
+  glm::dvec3 specular;  ///< SpecularFresnel(s, c)
+  double diffuse;       ///< DiffuseFresnel(s, c)
 };
-LobeProbabilities SelectLobes(const PreviewSurface& s, double cosO) {
-  const double under = UnderCoat(s, cosO);
-  const double wD = s.opacity * under * DiffuseWeight(s) * Luminance(s.albedo) * (1 - DiffuseFresnel(s, cosO));
-  const double wS = s.opacity * under * Luminance(SpecularFresnel(s, cosO));
-  const double wC = s.opacity * CoatFresnel(s, cosO);
+FresnelTerms FresnelAt(const PreviewSurface& s, double c) {
+  if (s.specularWorkflow) {
+    const glm::dvec3 f = Schlick(s.specularColor, c);
+    return {f, std::max({f.x, f.y, f.z})};
+  }
+  const double fd = FresnelCoat(c, s.ior);
+  return {glm::mix(glm::dvec3(fd), s.albedo, s.metallic), fd};
+}
+
+using LobeProbabilities = PreviewSurfaceAt::Lobes;
+/// Lobe selection from wo's Fresnel terms (under: UnderCoat(s, cos_o), coat: CoatFresnel(s, cos_o)).
+LobeProbabilities SelectLobes(const PreviewSurface& s, const FresnelTerms& fo, double under, double coat) {
+  const double wD = s.opacity * under * DiffuseWeight(s) * Luminance(s.albedo) * (1 - fo.diffuse);
+  const double wS = s.opacity * under * Luminance(fo.specular);
+  const double wC = s.opacity * coat;
   const double wG = 1 - s.opacity;
   const double total = wD + wS + wC + wG;
   if (!(total > 0) || !std::isfinite(total)) return {};
   return {wD / total, wS / total, wC / total, wG / total};
 }
 
-/// GGX reflection with masking-shadowing for alpha at local directions above: D G2 / (4 cos_o cos_i), and h.
-double GgxReflection(double alpha, const glm::dvec3& wo, const glm::dvec3& wi, glm::dvec3* h) {
-  const glm::dvec3 sum = wo + wi;
-  const double len = glm::length(sum);
-  if (!(len > 0)) return 0;
-  *h = sum / len;
-  const double g2 = 1 / (1 + GgxLambda(alpha, wo) + GgxLambda(alpha, wi));
-  return GgxD(alpha, *h) * g2 / (4 * wo.z * wi.z);
-}
-
-/// The solid-angle pdf of reflecting wo into wi about a visible GGX normal.
-double GgxReflectionPdf(double alpha, const glm::dvec3& wo, const glm::dvec3& wi) {
-  const glm::dvec3 sum = wo + wi;
-  const double len = glm::length(sum);
-  return len > 0 ? GgxD(alpha, sum / len) * GgxG1(alpha, wo) / (4 * wo.z) : 0;
-}
-
-/// Clearcoat, diffuse and rough specular f (1/sr), without the opacity factor, both directions above (local).
-glm::dvec3 OpaqueF(const PreviewSurface& s, const glm::dvec3& wo, const glm::dvec3& wi) {
-  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - DiffuseFresnel(s, wo.z)) * (1 - DiffuseFresnel(s, wi.z));
-  glm::dvec3 h;
-  if (!IsMirror(s)) {
-    const double g = GgxReflection(Alpha(s), wo, wi, &h);
-    if (g > 0) base += g * SpecularFresnel(s, glm::dot(wo, h));
-  }
-  glm::dvec3 f = base * (UnderCoat(s, wo.z) * UnderCoat(s, wi.z));
-  if (s.clearcoat > 0 && !CoatIsMirror(s)) {
-    const double g = GgxReflection(CoatAlpha(s), wo, wi, &h);
-    if (g > 0) f += glm::dvec3(g * CoatFresnel(s, glm::dot(wo, h)));
-  }
-  return f;
-}
-
-/// Non-delta pdf, local directions, both above.
-double OpaquePdf(const PreviewSurface& s, const LobeProbabilities& p, const glm::dvec3& wo, const glm::dvec3& wi) {
-  double pdf = p.diffuse * wi.z / kPi;
-  if (!IsMirror(s) && p.specular > 0) pdf += p.specular * GgxReflectionPdf(Alpha(s), wo, wi);
-  if (!CoatIsMirror(s) && p.coat > 0) pdf += p.coat * GgxReflectionPdf(CoatAlpha(s), wo, wi);
-  return pdf;
+/// One rough GGX lobe (alpha; lambdaO = GgxLambda(alpha, wo)) at the half vector h of local directions wo, wi
+/// (both above): the reflection with height-correlated masking-shadowing D G2 / (4 cos_o cos_i), and the
+/// solid-angle pdf of reflecting wo into wi about a visible normal, D G1(wo) / (4 cos_o).
+struct GgxTerms {
+  double reflection = 0, pdf = 0;
+};
+GgxTerms GgxLobe(double alpha, double lambdaO, const glm::dvec3& wo, const glm::dvec3& wi, const glm::dvec3& h) {
+  const double d = GgxD(alpha, h);
+  const double g2 = 1 / (1 + lambdaO + GgxLambda(alpha, wi));
+  return {d * g2 / (4 * wo.z * wi.z), d * (1 / (1 + lambdaO)) / (4 * wo.z)};
 }
 
 // Below this cosine a direction is treated as lying in the surface: no scattering from or into it.
@@ -158,37 +132,84 @@ double ThinSheetReflectance(double cosTheta, double ior) {
   return r < 1 ? 2 * r / (1 + r) : 1.0;
 }
 
-glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo,
-                              const glm::dvec3& wi) {
-  const Frame frame(n);
-  const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
-  if (!(lo.z > kMinCos) || !(li.z > kMinCos)) return glm::dvec3(0);
-  const glm::dvec3 f = s.opacity * OpaqueF(s, lo, li);
+PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo)
+    : s_(s), n_(n), wo_(wo) {
+  eyelib::OrthonormalBasis(n_, &t_, &b_);
+  lo_ = ToLocal(wo);
+  above_ = lo_.z > kMinCos;
+  if (!above_) return;
+  const FresnelTerms fo = FresnelAt(s, lo_.z);
+  specularO_ = fo.specular, diffuseO_ = fo.diffuse;
+  coatO_ = CoatFresnel(s, lo_.z), underO_ = 1 - coatO_;
+  lobes_ = SelectLobes(s, fo, underO_, coatO_);
+  if (!IsMirror(s)) lambdaO_ = GgxLambda(Alpha(s), lo_);
+  if (!CoatIsMirror(s)) coatLambdaO_ = GgxLambda(CoatAlpha(s), lo_);
+}
+
+void PreviewSurfaceAt::OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const {
+  const PreviewSurface& s = s_;
+  const LobeProbabilities& p = lobes_;
+  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - diffuseO_) * (1 - DiffuseFresnel(s, li.z));
+  double density = p.diffuse * li.z / kPi;
+  // Both rough lobes reflect about the same half vector.
+  const glm::dvec3 sum = lo_ + li;
+  const double len = glm::length(sum);
+  const bool halfway = len > 0;
+  const glm::dvec3 h = halfway ? sum / len : glm::dvec3(0);
+  if (halfway && !IsMirror(s)) {
+    const GgxTerms g = GgxLobe(Alpha(s), lambdaO_, lo_, li, h);
+    if (g.reflection > 0) base += g.reflection * SpecularFresnel(s, glm::dot(lo_, h));
+    if (p.specular > 0) density += p.specular * g.pdf;
+  }
+  glm::dvec3 value = base * (underO_ * UnderCoat(s, li.z));
+  if (halfway && !CoatIsMirror(s)) {
+    const GgxTerms g = GgxLobe(CoatAlpha(s), coatLambdaO_, lo_, li, h);
+    if (s.clearcoat > 0 && g.reflection > 0) value += glm::dvec3(g.reflection * CoatFresnel(s, glm::dot(lo_, h)));
+    if (p.coat > 0) density += p.coat * g.pdf;
+  }
+  *f = value, *pdf = density;
+}
+
+glm::dvec3 PreviewSurfaceAt::ToLocal(const glm::dvec3& v) const {
+  return {glm::dot(v, t_), glm::dot(v, b_), glm::dot(v, n_)};
+}
+glm::dvec3 PreviewSurfaceAt::ToWorld(const glm::dvec3& v) const { return v.x * t_ + v.y * b_ + v.z * n_; }
+
+bool PreviewSurfaceAt::HasSmoothLobe() const {
+  if (!above_) return false;
+  const LobeProbabilities& p = lobes_;
+  return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s_)) || (p.coat > 0 && !CoatIsMirror(s_));
+}
+
+glm::dvec3 PreviewSurfaceAt::EvalAndPdf(const glm::dvec3& wi, double* pdf) const {
+  *pdf = 0;
+  const glm::dvec3 li = ToLocal(wi);
+  if (!above_ || !(li.z > kMinCos)) return glm::dvec3(0);
+  glm::dvec3 opaque;
+  double density;
+  OpaqueTerms(li, &opaque, &density);
+  if (std::isfinite(density)) *pdf = density;
+  const glm::dvec3 f = s_.opacity * opaque;
   return Finite(f) ? f : glm::dvec3(0);
 }
 
-double PdfPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
-  const Frame frame(n);
-  const glm::dvec3 lo = frame.ToLocal(wo), li = frame.ToLocal(wi);
-  if (!(lo.z > kMinCos) || !(li.z > kMinCos)) return 0;
-  const double pdf = OpaquePdf(s, SelectLobes(s, lo.z), lo, li);
-  return std::isfinite(pdf) ? pdf : 0;
+glm::dvec3 PreviewSurfaceAt::Eval(const glm::dvec3& wi) const {
+  double pdf;
+  return EvalAndPdf(wi, &pdf);
 }
 
-bool HasSmoothLobe(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo) {
-  const double cosO = glm::dot(n, wo);
-  if (!(cosO > kMinCos)) return false;
-  const LobeProbabilities p = SelectLobes(s, cosO);
-  return p.diffuse > 0 || (p.specular > 0 && !IsMirror(s)) || (p.coat > 0 && !CoatIsMirror(s));
+double PreviewSurfaceAt::Pdf(const glm::dvec3& wi) const {
+  double pdf;
+  EvalAndPdf(wi, &pdf);
+  return pdf;
 }
 
-bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, bool inside, double u0,
-                          double u1, double u2, BsdfSample* out) {
+bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, BsdfSample* out) const {
   *out = BsdfSample{};
-  const Frame frame(n);
-  const glm::dvec3 lo = frame.ToLocal(wo);
-  if (!(lo.z > kMinCos)) return false;
-  const LobeProbabilities p = SelectLobes(s, lo.z);
+  const PreviewSurface& s = s_;
+  const glm::dvec3 &n = n_, &wo = wo_, &lo = lo_;
+  if (!above_) return false;
+  const LobeProbabilities& p = lobes_;
 
   if (u0 >= p.diffuse + p.specular + p.coat) {
     // Glass: reflect with the Fresnel probability, else refract (a thin sheet: pass straight through).
@@ -222,15 +243,15 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
   const bool coatLobe = u0 >= p.diffuse + p.specular;
   if (coatLobe && CoatIsMirror(s)) {
     out->wi = eyelib::Reflect(wo, n);
-    out->weight = glm::dvec3(s.opacity * CoatFresnel(s, lo.z) / p.coat);  // p.coat > 0 here
+    out->weight = glm::dvec3(s.opacity * coatO_ / p.coat);  // p.coat > 0 here
     out->pdf = p.coat;
     out->delta = true;
     return Finite(out->weight);
   }
   if (!coatLobe && u0 >= p.diffuse && IsMirror(s)) {
     out->wi = eyelib::Reflect(wo, n);
-    const double under = UnderCoat(s, lo.z);  // down through the coat and back up at the same angle
-    out->weight = s.opacity * under * under * SpecularFresnel(s, lo.z) / p.specular;  // p.specular > 0 here
+    const double under = underO_;  // down through the coat and back up at the same angle
+    out->weight = s.opacity * under * under * specularO_ / p.specular;  // p.specular > 0 here
     out->pdf = p.specular;
     out->delta = true;
     return Finite(out->weight);
@@ -238,7 +259,7 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
 
   glm::dvec3 li;
   if (u0 < p.diffuse) {
-    li = frame.ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
+    li = ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
   } else if (coatLobe) {
     const glm::dvec3 h = SampleGgxVisibleNormal(CoatAlpha(s), lo, u1, u2);
     li = 2 * glm::dot(lo, h) * h - lo;
@@ -247,12 +268,32 @@ bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const gl
     li = 2 * glm::dot(lo, h) * h - lo;
   }
   if (!(li.z > kMinCos)) return false;  // a microfacet reflection below the horizon: lost energy
-  const double pdf = OpaquePdf(s, p, lo, li);
+  glm::dvec3 f;
+  double pdf;
+  OpaqueTerms(li, &f, &pdf);
   if (!(pdf > 0) || !std::isfinite(pdf)) return false;
-  out->wi = glm::normalize(frame.ToWorld(li));
-  out->weight = s.opacity * OpaqueF(s, lo, li) * (li.z / pdf);
+  out->wi = glm::normalize(ToWorld(li));
+  out->weight = s.opacity * f * (li.z / pdf);
   out->pdf = pdf;
   return Finite(out->weight);
+}
+
+glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo,
+                              const glm::dvec3& wi) {
+  return PreviewSurfaceAt(s, n, wo).Eval(wi);
+}
+
+double PdfPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi) {
+  return PreviewSurfaceAt(s, n, wo).Pdf(wi);
+}
+
+bool HasSmoothLobe(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo) {
+  return PreviewSurfaceAt(s, n, wo).HasSmoothLobe();
+}
+
+bool SamplePreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, bool inside, double u0,
+                          double u1, double u2, BsdfSample* out) {
+  return PreviewSurfaceAt(s, n, wo).Sample(inside, u0, u1, u2, out);
 }
 
 }  // namespace hdeye

@@ -71,6 +71,48 @@ struct BsdfSample {
   bool transmitted = false;  ///< crossed to the other side of the surface (into or out of the glass)
 };
 
+/// The BSDF at one shading point seen from one outgoing direction wo: the shading frame, wo's Fresnel terms and
+/// the lobe probabilities are computed once, then shared by next event estimation (Eval, Pdf) and the
+/// continuation (Sample) of the same path vertex. Holds a reference to `s`, which must outlive it. The free
+/// functions below are the same computations with a new PreviewSurfaceAt per call.
+class PreviewSurfaceAt {
+ public:
+  /// n: the unit shading normal on the side of wo; wo: unit, away from the surface.
+  PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo);
+
+  /// Whether the surface has a non-delta lobe (diffuse or rough specular) worth light sampling from wo.
+  bool HasSmoothLobe() const;
+  /// The non-delta part of f(wo, wi) (1/sr), as EvalPreviewSurface.
+  glm::dvec3 Eval(const glm::dvec3& wi) const;
+  /// The solid-angle pdf (1/sr) with which Sample returns the non-delta direction wi, as PdfPreviewSurface.
+  double Pdf(const glm::dvec3& wi) const;
+  /// Eval(wi), with Pdf(wi) written to *pdf: the two share their half vector and microfacet terms.
+  glm::dvec3 EvalAndPdf(const glm::dvec3& wi, double* pdf) const;
+  /// A direction sampled from three uniform numbers, as SamplePreviewSurface.
+  bool Sample(bool inside, double u0, double u1, double u2, BsdfSample* sample) const;
+
+  /// The lobe selection probabilities from wo (proportional to each lobe's estimated reflectance).
+  struct Lobes {
+    double diffuse = 0, specular = 0, coat = 0, glass = 0;
+  };
+
+ private:
+  glm::dvec3 ToLocal(const glm::dvec3& v) const;
+  glm::dvec3 ToWorld(const glm::dvec3& v) const;
+  /// f without the opacity factor (1/sr) and the non-delta pdf (1/sr) at local li (above the surface).
+  void OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const;
+
+  const PreviewSurface& s_;
+  glm::dvec3 n_, t_, b_;                  ///< the shading frame (z along n)
+  glm::dvec3 wo_, lo_;                    ///< wo in world space and in the frame
+  bool above_ = false;                    ///< wo is above the surface (lo_.z > the smallest cosine scattered from)
+  glm::dvec3 specularO_{0};               ///< the specular lobe's Fresnel at cos_o
+  double diffuseO_ = 0;                   ///< what the specular lobe takes from the diffuse at cos_o
+  double coatO_ = 0, underO_ = 1;         ///< the clearcoat's reflectance at cos_o, and 1 minus it
+  double lambdaO_ = 0, coatLambdaO_ = 0;  ///< GGX Smith Lambda(wo) of the rough specular and clearcoat lobes
+  Lobes lobes_;
+};
+
 /// The non-delta part of f(wo, wi) (1/sr): diffuse plus rough specular, times opacity. Zero for wi
 /// below the surface (the opaque part does not transmit) and for wo at or below it.
 glm::dvec3 EvalPreviewSurface(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo, const glm::dvec3& wi);

@@ -21,7 +21,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -127,6 +126,15 @@ EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometr
           eye.limbalArc};
 }
 
+/// What the data AOVs show of the first surface a camera path met (a copy of the whole hit would cost more).
+struct FirstHit {
+  double t = 0;                ///< distance along the camera ray
+  glm::dvec3 n{0}, albedo{0};  ///< the shading normal and the albedo shaded there
+  int primIndex = -1;
+  FirstHit() = default;
+  explicit FirstHit(const SurfaceHit& hit) : t(hit.t), n(hit.n), albedo(hit.albedo), primIndex(hit.primIndex) {}
+};
+
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
 /// it met (for the data AOVs).
 struct PathSample {
@@ -134,7 +142,7 @@ struct PathSample {
   glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
   glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
   bool hitAny = false;      ///< the camera ray met geometry
-  SurfaceHit first{};       ///< that first hit (its albedo the one shaded); meaningful when hitAny
+  FirstHit first{};         ///< that first hit (its albedo the one shaded); meaningful when hitAny
 };
 
 /// What a path carries from one vertex to the next.
@@ -206,19 +214,19 @@ class Tracer {
   /// cone: the camera ray's footprint, carried along the path for texture filtering.
   PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng) const {
     PathSample sample;
-    const std::function<double()> random = [&rng] { return rng.Next(); };
+    const auto random = [&rng] { return rng.Next(); };
+    // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
+    const auto transmittance = [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
+      return Transmittance(lights_[k], po, pd, t);
+    };
     PathState path(ray, cone);
-    path.eyeLighting = EyeLighting{&lights_,
-                                   [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
-                                     return Transmittance(lights_[k], po, pd, t);
-                                   },
-                                   -1, settings_.mneeAllSolutions, settings_.mnee};
+    path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.mneeAllSolutions, settings_.mnee};
     for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
       if (depth == 0) {
         sample.hitAny = hitGeometry;
-        if (hitGeometry) sample.first = hit;
+        if (hitGeometry) sample.first = FirstHit(hit);
       }
       const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
@@ -244,11 +252,13 @@ class Tracer {
       // Sclera (and any eye surface handed back to us) is Lambertian; everything else is the bound
       // UsdPreviewSurface.
       const bool eyeSurface = EyeOf(*hit.context) != nullptr;
-      const PreviewSurface bsdf = eyeSurface ? PreviewSurface::Lambert(hit.albedo) : shading.bsdf;
+      if (eyeSurface) shading.bsdf = PreviewSurface::Lambert(hit.albedo);  // an eye hit's shading is unused
+      const PreviewSurface& bsdf = shading.bsdf;
       if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
       const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
-      sample.L += SampleLd(hit, bsdf, -path.d, origin, path.beta, rng);
-      if (!SampleContinuation(hit, bsdf, origin, depth, rng, &path)) break;
+      const PreviewSurfaceAt bsdfAt(bsdf, hit.n, -path.d);  // wo's Fresnel and lobes, shared by both
+      sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
+      if (!SampleContinuation(hit, bsdf, bsdfAt, origin, depth, rng, &path)) break;
     }
     if (path.arc) sample.limbalArc = sample.L - path.lAtArc;
     return sample;
@@ -349,7 +359,8 @@ class Tracer {
     TextureSite site;
     site.st = hit.st;
     site.frame = hit.stFrame;
-    if (settings_.textureFiltering) site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
+    if (settings_.textureFiltering && hit.material->textures)  // only textured inputs look at the footprint
+      site.footprint = FootprintOnSurface(cone.WidthAt(hit.t), d, hit.ng, hit.stFrame);
     site.thread = textureThread_;
     return site;
   }
@@ -461,7 +472,7 @@ class Tracer {
 
   /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
   /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
-  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, const std::function<double()>& random, SurfaceHit* hit,
+  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
                          PathState* path, PathSample* sample) const {
     const GeometryContext& ctx = *hit->context;
     const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
@@ -512,7 +523,7 @@ class Tracer {
 
   /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
   /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
-  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, const std::function<double()>& random, SurfaceHit* hit,
+  EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
                          PathState* path, const glm::dvec3& L) const {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
@@ -554,7 +565,7 @@ class Tracer {
   /// with the teleportation cylinder if the eye asks for it. Both Fresnel choices are sampled with their own
   /// probability, so no weight changes there.
   ScleraStep ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
-                        bool limbalArc, const std::function<double()>& random) const {
+                        bool limbalArc, eyelib::FunctionRef<double()> random) const {
     ScleraStep step;
     const double ior = eye.chamber.CorneaIor();
     // Fresnel against the shading normal (smooth highlights); which side is inside, against the
@@ -621,10 +632,10 @@ class Tracer {
   /// Next event estimation (pbrt's SampleLd): one light chosen uniformly, sampled from `origin`, weighted by the
   /// power heuristic against BSDF sampling; nothing for mirrors and glass (delta lobes). Returns beta times the
   /// light's contribution. Always takes three random numbers.
-  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& wo, const glm::dvec3& origin,
+  glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf, const glm::dvec3& origin,
                       const glm::dvec3& beta, SampleStream& rng) const {
     const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
-    if (lights_.empty() || !HasSmoothLobe(bsdf, hit.n, wo)) return glm::dvec3(0);
+    if (lights_.empty() || !bsdf.HasSmoothLobe()) return glm::dvec3(0);
     const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
     if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
     const LightSample ls = SampleLight(light, origin, u1, u2);
@@ -632,23 +643,24 @@ class Tracer {
     if (!(ls.pdf > 0 && cosS > 0)) return glm::dvec3(0);
     // A normal map may tilt the shading normal towards a light below the surface itself: no light there.
     if (hit.normalMapped && glm::dot(ls.dir, hit.ng) <= 0) return glm::dvec3(0);
-    const glm::dvec3 f = EvalPreviewSurface(bsdf, hit.n, wo, ls.dir);
+    double bsdfPdf;
+    const glm::dvec3 f = bsdf.EvalAndPdf(ls.dir, &bsdfPdf);
     if (!(f.x > 0 || f.y > 0 || f.z > 0)) return glm::dvec3(0);
     const double transmittance = Transmittance(light, origin, ls.dir, ls.distance * (1 - 1e-6));
     if (!(transmittance > 0)) return glm::dvec3(0);
     const double pl = ls.pdf * LightSelectPdf();
     // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
-    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, PdfPreviewSurface(bsdf, hit.n, wo, ls.dir)) : 1.0;
+    const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, bsdfPdf) : 1.0;
     return beta * f * ls.radiance * (cosS * w * transmittance / pl);
   }
 
   /// The path's next ray, sampled from the BSDF (its weight f |cos| / pdf), then Russian roulette after three
   /// bounces. False: the path ends here.
-  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const glm::dvec3& origin, int depth,
-                          SampleStream& rng, PathState* path) const {
+  bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const PreviewSurfaceAt& bsdfAt,
+                          const glm::dvec3& origin, int depth, SampleStream& rng, PathState* path) const {
     const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
     BsdfSample bs;
-    if (!SamplePreviewSurface(bsdf, hit.n, -path->d, path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
+    if (!bsdfAt.Sample(path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
     if (bs.transmitted && bsdf.thinWalled) {
       // Straight through a thin wall: the same ray, continued past the wall. Origin and weighting state stay
       // the previous vertex's, so a light met beyond is weighted (and its pdf taken) as from there, as next
@@ -714,7 +726,7 @@ bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sampl
   AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
   AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
   if (s != 0) return finite;
-  const SurfaceHit& first = sample.first;
+  const FirstHit& first = sample.first;
   AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));
   AddRgb(aovs.normal, x, y, sample.hitAny ? first.n : glm::dvec3(0));
   const float depth = sample.hitAny ? float(first.t) : 0.0f, id = sample.hitAny ? float(first.primIndex) : -1.0f;
@@ -743,7 +755,7 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
 
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
                  const AovBuffers& aovs, SharedCounts* counts) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
@@ -758,7 +770,10 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
         const bool lens = camera.HasLens();
         const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
                                                 lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
-        const RayCone cone = PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale);
+        // Only texture lookups read the cone (and only when filtering): without them it is never computed.
+        const RayCone cone = textured && settings.textureFiltering
+                                 ? PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
+                                 : RayCone{};
         if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng))) ++counts->nonFinite;
       }
   }
@@ -784,7 +799,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts);
       });
     });
     ++stats.passes;

@@ -60,9 +60,13 @@ class Renderer {
   /// Whether a material in the scene has an opacityThreshold (cut-outs): shadow rays then find what they
   /// meet instead of stopping at the first surface. Set by the render pass before Render.
   void SetCutouts(bool cutouts) { cutouts_ = cutouts; }
+  /// Whether a material in the scene has a textured input: without one, ray cones (texture footprints) are not
+  /// needed and not computed. Set by the render pass before Render.
+  void SetTextured(bool textured) { textured_ = textured; }
 
  private:
   bool cutouts_ = false;
+  bool textured_ = true;
 };
 
 }  // namespace hdeye

@@ -11,7 +11,7 @@ namespace hdeye {
 
 ScleraExit ScatterInSclera(const EyeGeometry& eye, const glm::dvec3& entry, const glm::dvec3& inwardDir,
                            const glm::dvec3& scleraColor, const glm::dvec3& meanFreePathMm,
-                           const WorldBoundary& boundary, const std::function<double()>& random,
+                           const WorldBoundary& boundary, eyelib::FunctionRef<double()> random,
                            const ScleraScatteringSettings& settings) {
   ScleraExit out;
   const double scale = eye.worldPerMm;  // world units per mm

@@ -9,6 +9,7 @@
 #include "hdeye/render/eyeGeometry.h"
 
 #include <embree3/rtcore.h>
+#include <eyelib/function_ref.h>
 #include <eyelib/random_walk_sss.h>
 
 #include <cstdint>
@@ -51,7 +52,7 @@ struct ScleraExit {
 /// Artist values eyelib::ValidateSssArtistParams rejects give an Invalid walk (no guessing).
 ScleraExit ScatterInSclera(const EyeGeometry& eye, const glm::dvec3& entry, const glm::dvec3& inwardDir,
                            const glm::dvec3& scleraColor, const glm::dvec3& meanFreePathMm,
-                           const WorldBoundary& boundary, const std::function<double()>& random,
+                           const WorldBoundary& boundary, eyelib::FunctionRef<double()> random,
                            const ScleraScatteringSettings& settings = {});
 
 /// Where the last crossing an EyeMeshBoundary reported lies on the mesh: its rendered triangle and

@@ -26,6 +26,7 @@
 //
 // The boundary is abstract, so the delegate can use an Embree mesh and tests analytic shapes. All in
 // the canonical eye frame (mm) when the cylinder is on: the cylinder's axis is the z axis there.
+#include "eyelib/function_ref.h"
 #include "eyelib/teleportation_cylinder.h"
 #include "eyelib/vec.h"
 
@@ -42,8 +43,8 @@ namespace eyelib {
 /// analytic shapes: the far root, or only crossings that move outward).
 using SssBoundary = std::function<bool(const Vec3<double>& origin, const Vec3<double>& dir, double tMax, double* t,
                                        Vec3<double>* normal)>;
-/// Uniform random numbers in [0, 1), caller-supplied.
-using SssRandom = std::function<double()>;
+/// Uniform random numbers in [0, 1), caller-supplied (called once per number: a reference, not a copy).
+using SssRandom = FunctionRef<double()>;
 
 /// Single-scattering albedo from the artist's surface albedo A, both in [0, 1] (A clamped; NaN -> 0).
 double SingleScatteringAlbedo(double surfaceAlbedo);
@@ -106,6 +107,6 @@ struct WalkResult {
 /// reflection included) and continues, or refracts out and exits. Every loop is bounded by maxSteps;
 /// no NaN or Inf leaves this function.
 WalkResult RandomWalkSss(const SssMedium& medium, const RandomWalkSettings& settings, const Vec3<double>& entryPoint,
-                         const Vec3<double>& inwardDir, const SssBoundary& boundary, const SssRandom& random);
+                         const Vec3<double>& inwardDir, const SssBoundary& boundary, SssRandom random);
 
 }  // namespace eyelib
