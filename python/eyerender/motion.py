@@ -33,6 +33,8 @@ CURVED_MOTION_SAMPLES = 5
 # Frames: an authored time sample this close to a shutter end is that end (frame + open is rounded: 1.1 + 0.1 is
 # not 1.2), so a key on the end is read exactly, not interpolated a rounding error past it.
 TIME_EPSILON = 1e-9
+# The scene delegate's updater kinds whose pushes follow the shutter (re-run when it or the prims change).
+MOTION_KINDS = ("transform", "skinned transform", "points", "skinned points", "instancer")
 
 
 @dataclasses.dataclass
@@ -223,6 +225,6 @@ def instance_samples(sampler, path, times, groups_at):
     return result
 
 
-__all__ = ["MAX_SAMPLES_PER_PRIM", "CURVED_MOTION_SAMPLES", "Samples", "MotionSampler", "xform_times",
-           "attribute_times", "skinning_times", "transform_samples", "points_samples", "skinned_points_samples",
-           "instancer_times", "instance_samples"]
+__all__ = ["MAX_SAMPLES_PER_PRIM", "CURVED_MOTION_SAMPLES", "TIME_EPSILON", "MOTION_KINDS", "Samples",
+           "MotionSampler", "xform_times", "attribute_times", "skinning_times", "transform_samples",
+           "points_samples", "skinned_points_samples", "instancer_times", "instance_samples"]
