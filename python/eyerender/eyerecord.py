@@ -192,6 +192,7 @@ def render_frames(session, frames, outputs, spp, args):
     already written (each is complete) and its error line names them."""
     bar = ProgressBar(not args.quiet)
     total_seconds, total_rays, written = 0.0, 0, []
+    warned = len(session.scene.warnings)  # printed before rendering; a later frame may add some (motion samples)
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
         try:
@@ -200,6 +201,8 @@ def render_frames(session, frames, outputs, spp, args):
                                    time_limit=args.time_limit, progress=bar)
             bar.finish()
             warn_non_finite(stats["non_finite_samples"])
+            print_warnings(session.scene.warnings[warned:])
+            warned = len(session.scene.warnings)
             for path in frame_outputs(outputs, frame):
                 session.write(path, args.exposure, args.colorCorrectionMode, denoise=args.denoise)
                 written.append(path)

@@ -11,7 +11,9 @@ from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
 import skel_stages  # noqa: E402
 from eyerender import RenderDelegate, RenderIndex, RenderSession, SceneStore  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.eyerecord import build_parser, main  # noqa: E402
+from eyerender.farm_job import RenderJob  # noqa: E402
+from eyerender.job import session_options  # noqa: E402
 from eyerender.shutter import Shutter  # noqa: E402
 from eyerender.usd_scene_delegate import UsdSceneDelegate  # noqa: E402
 
@@ -252,3 +254,11 @@ def test_eyerecord_bad_shutter_is_one_error_line(moving_file, tmp_path, capsys, 
     assert eyerecord(moving_file, tmp_path / "e.png", "-w", 8, "--spp", 1, "-q", *bad) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("eyerecord: error: ") and "shutter" in err[0].lower(), err
+
+
+def test_the_farm_job_carries_the_shutter(moving_file, tmp_path):
+    args = build_parser().parse_args([str(moving_file), str(tmp_path / "f.#.exr"), "--shutter", "-0.25", "0"])
+    options = session_options(args)
+    job = RenderJob.from_options(str(moving_file), [str(tmp_path / "f.#.exr")], options, spp=1)
+    assert options.shutter == (-0.25, 0.0) and job.session_options().shutter == (-0.25, 0.0)
+    assert job.session_options() == options  # a worker's session is the client's
