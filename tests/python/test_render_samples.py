@@ -9,7 +9,8 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Usd  # noqa: E402
 
 SAMPLES = pathlib.Path(__file__).resolve().parents[2] / "usd_samples"
-EYE_STAGES = ["closeup", "two_eyes", "squash_stretch", "side_lit", "analytic_anterior", "studio_eye_rig"]
+EYE_STAGES = ["closeup", "two_eyes", "squash_stretch", "side_lit", "analytic_anterior", "studio_eye_rig", "saccade",
+              "blink"]
 
 
 def render(name, width=40, spp=2, **kwargs):
