@@ -262,3 +262,41 @@ def test_the_farm_job_carries_the_shutter(moving_file, tmp_path):
     job = RenderJob.from_options(str(moving_file), [str(tmp_path / "f.#.exr")], options, spp=1)
     assert options.shutter == (-0.25, 0.0) and job.session_options().shutter == (-0.25, 0.0)
     assert job.session_options() == options  # a worker's session is the client's
+
+
+# -- blurred renders ---------------------------------------------------------------------------------------------
+
+def sweeping_card_stage(how):
+    """An orthographic camera (6 x 6 units) looking down -z at a 1 x 1 card that moves 4 units along +x while the
+    shutter (0, 1) is open, from x in [-2.5, -1.5] to [1.5, 2.5], over nothing: by its transform (`how` =
+    "transform") or by its points ("points")."""
+    stage = Usd.Stage.CreateInMemory()
+    stage.SetStartTimeCode(1)
+    cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
+    cam.CreateProjectionAttr(UsdGeom.Tokens.orthographic)
+    cam.CreateHorizontalApertureAttr(60.0)  # tenths of a scene unit
+    cam.CreateVerticalApertureAttr(60.0)
+    cam.CreateShutterOpenAttr(0.0)
+    cam.CreateShutterCloseAttr(1.0)
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    UsdLux.DistantLight.Define(stage, "/World/key").CreateIntensityAttr(1.0)
+    mesh = card(stage, "/World/Card", size=0.5)
+    if how == "transform":
+        op = mesh.AddTranslateOp()
+        op.Set(Gf.Vec3d(-2, 0, 0), 1)
+        op.Set(Gf.Vec3d(2, 0, 0), 2)
+    else:
+        rest = np.array(mesh.GetPointsAttr().Get())
+        for t, dx in ((1, -2.0), (2, 2.0)):
+            mesh.GetPointsAttr().Set([tuple(map(float, p + (dx, 0, 0))) for p in rest], t)
+    return stage
+
+
+def test_a_sharp_render_of_the_sweep_shows_the_card_at_the_frame():
+    session = RenderSession(sweeping_card_stage("transform"), width=48, height=48, time=Usd.TimeCode(1),
+                            shutter=(0.0, 0.0))
+    session.render(spp=4)
+    alpha = session.image("color")[:, :, 3]
+    x = (np.arange(48) + 0.5) / 48 * 6.0 - 3.0
+    covered = alpha[np.abs(x) < 0.4].mean(axis=0)
+    assert np.all(covered[(x > -2.4) & (x < -1.6)] == 1) and covered[x > -1.4].max() == 0, covered
