@@ -718,12 +718,17 @@ def write_squash_stretch(out, cage):
     yaw = math.radians(60)
     add_camera(stage, "/World/Camera", (11.0 * math.sin(yaw), 1.5, 11.0 * math.cos(yaw)), (0.0, 0.0, 0.3),
                focal_length=100.0)
+    add_upper_left_key_and_fill(stage)
+    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -10.0), (0.3, 0.0, 1.0), 25.0)
+    stage.GetRootLayer().Save()
+
+
+def add_upper_left_key_and_fill(stage):
+    """A small warm sphere key 15 cm to the upper left (radius 0.4 cm, radiance 900) and a dim bluish dome."""
     key_dir = np.array([-0.62, 0.55, 0.56])
     key_dir /= np.linalg.norm(key_dir)
     add_sphere_light(stage, "/World/Lights/Key", tuple(np.round(15.0 * key_dir, 6)), 0.4, 900.0, (1.0, 0.97, 0.92))
     add_dome_light(stage, "/World/Lights/Fill", 0.05, (0.75, 0.85, 1.0))
-    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -10.0), (0.3, 0.0, 1.0), 25.0)
-    stage.GetRootLayer().Save()
 
 
 def write_side_lit(out):
@@ -1027,10 +1032,7 @@ def write_blink(out):
              across, skin, flip=False)
     camera = add_camera(stage, "/World/Camera", (1.5, 1.5, 11.0), (0.0, 0.0, 0.6))
     set_shutter(camera)
-    key_dir = np.array([-0.62, 0.55, 0.56])
-    key_dir /= np.linalg.norm(key_dir)
-    add_sphere_light(stage, "/World/Lights/Key", tuple(np.round(15.0 * key_dir, 6)), 0.4, 900.0, (1.0, 0.97, 0.92))
-    add_dome_light(stage, "/World/Lights/Fill", 0.05, (0.75, 0.85, 1.0))
+    add_upper_left_key_and_fill(stage)
     add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -8.0), (0.0, 0.0, 1.0), 20.0)
     stage.GetRootLayer().Save()
 
