@@ -131,12 +131,34 @@ std::vector<double> MotionStepTimes(const std::vector<double>& authoredTimes, do
   for (std::size_t i = 1; i < inside.size(); ++i) smallest = std::min(smallest, inside[i] - inside[i - 1]);
   const double uniformGap = span / double(inside.size() - 1);
   bool uniform = true;
-  for (std::size_t i = 0; i < inside.size(); ++i) uniform = uniform && std::abs(inside[i] - (open + i * uniformGap)) <= tolerance;
+  for (std::size_t i = 0; i < inside.size(); ++i)
+    uniform = uniform && std::abs(inside[i] - (open + i * uniformGap)) <= tolerance;
   int steps = int(inside.size());
   if (!uniform) steps = std::min(kMaxMotionSteps, int(std::ceil(span / std::max(smallest, tolerance) - 1e-9)) + 1);
   std::vector<double> out(static_cast<std::size_t>(steps));
   for (int i = 0; i < steps; ++i) out[std::size_t(i)] = i + 1 == steps ? close : open + span * i / (steps - 1);
   return out;
+}
+
+std::optional<TransformMotion> ResampleMotion(const std::vector<double>& stepTimes,
+                                              const std::function<Matrix4d(double)>& world) {
+  TransformMotion motion;
+  for (double t : stepTimes) {
+    std::optional<TransformParts> parts = DecomposeTransform(world(t));
+    if (!parts) return std::nullopt;
+    if (!motion.parts.empty() && glm::dot(motion.parts.back().rotation, parts->rotation) < 0)
+      parts->rotation = -parts->rotation;
+    motion.times.push_back(t);
+    motion.parts.push_back(*parts);
+  }
+  if (motion.parts.empty()) return std::nullopt;
+  return motion;
+}
+
+bool SamplesAllEqual(const TimeSampled<Matrix4d>& samples) {
+  for (const Matrix4d& m : samples.values)
+    if (m != samples.values.front()) return false;
+  return true;
 }
 
 std::vector<Vec3f> PointsAt(const TimeSampled<std::vector<Vec3f>>& samples, double time) {

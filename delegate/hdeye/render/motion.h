@@ -11,11 +11,25 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace hdeye {
+
+/// A render's shutter interval, frames relative to the frame (CameraParams::shutterOpen, shutterClose). Embree's
+/// ray time runs over [0, 1]; time 0 is the shutter's opening.
+struct Shutter {
+  double open = 0, close = 0;
+  bool IsOpen() const { return close > open; }
+  /// The Embree ray time of frame time `time` (0 when the shutter is closed: one sharp instant).
+  float RayTime(double time) const { return IsOpen() ? float((time - open) / (close - open)) : 0.0f; }
+  /// The frame time of an Embree ray time.
+  double FrameTime(float rayTime) const { return open + double(rayTime) * (close - open); }
+  bool operator==(const Shutter& o) const { return open == o.open && close == o.close; }
+  bool operator!=(const Shutter& o) const { return !(*this == o); }
+};
 
 /// A transform as world = translate(translation) * mat3(rotation) * stretch.
 struct TransformParts {
@@ -57,6 +71,15 @@ std::optional<TransformMotion> MakeTransformMotion(const TimeSampled<Matrix4d>& 
 std::vector<double> MotionStepTimes(const std::vector<double>& authoredTimes, double open, double close);
 /// Embree 3 allows 129 time steps per geometry; more than this many steps buys nothing a film shutter shows.
 constexpr int kMaxMotionSteps = 33;
+
+/// The motion resampled at `stepTimes` (MotionStepTimes): what Embree interpolates between, so the renderer's own
+/// evaluations (normals, eyes, lights) follow exactly the motion Embree intersects. `world` gives the transform at a
+/// time; quaternions are kept on one hemisphere step to step. Nothing when a step's transform cannot be decomposed.
+std::optional<TransformMotion> ResampleMotion(const std::vector<double>& stepTimes,
+                                              const std::function<Matrix4d(double)>& world);
+
+/// Whether every sample equals the first (a prim authored with samples that do not move).
+bool SamplesAllEqual(const TimeSampled<Matrix4d>& samples);
 
 /// Piecewise-linear interpolation of points between samples at `time` (frames), clamped at the ends; every sample
 /// must have the same count.

@@ -2,6 +2,7 @@
 // What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/render/eyeRenderOptions.h"
+#include "hdeye/render/motion.h"
 #include "hdeye/render/params.h"
 #include "hdeye/render/texture.h"
 
@@ -81,6 +82,9 @@ struct InstanceContext {
   Vec3f color{0};
   bool hasColor = false;
   int instanceIndex = 0;  ///< the instance's index in its instancer (0 when drawn once)
+  /// The instance's object-to-world motion over the open shutter, on the steps Embree interpolates (frames), or null:
+  /// static. Its normals then follow the hit's time.
+  std::shared_ptr<const TransformMotion> motion;
 };
 
 }  // namespace hdeye

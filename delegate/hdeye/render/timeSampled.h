@@ -8,8 +8,7 @@ namespace hdeye {
 
 /// `values[i]` holds at `times[i]` (frames relative to the frame); times ascending, one value per time. One
 /// sample is a static value; none means "not authored" to whoever asked.
-template <class T>
-struct TimeSampled {
+template <class T> struct TimeSampled {
   std::vector<float> times;
   std::vector<T> values;
   bool Static() const { return values.size() <= 1; }
