@@ -300,3 +300,25 @@ def test_a_sharp_render_of_the_sweep_shows_the_card_at_the_frame():
     x = (np.arange(48) + 0.5) / 48 * 6.0 - 3.0
     covered = alpha[np.abs(x) < 0.4].mean(axis=0)
     assert np.all(covered[(x > -2.4) & (x < -1.6)] == 1) and covered[x > -1.4].max() == 0, covered
+@pytest.mark.parametrize("how", ["transform", "points"])
+def test_a_blurred_card_covers_its_sweep_by_the_time_it_spends_there(how):
+    size, spp = 48, 64
+    session = RenderSession(sweeping_card_stage(how), width=size, height=size, time=Usd.TimeCode(1),
+                            settings={"seed": 3})
+    session.render(spp=spp)
+    alpha = session.image("color")[:, :, 3].astype(np.float64)
+    x = (np.arange(size) + 0.5) / size * 6.0 - 3.0  # pixel centres, scene units
+    rows = np.abs(x) < 0.4  # inside the card's height
+    middle = alpha[np.ix_(rows, np.abs(x) < 1.4)]  # covered a quarter of the time: card width / sweep
+    outside = alpha[np.ix_(rows, np.abs(x) > 2.6)]
+    above = alpha[np.abs(x) > 0.6]
+    # A pixel's coverage is binomial over its samples: mean 1/4 to within 4 standard errors of the region's mean.
+    tolerance = 4 * math.sqrt(0.25 * 0.75 / (spp * middle.size))
+    assert abs(middle.mean() - 0.25) < tolerance + 0.01, (middle.mean(), tolerance)
+    assert middle.min() > 0.05 and middle.max() < 0.5, (middle.min(), middle.max())
+    assert outside.max() == 0 and above.max() == 0, (outside.max(), above.max())
+    # the ramps: coverage falls from 1/4 to 0 across the card's width at either end of the sweep
+    ramp = alpha[np.ix_(rows, (x > 1.6) & (x < 2.4))].mean(axis=0)
+    assert np.all(np.diff(ramp) < 0.05) and ramp[0] > ramp[-1], ramp
+
+
