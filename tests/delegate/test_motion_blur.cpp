@@ -7,8 +7,8 @@
 #include "hdeye/render/eyeShading.h"
 #include "hdeye/scene/sampleScenes.h"
 
-#include <catch2/catch.hpp>
 #include <eyelib/iris_light_tracer.h>
+#include <catch2/catch.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -97,17 +97,17 @@ Difference Compare(const std::vector<double>& a, const std::vector<double>& b) {
 }
 
 /// A floor, a ball moving and turning, a sheet whose points move and stretch, two instances of a box (one turning
-/// with its instancer's samples), a key light moving across, a camera drifting: every kind of motion, piecewise
-/// linear between samples at -0.5, 0 and 0.5 frames.
+/// with its instancer's samples), two point spheres moving as one prim, a key light moving across, a camera drifting:
+/// every kind of motion, piecewise linear between samples at -0.5, 0 and 0.5 frames.
 void MovingScene(test::RenderStack& s) {
   test::AddLambertPlane(s.scene, 3, 0.5);
   MeshTopology sphere;
   std::vector<Vec3f> points;
   test::UvSphere(0.5, 10, 14, &sphere, &points);
   s.scene.AddMesh("/ball", sphere, points, Matrix4d(1.0), "/mat");
-  s.scene.SetTransformSamples("/ball", {-0.5f, 0.0f, 0.5f},
-                              {Translate(-1, 0, 0.6), Translate(0, 0.3, 0.6) * RotateZ(40),
-                               Translate(1, 0, 0.8) * RotateZ(90)});
+  s.scene.SetTransformSamples(
+      "/ball", {-0.5f, 0.0f, 0.5f},
+      {Translate(-1, 0, 0.6), Translate(0, 0.3, 0.6) * RotateZ(40), Translate(1, 0, 0.8) * RotateZ(90)});
   MeshTopology quad;
   std::vector<Vec3f> sheet;
   test::Quad(0.4, &quad, &sheet);
@@ -117,14 +117,17 @@ void MovingScene(test::RenderStack& s) {
   s.scene.AddMesh("/sheet", quad, sheet);
   s.scene.SetPointsSamples("/sheet", {-0.5f, 0.5f}, {sheet, moved});
   s.scene.AddInstancer("/boxes", {Translate(-1.5, 1.2, 0.2), Translate(1.5, 1.2, 0.2)});
-  s.scene.SetInstanceTransformSamples(
-      "/boxes", {-0.5f, 0.5f},
-      {{Translate(-1.5, 1.2, 0.2), Translate(1.5, 1.2, 0.2)},
-       {Translate(-1.5, 1.2, 0.2) * RotateZ(60), Translate(1.5, 1.2, 0.2)}});
+  s.scene.SetInstanceTransformSamples("/boxes", {-0.5f, 0.5f},
+                                      {{Translate(-1.5, 1.2, 0.2), Translate(1.5, 1.2, 0.2)},
+                                       {Translate(-1.5, 1.2, 0.2) * RotateZ(60), Translate(1.5, 1.2, 0.2)}});
   MeshTopology cube;
   std::vector<Vec3f> corners;
   test::Cube(0.2, &cube, &corners);
   s.scene.AddMesh("/box", cube, corners, Matrix4d(1.0), "", "/boxes");
+  s.scene.AddPoints("/dots", {{0, 0, 0}, {0.5f, 0, 0}}, Translate(-2, -0.5, 0.3));
+  s.scene.SetPrimvar("/dots", "widths", Primvar{Interpolation::Vertex, 1, {0.3f, 0.3f}});
+  s.scene.SetTransformSamples("/dots", {-0.5f, 0.5f},
+                              {Translate(-2, -0.5, 0.3), Translate(-2, 0.5, 0.5) * RotateZ(30)});
   LightParams key;
   key.radius = 0.3f;
   key.intensity = 40;
@@ -166,34 +169,38 @@ void SaccadeScene(test::RenderStack& s) {
 
 }  // namespace
 
-TEST_CASE("motion blur with N time strata equals the average of N sharp renders at the strata's centres (meshes, "
-          "deformation, instances, light, camera)",
-          "[render][motion]") {
+TEST_CASE(
+    "motion blur with N time strata equals the average of N sharp renders at the strata's centres (meshes, "
+    "deformation, instances, points, light, camera)",
+    "[render][motion]") {
   const int spp = 8, strata = 4;
   const Frame blurred = Render(MovingScene, -0.5, 0.5, spp, strata);
   const Frame sharp = SharpStrata(MovingScene, -0.5, 0.5, spp, strata);
   const Frame still = Render(MovingScene, 0, 0, spp, 0);
   const Difference d = Compare(blurred.color, sharp.color), moved = Compare(blurred.color, still.color);
-  std::printf("moving scene: blurred vs %d sharp strata: max relative difference %.2e; vs the sharp frame at 0: mean "
-              "|difference| %.3g of mean %.3g\n",
-              strata, d.maxRelative, moved.meanAbsolute, moved.meanValue);
+  std::printf(
+      "moving scene: blurred vs %d sharp strata: max relative difference %.2e; vs the sharp frame at 0: mean "
+      "|difference| %.3g of mean %.3g\n",
+      strata, d.maxRelative, moved.meanAbsolute, moved.meanValue);
   CHECK(blurred.stats.nonFiniteSamples == 0);
-  CHECK(d.maxRelative < 1e-5);                            // rounding: float geometry, a different summation order
+  CHECK(d.maxRelative < 1e-5);                         // rounding: float geometry, a different summation order
   CHECK(moved.meanAbsolute > 0.01 * moved.meanValue);  // and the motion shows (measured: 2.4%)
 }
 
-TEST_CASE("a saccading analytic eye with a moving light: N time strata equal N sharp renders, MNEE's iris light "
-          "included",
-          "[render][motion]") {
+TEST_CASE(
+    "a saccading analytic eye with a moving light: N time strata equal N sharp renders, MNEE's iris light "
+    "included",
+    "[render][motion]") {
   const int spp = 8, strata = 4;
   const Frame blurred = Render(SaccadeScene, -0.5, 0.5, spp, strata);
   const Frame sharp = SharpStrata(SaccadeScene, -0.5, 0.5, spp, strata);
   const Frame still = Render(SaccadeScene, 0, 0, spp, 0);
   const Difference color = Compare(blurred.color, sharp.color), iris = Compare(blurred.iris, sharp.iris);
   const Difference moved = Compare(blurred.iris, still.iris);
-  std::printf("saccade: blurred vs %d sharp strata: colour max relative difference %.2e, irisMnee %.2e (mean %.3g); "
-              "vs the sharp frame at 0: irisMnee mean |difference| %.3g\n",
-              strata, color.maxRelative, iris.maxRelative, iris.meanValue, moved.meanAbsolute);
+  std::printf(
+      "saccade: blurred vs %d sharp strata: colour max relative difference %.2e, irisMnee %.2e (mean %.3g); "
+      "vs the sharp frame at 0: irisMnee mean |difference| %.3g\n",
+      strata, color.maxRelative, iris.maxRelative, iris.meanValue, moved.meanAbsolute);
   CHECK(blurred.stats.nonFiniteSamples == 0);
   CHECK(iris.meanValue > 0);  // the MNEE path is lit
   CHECK(color.maxRelative < 1e-5);
@@ -228,9 +235,10 @@ TEST_CASE("a static scene renders bit for bit the same with an open shutter as w
   }
 }
 
-TEST_CASE("deformation blur: a mesh whose points sweep across covers the swept band, each point for the time the "
-          "mesh is over it",
-          "[render][motion]") {
+TEST_CASE(
+    "deformation blur: a mesh whose points sweep across covers the swept band, each point for the time the "
+    "mesh is over it",
+    "[render][motion]") {
   // An orthographic camera above a 0.5-wide square whose points move from x = -1 to x = +1 over the shutter: a point
   // of the band |x| < 0.75 is covered a quarter of the time (0.5 / 2), the band's ends ramp down to 0 at |x| = 1.25.
   auto build = [](test::RenderStack& s) {
@@ -271,9 +279,10 @@ TEST_CASE("deformation blur: a mesh whose points sweep across covers the swept b
     if (std::abs(cx) > 0.3) sharpOutside = std::max(sharpOutside, sharp[std::size_t(x)]);
   }
   plateau /= plateauColumns;
-  std::printf("deformation blur: coverage %.3f over the band (expected 0.25), %.3f beyond it; sharp: %.3f off the "
-              "square\n",
-              plateau, outside, sharpOutside);
+  std::printf(
+      "deformation blur: coverage %.3f over the band (expected 0.25), %.3f beyond it; sharp: %.3f off the "
+      "square\n",
+      plateau, outside, sharpOutside);
   CHECK(std::abs(plateau - 0.25) < 0.02);  // 64 spp x 6 rows x 22 columns: sigma 0.004
   CHECK(outside == 0);
   CHECK(sharpOutside == 0);
@@ -288,8 +297,8 @@ TEST_CASE("a saccade's time-averaged iris caustic matches eyelib's light tracer 
   // reference's noise (its per-cell standard error over the 8 runs) and 2% for the 3 x 3 quadrature across the
   // caustic's edges (eyelib's own MNEE test measures 1% with 16 x 16 points).
   const double eyeTurnDegrees = 16, keyDegrees = 70;
-  const auto motion = MakeTransformMotion({{-0.5f, 0.5f}, {EyeTurn(-eyeTurnDegrees / 2), EyeTurn(eyeTurnDegrees / 2)}},
-                                          "eye", nullptr);
+  const auto motion =
+      MakeTransformMotion({{-0.5f, 0.5f}, {EyeTurn(-eyeTurnDegrees / 2), EyeTurn(eyeTurnDegrees / 2)}}, "eye", nullptr);
   REQUIRE(motion);
   EyeGeometry eye{EyeParams{}, motion->At(-0.5)};
   eye.motion = std::make_shared<const EyeMotion>(
@@ -350,9 +359,10 @@ TEST_CASE("a saccade's time-averaged iris caustic matches eyelib's light tracer 
       if (std::abs(mnee[c] - e) > 4.5 * std::sqrt(variance[c] + 0.02 * 0.02 * e * e)) ++outliers;
     }
   bias /= cells, rms = std::sqrt(rms / cells), sharpRms = std::sqrt(sharpRms / cells);
-  std::printf("saccade caustic: %d cells, MNEE vs light tracing over time: bias %+.2f%%, RMS %.2f%%, %d outside "
-              "4.5 sigma; one sharp instant vs the blurred reference: RMS %.1f%%\n",
-              cells, 100 * bias, 100 * rms, outliers, 100 * sharpRms);
+  std::printf(
+      "saccade caustic: %d cells, MNEE vs light tracing over time: bias %+.2f%%, RMS %.2f%%, %d outside "
+      "4.5 sigma; one sharp instant vs the blurred reference: RMS %.1f%%\n",
+      cells, 100 * bias, 100 * rms, outliers, 100 * sharpRms);
   CHECK(cells > 40);
   CHECK(std::abs(bias) < 0.01);
   CHECK(rms < 0.04);

@@ -64,14 +64,14 @@ TEST_CASE("a transform decomposes into translation, rotation and upper-triangula
 
 TEST_CASE("a rotation interpolates at constant angular speed, translation and scale linearly", "[motion]") {
   const glm::dvec3 z(0, 0, 1);
-  const TimeSampled<Matrix4d> samples{{-0.5f, 0.5f}, {Trs({0, 0, 0}, 0, z, {1, 1, 1}), Trs({4, 0, 0}, 2.8, z, {3, 3, 3})}};
+  const TimeSampled<Matrix4d> samples{{-0.5f, 0.5f},
+                                      {Trs({0, 0, 0}, 0, z, {1, 1, 1}), Trs({4, 0, 0}, 2.8, z, {3, 3, 3})}};
   const auto motion = MakeTransformMotion(samples, "test", nullptr);
   REQUIRE(motion);
   for (double u : {0.0, 0.1, 0.25, 0.5, 0.9, 1.0}) {
     const Matrix4d m = motion->At(-0.5 + u);
     const double scale = 1 + 2 * u;
-    INFO("u " << u << ": angle " << AngleAboutZ(m) << " scale " << glm::length(glm::dvec3(m[0])) << " x "
-              << m[3][0]);
+    INFO("u " << u << ": angle " << AngleAboutZ(m) << " scale " << glm::length(glm::dvec3(m[0])) << " x " << m[3][0]);
     CHECK(std::abs(AngleAboutZ(m) - 2.8 * u) < 1e-12);
     CHECK(std::abs(glm::length(glm::dvec3(m[0])) - scale) < 1e-12);
     CHECK(std::abs(m[3][0] - 4 * u) < 1e-12);
@@ -84,9 +84,8 @@ TEST_CASE("a rotation interpolates at constant angular speed, translation and sc
 TEST_CASE("a half turn interpolates through a quarter turn about the same axis, never through a shrunk matrix",
           "[motion]") {
   const glm::dvec3 z(0, 0, 1);
-  const auto motion =
-      MakeTransformMotion({{0.0f, 1.0f}, {Trs({0, 0, 0}, 0, z, {2, 2, 2}), Trs({0, 0, 0}, kPi, z, {2, 2, 2})}}, "t",
-                          nullptr);
+  const auto motion = MakeTransformMotion(
+      {{0.0f, 1.0f}, {Trs({0, 0, 0}, 0, z, {2, 2, 2}), Trs({0, 0, 0}, kPi, z, {2, 2, 2})}}, "t", nullptr);
   REQUIRE(motion);
   const Matrix4d half = motion->At(0.5);
   const glm::dmat3 linear(half);
