@@ -14,10 +14,11 @@ namespace {
 
 /// The first crossing of a ray with the eye, in the ray's own parameter: the cornea cap, or the
 /// closing disk at the iris plane seen from behind.
-bool IntersectEye(const EyeGeometry& eye, const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar,
-                  double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
+/// worldToCanonical: the eye's frame at the ray's time.
+bool IntersectEye(const EyeGeometry& eye, const glm::dmat4& worldToCanonical, const glm::dvec3& o, const glm::dvec3& d,
+                  double tNear, double tFar, double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
   // Map without normalising the direction, so the ray parameter t is the world ray's.
-  const glm::dvec3 oc = eye.ToCanonical(o), dc(eye.worldToCanonical * glm::dvec4(d, 0));
+  const glm::dvec3 oc(worldToCanonical * glm::dvec4(o, 1)), dc(worldToCanonical * glm::dvec4(d, 0));
   bool hit = false;
   glm::dvec3 nc;
   if (const auto h = eye.chamber.Surface().Intersect({oc, dc}, tFar); h && h->t > tNear && h->fromOutside) {
@@ -31,8 +32,15 @@ bool IntersectEye(const EyeGeometry& eye, const glm::dvec3& o, const glm::dvec3&
     if (tb > tNear && tb < (hit ? *t : tFar) && r2 <= R * R)
       *t = tb, *part = EyeGeometry::kBack, nc = {0, 0, -1}, hit = true;
   }
-  if (hit) *worldNormal = glm::normalize(glm::transpose(glm::dmat3(eye.worldToCanonical)) * nc);
+  if (hit) *worldNormal = glm::normalize(glm::transpose(glm::dmat3(worldToCanonical)) * nc);
   return hit;
+}
+
+/// The eye's world-to-canonical frame at Embree ray time `rayTime` (its own when it does not move).
+glm::dmat4 WorldToCanonicalAt(const EyeGeometry& eye, float rayTime) {
+  if (!eye.motion) return eye.worldToCanonical;
+  const EyeMotion& m = *eye.motion;
+  return glm::inverse(m.prim->At(m.shutter.FrameTime(rayTime)) * m.canonicalInPrim);
 }
 
 /// Times a moving eye's bounds are measured at over the shutter: a turn of up to 180 degrees moves the box's corners
@@ -71,8 +79,8 @@ void Intersect(const RTCIntersectFunctionNArguments* args) {
     EyeGeometry::Part part;
     glm::dvec3 n;
     const EyeGeometry& eye = *ctx->eye;
-    if (!IntersectEye(eye.motion ? eye.AtTime(eye.motion->shutter.FrameTime(RTCRayN_time(ray, args->N, i))) : eye, o, d,
-                      RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), &t, &part, &n))
+    if (!IntersectEye(eye, WorldToCanonicalAt(eye, RTCRayN_time(ray, args->N, i)), o, d, RTCRayN_tnear(ray, args->N, i),
+                      RTCRayN_tfar(ray, args->N, i), &t, &part, &n))
       continue;
     RTCRayN_tfar(ray, args->N, i) = float(t);
     RTCHitN_Ng_x(hitN, args->N, i) = float(n.x);
@@ -98,8 +106,7 @@ void Occluded(const RTCOccludedFunctionNArguments* args) {
     EyeGeometry::Part part;
     glm::dvec3 n;
     const EyeGeometry& eye = *ctx->eye;
-    const float rayTime = RTCRayN_time(args->ray, args->N, i);
-    if (IntersectEye(eye.motion ? eye.AtTime(eye.motion->shutter.FrameTime(rayTime)) : eye, o, d,
+    if (IntersectEye(eye, WorldToCanonicalAt(eye, RTCRayN_time(args->ray, args->N, i)), o, d,
                      RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i), &t, &part, &n))
       RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
   }

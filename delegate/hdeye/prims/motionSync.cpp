@@ -73,8 +73,8 @@ void SetInstanceMotion(RTCGeometry instance, const Matrix4d& world, const Transf
 std::shared_ptr<const TransformMotion> SteppedMotion(const std::vector<double>& authoredTimes, const Shutter& shutter,
                                                      const std::function<Matrix4d(double)>& world) {
   if (!shutter.IsOpen()) return nullptr;
-  std::optional<TransformMotion> stepped = ResampleMotion(MotionStepTimes(authoredTimes, shutter.open, shutter.close),
-                                                          world);
+  std::optional<TransformMotion> stepped =
+      ResampleMotion(MotionStepTimes(authoredTimes, shutter.open, shutter.close), world);
   if (!stepped || stepped->Static()) return nullptr;
   return std::make_shared<const TransformMotion>(std::move(*stepped));
 }
