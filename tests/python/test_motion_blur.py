@@ -322,3 +322,17 @@ def test_a_blurred_card_covers_its_sweep_by_the_time_it_spends_there(how):
     assert np.all(np.diff(ramp) < 0.05) and ramp[0] > ramp[-1], ramp
 
 
+
+
+def test_eyestudy_takes_the_shutter_and_keys_its_reference_by_it(moving_file, tmp_path, capsys):
+    from eyerender.study import main as study
+
+    out = tmp_path / "shot.exr"
+    args = [str(moving_file), str(out), "-w", "8", "--frame", "2", "--budgets", "0.02", "--reference-spp", "2", "-q",
+            "--no-plot"]
+    assert study(args + ["--shutter", "0.5"]) == 1  # bad values fail before any render
+    assert "--shutter" in capsys.readouterr().err and not out.exists()
+    assert study(args + ["--shutter", "-0.5", "0.5"]) == 0
+    stamp = (tmp_path / "shot.reference.exr").stat().st_mtime_ns
+    assert study(args + ["--shutter", "0"]) == 0  # another shutter: another reference
+    assert (tmp_path / "shot.reference.exr").stat().st_mtime_ns != stamp
