@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 
 using namespace hdeye;
 
@@ -372,4 +373,29 @@ TEST_CASE("a saccade's time-averaged iris caustic matches eyelib's light tracer 
   CHECK(rms < 0.04);
   CHECK(outliers <= cells / 20);
   CHECK(sharpRms > 2 * rms);  // the blur is visible at this tolerance
+}
+
+TEST_CASE("the render plan sizes an eye by its widest pose over the shutter", "[plan][motion]") {
+  // An eye that comes from 200 mm to 100 mm in front of the camera over the shutter: twice as wide at the close.
+  auto build = [](double open, double close) {
+    auto s = std::make_unique<test::RenderStack>();
+    s->scene.AddAnalyticEye("/eye", EyeParams{});
+    s->scene.SetTransformSamples("/eye", {-0.5f, 0.5f}, {Translate(0, 0, -200), Translate(0, 0, -100)});
+    CameraParams lens;
+    lens.focalLength = 50;
+    lens.shutterOpen = open, lens.shutterClose = close;
+    s->scene.AddCamera("/cam", lens, Matrix4d(1.0));
+    return s;
+  };
+  auto pixels = [&](double open, double close) {
+    auto s = build(open, close);
+    const RenderPlan plan = s->pass.Plan("/cam", 200, 200, PlanOverrides{});
+    REQUIRE(plan.eyes.size() == 1);
+    return plan.eyes[0].pixels;
+  };
+  const double atOpen = pixels(-0.5, -0.5), atClose = pixels(0.5, 0.5), blurred = pixels(-0.5, 0.5);
+  std::printf("plan over the shutter: %.1f px at the open, %.1f at the close, %.1f planned\n", atOpen, atClose,
+              blurred);
+  CHECK(std::abs(atClose / atOpen - 2) < 0.05);
+  CHECK(blurred == atClose);
 }
