@@ -6,6 +6,7 @@
 //   bench_motion_blur [--size N] [--spp N] [--repeats N] [--threads N]
 //
 // Prints a table of microseconds per sample (the median of the repeats) and the ratio to the sharp render.
+#include "../tests/delegate/saccade_helpers.h"
 #include "bench_util.h"
 
 #include "hdeye/hd/renderIndex.h"
@@ -43,15 +44,8 @@ struct Motion {
 };
 
 Matrix4d Translate(double x, double y, double z) { return glm::translate(Matrix4d(1.0), glm::dvec3(x, y, z)); }
-/// The eye turned about its eyeball's centre, 13 mm behind the apex (mm).
-Matrix4d EyeTurn(double degrees) {
-  return Translate(0, 0, -13) * glm::rotate(Matrix4d(1.0), degrees * kPi / 180, glm::dvec3(0, 1, 0)) *
-         Translate(0, 0, 13);
-}
-Matrix4d KeyAt(double degrees) {
-  const double a = degrees * kPi / 180;
-  return Translate(150 * std::sin(a), 0, 150 * std::cos(a));
-}
+using test::EyeTurn;
+Matrix4d KeyAt(double degrees) { return test::KeyAt(degrees, 150); }
 
 /// A UV sphere of radius r (mm) about the origin.
 void Sphere(double r, int rings, int segments, MeshTopology* topology, std::vector<Vec3f>* points) {

@@ -2,6 +2,7 @@
 // lights, cameras and eyes. The exact check: for motion that is piecewise linear between its samples, a blurred
 // render with N time strata sums the same samples as N sharp renders at the strata's centre times (each rendering the
 // sample indices of its stratum, s mod N = k), to the rounding of a different summation order.
+#include "saccade_helpers.h"
 #include "scene_helpers.h"
 
 #include "hdeye/render/eyeShading.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 
 using namespace hdeye;
 
@@ -80,6 +82,15 @@ Frame SharpStrata(const SceneBuilder& build, double open, double close, int spp,
   return total;
 }
 
+/// A blurred render with N strata, the N sharp renders of its strata, and one sharp frame at time 0.
+struct StrataRenders {
+  Frame blurred, sharp, still;
+};
+StrataRenders RenderStrata(const SceneBuilder& build, int spp, int strata) {
+  return {Render(build, -0.5, 0.5, spp, strata), SharpStrata(build, -0.5, 0.5, spp, strata),
+          Render(build, 0, 0, spp, 0)};
+}
+
 /// The largest difference relative to the values' size, and the mean absolute difference.
 struct Difference {
   double maxRelative = 0, meanAbsolute = 0, meanValue = 0;
@@ -96,7 +107,7 @@ Difference Compare(const std::vector<double>& a, const std::vector<double>& b) {
   return d;
 }
 
-/// A floor, a ball moving and turning, a sheet whose points move and stretch, two instances of a box (one turning
+/// A floor, a ball moving and turning, a sheet whose points move and tilt, two instances of a box (one turning
 /// with its instancer's samples), two point spheres moving as one prim, a key light moving across, a camera drifting:
 /// every kind of motion, piecewise linear between samples at -0.5, 0 and 0.5 frames.
 void MovingScene(test::RenderStack& s) {
@@ -113,7 +124,10 @@ void MovingScene(test::RenderStack& s) {
   test::Quad(0.4, &quad, &sheet);
   for (Vec3f& p : sheet) p += Vec3f(0, -1.3f, 0.01f);
   std::vector<Vec3f> moved = sheet;
-  for (Vec3f& p : moved) p = Vec3f(p.x + 0.6f, -1.3f + 1.5f * (p.y + 1.3f), p.z);  // moved and stretched in plane
+  // Moved and tilted 40 degrees about its x axis: its normals turn over the shutter (the blend of the two steps'
+  // unit normals points where the normal of the blended points does, so shading follows the time exactly).
+  const float c = float(std::cos(40 * kPi / 180)), sn = float(std::sin(40 * kPi / 180));
+  for (Vec3f& p : moved) p = Vec3f(p.x + 0.6f, -1.3f + c * (p.y + 1.3f), p.z + sn * (p.y + 1.3f));
   s.scene.AddMesh("/sheet", quad, sheet);
   s.scene.SetPointsSamples("/sheet", {-0.5f, 0.5f}, {sheet, moved});
   s.scene.AddInstancer("/boxes", {Translate(-1.5, 1.2, 0.2), Translate(1.5, 1.2, 0.2)});
@@ -140,16 +154,11 @@ void MovingScene(test::RenderStack& s) {
   s.scene.AddRenderBuffer("/color", 32, 24, 4);
 }
 
+using test::EyeTurn;
+Matrix4d KeyAt(double degrees) { return test::KeyAt(degrees, 100); }
+
 /// An analytic eye (mm) turning 16 degrees about its eyeball's centre (13 mm behind the apex) in a saccade, a small
 /// side key moving from 70 to 80 degrees off the gaze, a camera 40 mm away: its iris light comes through MNEE.
-Matrix4d EyeTurn(double degrees) {
-  return Translate(0, 0, -13) * glm::rotate(Matrix4d(1.0), degrees * kPi / 180, glm::dvec3(0, 1, 0)) *
-         Translate(0, 0, 13);
-}
-Matrix4d KeyAt(double degrees) {
-  const double a = degrees * kPi / 180;
-  return Translate(100 * std::sin(a), 0, 100 * std::cos(a));
-}
 void SaccadeScene(test::RenderStack& s) {
   EyeParams eye;
   eye.irisColor = glm::vec3(0.5f);
@@ -173,10 +182,8 @@ TEST_CASE(
     "motion blur with N time strata equals the average of N sharp renders at the strata's centres (meshes, "
     "deformation, instances, points, light, camera)",
     "[render][motion]") {
-  const int spp = 8, strata = 4;
-  const Frame blurred = Render(MovingScene, -0.5, 0.5, spp, strata);
-  const Frame sharp = SharpStrata(MovingScene, -0.5, 0.5, spp, strata);
-  const Frame still = Render(MovingScene, 0, 0, spp, 0);
+  const int strata = 4;
+  const auto [blurred, sharp, still] = RenderStrata(MovingScene, 8, strata);
   const Difference d = Compare(blurred.color, sharp.color), moved = Compare(blurred.color, still.color);
   std::printf(
       "moving scene: blurred vs %d sharp strata: max relative difference %.2e; vs the sharp frame at 0: mean "
@@ -191,10 +198,8 @@ TEST_CASE(
     "a saccading analytic eye with a moving light: N time strata equal N sharp renders, MNEE's iris light "
     "included",
     "[render][motion]") {
-  const int spp = 8, strata = 4;
-  const Frame blurred = Render(SaccadeScene, -0.5, 0.5, spp, strata);
-  const Frame sharp = SharpStrata(SaccadeScene, -0.5, 0.5, spp, strata);
-  const Frame still = Render(SaccadeScene, 0, 0, spp, 0);
+  const int strata = 4;
+  const auto [blurred, sharp, still] = RenderStrata(SaccadeScene, 8, strata);
   const Difference color = Compare(blurred.color, sharp.color), iris = Compare(blurred.iris, sharp.iris);
   const Difference moved = Compare(blurred.iris, still.iris);
   std::printf(
@@ -368,4 +373,29 @@ TEST_CASE("a saccade's time-averaged iris caustic matches eyelib's light tracer 
   CHECK(rms < 0.04);
   CHECK(outliers <= cells / 20);
   CHECK(sharpRms > 2 * rms);  // the blur is visible at this tolerance
+}
+
+TEST_CASE("the render plan sizes an eye by its widest pose over the shutter", "[plan][motion]") {
+  // An eye that comes from 200 mm to 100 mm in front of the camera over the shutter: twice as wide at the close.
+  auto build = [](double open, double close) {
+    auto s = std::make_unique<test::RenderStack>();
+    s->scene.AddAnalyticEye("/eye", EyeParams{});
+    s->scene.SetTransformSamples("/eye", {-0.5f, 0.5f}, {Translate(0, 0, -200), Translate(0, 0, -100)});
+    CameraParams lens;
+    lens.focalLength = 50;
+    lens.shutterOpen = open, lens.shutterClose = close;
+    s->scene.AddCamera("/cam", lens, Matrix4d(1.0));
+    return s;
+  };
+  auto pixels = [&](double open, double close) {
+    auto s = build(open, close);
+    const RenderPlan plan = s->pass.Plan("/cam", 200, 200, PlanOverrides{});
+    REQUIRE(plan.eyes.size() == 1);
+    return plan.eyes[0].pixels;
+  };
+  const double atOpen = pixels(-0.5, -0.5), atClose = pixels(0.5, 0.5), blurred = pixels(-0.5, 0.5);
+  std::printf("plan over the shutter: %.1f px at the open, %.1f at the close, %.1f planned\n", atOpen, atClose,
+              blurred);
+  CHECK(std::abs(atClose / atOpen - 2) < 0.05);
+  CHECK(blurred == atClose);
 }

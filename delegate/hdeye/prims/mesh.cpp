@@ -241,20 +241,27 @@ void Mesh::SyncPoints(const std::vector<Vec3f>& control) {
 
 void Mesh::SyncLaterSteps(const PointSteps& steps) {
   laterSteps_.clear();
+  laterNormals_.clear();
   for (std::size_t k = 1; k < steps.points.size(); ++k) {
     const std::vector<Vec3f>& control = steps.points[k];
     for (std::size_t i = 0; i < control.size(); ++i)
       if (!std::isfinite(control[i].x) || !std::isfinite(control[i].y) || !std::isfinite(control[i].z))
         Fail(Id(), "point " + std::to_string(i) + " of a motion sample is not finite");
-    if (!refiner_) {
-      laterSteps_.push_back(control);
-      continue;
+    // As SyncPoints does for the first step: limit positions and normals, or the polygons' smooth normals.
+    std::vector<Vec3f> points, normals;
+    if (refiner_) {
+      refiner_->EvaluateLimit(control, &points, &normals);
+      ++stats_.stencilEvaluations;
+    } else {
+      points = control;
+      normals = SmoothNormals(topology_, points);
     }
-    std::vector<Vec3f> limit, unusedNormals;
-    refiner_->EvaluateLimit(control, &limit, &unusedNormals);
-    laterSteps_.push_back(std::move(limit));
-    ++stats_.stencilEvaluations;
+    if (topology_.leftHanded)
+      for (Vec3f& n : normals) n = -n;
+    laterSteps_.push_back(std::move(points));
+    laterNormals_.push_back(std::move(normals));
   }
+  context_.laterStepNormals = laterNormals_.empty() ? nullptr : &laterNormals_;
 }
 
 void Mesh::UploadPoints() {

@@ -140,7 +140,8 @@ class Mesh : public Rprim {
   std::shared_ptr<const TransformMotion> transformMotion_;  ///< the authored motion over the open shutter, or null
   std::shared_ptr<const TransformMotion> worldMotion_;      ///< see WorldMotion
   std::vector<std::vector<Vec3f>> laterSteps_;  ///< rendered points at time steps 1.. (deformation blur), object space
-  unsigned uploadedSteps_ = 1;                  ///< vertex buffer slots of triangleGeometry_
+  std::vector<std::vector<Vec3f>> laterNormals_;  ///< their shading normals (GeometryContext::laterStepNormals)
+  unsigned uploadedSteps_ = 1;                    ///< vertex buffer slots of triangleGeometry_
   PrimId materialId_;
 
   RTCScene prototype_ = nullptr;

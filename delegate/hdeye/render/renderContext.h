@@ -47,6 +47,10 @@ struct GeometryContext {
   /// normals; polygon meshes: smooth vertex normals), or null: the renderer then shades with the flat
   /// geometric normal. A zero normal (degenerate vertex) is allowed; the renderer falls back there too.
   const std::vector<Vec3f>* vertexNormals = nullptr;
+  /// A mesh deforming over the shutter: its vertex normals at Embree's time steps 1.. (vertexNormals holds step 0's;
+  /// the steps are uniform over the shutter), so shading normals follow the hit's time as its position does. Null:
+  /// one step.
+  const std::vector<std::vector<Vec3f>>* laterStepNormals = nullptr;
   /// Authored normals per rendered triangle corner (3 per triangle), object space, unit or zero; when
   /// set they replace vertexNormals (polygon meshes only: subdivided meshes keep their limit normals).
   const std::vector<Vec3f>* cornerNormals = nullptr;

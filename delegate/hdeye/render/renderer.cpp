@@ -97,6 +97,7 @@ struct SurfaceHit {
   bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
   glm::dmat3 normalToWorld{1.0};              // the hit instance's (object-space normals to world)
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
+  float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -322,6 +323,7 @@ class Tracer {
     hit->u = rh.hit.u, hit->v = rh.hit.v;
     hit->part = rh.hit.primID;
     hit->context = ctx;
+    hit->rayTime = rayTime_;
     FillPrimvars(hit);
     return true;
   }
@@ -344,7 +346,7 @@ class Tracer {
     if (ctx.cornerNormals) {
       local = glm::dvec3(atCorners(*ctx.cornerNormals));
     } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
-      local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
+      local = VertexNormalAt(ctx, &(*ctx.triangleVertices)[firstCorner], bu, bv, hit->rayTime);
     }
     const WorldNormal shading(hit->normalToWorld, local);
     hit->n = !shading.Valid()                   ? hit->ng
@@ -361,6 +363,21 @@ class Tracer {
                                        : glm::dvec3(hit->material->params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material->params.emissiveColor);
     hit->primIndex = ctx.primIndex;
+  }
+
+  /// The interpolated vertex normal at barycentrics (u, v) of triangle `tri`, object space; for a deforming mesh
+  /// blended between the two time steps around Embree ray time `rayTime`, as Embree blends the positions.
+  static glm::dvec3 VertexNormalAt(const GeometryContext& ctx, const int* tri, double u, double v, float rayTime) {
+    const glm::dvec3 first = InterpolateAtTriangle(*ctx.vertexNormals, tri, u, v);
+    if (!ctx.laterStepNormals || ctx.laterStepNormals->empty()) return first;
+    const std::size_t segments = ctx.laterStepNormals->size();
+    const double f = std::clamp(double(rayTime), 0.0, 1.0) * double(segments);
+    const std::size_t i = std::min(segments - 1, std::size_t(f));
+    const double w = f - double(i);
+    auto at = [&](std::size_t step) {
+      return step == 0 ? first : InterpolateAtTriangle((*ctx.laterStepNormals)[step - 1], tri, u, v);
+    };
+    return (1 - w) * at(i) + w * at(i + 1);
   }
 
   /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`.
