@@ -9,8 +9,10 @@ python3 bench/plot_intersect.py "$build/intersection_benchmark.csv"
 python3 bench/plot_mnee.py "$build/mnee_benchmark"
 "$build/bench/bench_delegate" --csv "$build/delegate_benchmark"
 "$build/bench/bench_deformed_eye"  # tables for docs/deformed_eyes.md
+"$build/bench/bench_motion_blur"  # the table in docs/delegate.md (motion blur)
 "${PYTHON:-python3}" bench/bench_farm.py
 "${PYTHON:-python3}" bench/bench_skinning.py  # table in docs/usd_support.md
+"${PYTHON:-python3}" bench/bench_motion.py  # table in docs/motion_blur.md
 # Scene B lives outside the repository (an independent reference): measured where it is present.
 if [[ -f "${EYERENDER_SCENE_B:-/work/shared/bench/sceneB}/sceneB.usda" ]]; then
   "${PYTHON:-python3}" bench/bench_iris.py

@@ -718,12 +718,17 @@ def write_squash_stretch(out, cage):
     yaw = math.radians(60)
     add_camera(stage, "/World/Camera", (11.0 * math.sin(yaw), 1.5, 11.0 * math.cos(yaw)), (0.0, 0.0, 0.3),
                focal_length=100.0)
+    add_upper_left_key_and_fill(stage)
+    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -10.0), (0.3, 0.0, 1.0), 25.0)
+    stage.GetRootLayer().Save()
+
+
+def add_upper_left_key_and_fill(stage):
+    """A small warm sphere key 15 cm to the upper left (radius 0.4 cm, radiance 900) and a dim bluish dome."""
     key_dir = np.array([-0.62, 0.55, 0.56])
     key_dir /= np.linalg.norm(key_dir)
     add_sphere_light(stage, "/World/Lights/Key", tuple(np.round(15.0 * key_dir, 6)), 0.4, 900.0, (1.0, 0.97, 0.92))
     add_dome_light(stage, "/World/Lights/Fill", 0.05, (0.75, 0.85, 1.0))
-    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -10.0), (0.3, 0.0, 1.0), 25.0)
-    stage.GetRootLayer().Save()
 
 
 def write_side_lit(out):
@@ -916,9 +921,125 @@ def write_studio_eye_rig(out, cage):
     stage.GetRootLayer().Save()
 
 
+# --- Motion: a saccade and a blink under a film shutter ------------------------------------------------------------
+# A 180-degree shutter at 24 frames per second: open a quarter frame before the frame, close a quarter after.
+SHUTTER_FRAMES = (-0.25, 0.25)
+# The saccade: the eye turns about its centre (yaw, degrees) from SACCADE_YAW[0] to [1] between these frames, i.e.
+# 480 degrees per second (saccades reach 300-700), 10 degrees while frame 11's shutter is open.
+SACCADE_FRAMES = (10.5, 11.5)
+SACCADE_YAW = (-10.0, 10.0)
+# The blink: lids on spheres about the eyeball centre clearing the corneal apex (13.03 mm), the lower one inside
+# the upper so they overlap when shut; elevations (degrees above the gaze, seen from the centre) of the upper
+# lid's margin at integer frames: open, closing over 3 frames (125 ms), shut for one, opening over 5.
+LID_RADIUS_MM = 13.6
+LOWER_LID_RADIUS_MM = 13.45
+LID_AZIMUTH_DEG = (-75.0, 75.0)
+UPPER_LID_TOP_DEG, LOWER_LID_BOTTOM_DEG, LOWER_LID_MARGIN_DEG = 80.0, -80.0, -17.0
+UPPER_LID_OPEN_DEG, UPPER_LID_SHUT_DEG = 22.0, -20.0
+BLINK_KEYS = ((9, 0.0), (12, 1.0), (13, 1.0), (18, 0.0))  # (frame, closure 0..1), smoothstep between keys
+
+
+def set_shutter(camera):
+    camera.CreateShutterOpenAttr(SHUTTER_FRAMES[0])
+    camera.CreateShutterCloseAttr(SHUTTER_FRAMES[1])
+
+
+def add_side_key(stage, degrees_from_gaze, distance=15.0, radius=0.3, intensity=1500.0):
+    """A small sphere key in the horizontal plane, `degrees_from_gaze` to the eye's left (its caustic lands on the
+    iris half away from it)."""
+    a = math.radians(degrees_from_gaze)
+    return add_sphere_light(stage, "/World/Lights/Key", (round(-distance * math.sin(a), 6), 1.0,
+                                                         round(distance * math.cos(a), 6)), radius, intensity)
+
+
+def write_saccade(out):
+    stage = new_stage(out / "saccade.usda", "World",
+                      "A saccade under a film shutter: the eye turns about its centre from -10 to +10 degrees of yaw "
+                      "between frames 10.5 and 11.5 (480 degrees per second) and holds before and after; the camera "
+                      "authors a 180-degree shutter (shutter:open -0.25, shutter:close 0.25 frames), so frame 11 "
+                      "sweeps 10 degrees. A small key 70 degrees to the side casts the iris caustic. Centimetres, "
+                      "Y up, 24 fps.", animated=True)
+    eye = reference_eye(stage, "/World/Eye")                       # eyeball centre at the origin, gaze +z
+    yaw = eye.AddRotateYOp()
+    for frame, degrees in zip(SACCADE_FRAMES, SACCADE_YAW):
+        yaw.Set(degrees, Usd.TimeCode(frame))
+    cam_yaw = math.radians(12)
+    camera = add_camera(stage, "/World/Camera", (round(11.0 * math.sin(cam_yaw), 6), 1.2,
+                                                 round(11.0 * math.cos(cam_yaw), 6)), (0.0, 0.0, 0.6))
+    set_shutter(camera)
+    add_side_key(stage, 70.0)
+    add_dome_light(stage, "/World/Lights/Fill", 0.05, (0.75, 0.85, 1.0))
+    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -8.0), (0.0, 0.0, 1.0), 20.0)
+    stage.GetRootLayer().Save()
+
+
+def blink_closure(frame):
+    """How far the upper lid is down at `frame` (0 open, 1 shut): smoothstep between BLINK_KEYS."""
+    for (f0, c0), (f1, c1) in zip(BLINK_KEYS, BLINK_KEYS[1:]):
+        if f0 <= frame <= f1:
+            return c0 + (c1 - c0) * smoothstep((frame - f0) / (f1 - f0))
+    return BLINK_KEYS[0][1] if frame < BLINK_KEYS[0][0] else BLINK_KEYS[-1][1]
+
+
+def lid_points(elevations_deg, divisions_az, radius_mm=LID_RADIUS_MM):
+    """Points (cm, eyeball-centred, gaze +z) of a lid on the sphere of radius_mm: rows at `elevations_deg`
+    (degrees above the gaze), divisions_az quads across LID_AZIMUTH_DEG."""
+    el = np.radians(np.asarray(elevations_deg, np.float64))
+    az = np.radians(np.linspace(*LID_AZIMUTH_DEG, divisions_az + 1))
+    e, a = np.meshgrid(el, az, indexing="ij")
+    r = radius_mm * MM_TO_CM
+    return r * np.stack([np.cos(e) * np.sin(a), np.sin(e), np.cos(e) * np.cos(a)], axis=-1).reshape(-1, 3)
+
+
+def lid_mesh(stage, path, points, rows, divisions_az, material, flip):
+    """A lid Mesh: `rows` x divisions_az quads over `points`, facing outwards (away from the eyeball)."""
+    n = divisions_az + 1
+    faces = [[i * n + j, i * n + j + 1, (i + 1) * n + j + 1, (i + 1) * n + j] for i in range(rows) for j in
+             range(divisions_az)]
+    if flip:
+        faces = [f[::-1] for f in faces]
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(faces)))
+    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(v) for f in faces for v in f]))
+    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    pts = rounded_vec3f_array(points, ANIMATED_POINT_DECIMALS)
+    mesh.CreatePointsAttr(pts)
+    mesh.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
+    bind(mesh.GetPrim(), material)
+    return mesh
+
+
+def write_blink(out):
+    stage = new_stage(out / "blink.usda", "World",
+                      "A blink under a film shutter: point-animated upper and lower lids (sphere patches 13.6 mm "
+                      "about the eyeball centre, the lower at 13.45 mm, clear of the cornea) in front of the eye; the "
+                      "upper lid's margin comes down from 22 to -20 degrees above the gaze over frames 9-12 (125 "
+                      "ms), stays shut to frame 13 and opens by frame 18. The camera authors a 180-degree shutter "
+                      "(-0.25, 0.25 frames). Centimetres, Y up, 24 fps.", animated=True)
+    reference_eye(stage, "/World/Eye")
+    skin = preview_material(stage, "/World/Looks/Skin", diffuse=(0.62, 0.40, 0.31), roughness=0.55)
+    rows, across = 10, 24
+    upper_rows = lambda margin: np.linspace(margin, UPPER_LID_TOP_DEG, rows + 1)  # noqa: E731
+    upper = lid_mesh(stage, "/World/Eye/UpperLid", lid_points(upper_rows(UPPER_LID_OPEN_DEG), across), rows, across,
+                     skin, flip=False)
+    for frame in range(1, 25):
+        margin = UPPER_LID_OPEN_DEG + (UPPER_LID_SHUT_DEG - UPPER_LID_OPEN_DEG) * blink_closure(frame)
+        pts = rounded_vec3f_array(lid_points(upper_rows(margin), across), ANIMATED_POINT_DECIMALS)
+        upper.GetPointsAttr().Set(pts, Usd.TimeCode(frame))
+        upper.GetExtentAttr().Set(UsdGeom.Mesh.ComputeExtent(pts), Usd.TimeCode(frame))
+    lid_mesh(stage, "/World/Eye/LowerLid", lid_points(np.linspace(LOWER_LID_BOTTOM_DEG, LOWER_LID_MARGIN_DEG,
+                                                                  rows + 1), across, LOWER_LID_RADIUS_MM), rows,
+             across, skin, flip=False)
+    camera = add_camera(stage, "/World/Camera", (1.5, 1.5, 11.0), (0.0, 0.0, 0.6))
+    set_shutter(camera)
+    add_upper_left_key_and_fill(stage)
+    add_backdrop(stage, "/World/Backdrop", (0.0, 0.0, -8.0), (0.0, 0.0, 1.0), 20.0)
+    stage.GetRootLayer().Save()
+
+
 GENERATED_FILES = ["assets/eye.usda", "assets/iris.png", "assets/sclera.png", "assets/checker.png", "closeup.usda",
                    "two_eyes.usda", "squash_stretch.usda", "side_lit.usda", "analytic_anterior.usda",
-                   "glass_sphere_table.usda", "studio_eye_rig.usda"]
+                   "glass_sphere_table.usda", "studio_eye_rig.usda", "saccade.usda", "blink.usda"]
 
 
 def generate(out):
@@ -940,6 +1061,8 @@ def generate(out):
     write_analytic_anterior(out)
     write_glass_sphere_table(out)
     write_studio_eye_rig(out, cage)
+    write_saccade(out)
+    write_blink(out)
     return cage
 
 

@@ -67,6 +67,11 @@ def build_parser():
                    help="no camera light for a stage without lights (by default one is added, with a note)")
     p.add_argument("--enableDomeLightVisibility", action="store_true",
                    help="show dome lights in the background (by default they light the scene unseen, as usdrecord)")
+    p.add_argument("--shutter", nargs="+", type=float, metavar="FRAMES",
+                   help="OPEN CLOSE: shutter open and close in frames relative to the frame (e.g. -0.25 0.25), over "
+                   "the camera's shutter:open/close and the render settings'; 0: sharp (docs/motion_blur.md)")
+    p.add_argument("--disableMotionBlur", action="store_true",
+                   help="a sharp render whatever the stage's shutter (UsdRender's disableMotionBlur; --shutter 0)")
     p.add_argument("--colorCorrectionMode", "-color", choices=COLOR_CORRECTION_MODES, default="sRGB",
                    help="PNG encoding: sRGB, disabled (linear values), openColorIO (sRGB: no OCIO config is read)")
     p.add_argument("--spp", type=int, help="samples per pixel (default 32; with --time-limit alone: until time is up)")
@@ -187,6 +192,7 @@ def render_frames(session, frames, outputs, spp, args):
     already written (each is complete) and its error line names them."""
     bar = ProgressBar(not args.quiet)
     total_seconds, total_rays, written = 0.0, 0, []
+    warned = len(session.scene.warnings)  # printed before rendering; a later frame may add some (motion samples)
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
         try:
@@ -195,6 +201,8 @@ def render_frames(session, frames, outputs, spp, args):
                                    time_limit=args.time_limit, progress=bar)
             bar.finish()
             warn_non_finite(stats["non_finite_samples"])
+            print_warnings(session.scene.warnings[warned:])
+            warned = len(session.scene.warnings)
             for path in frame_outputs(outputs, frame):
                 session.write(path, args.exposure, args.colorCorrectionMode, denoise=args.denoise)
                 written.append(path)
@@ -206,8 +214,9 @@ def render_frames(session, frames, outputs, spp, args):
             raise EyeRenderError(partial_failure(f"{where}{e}", written)) from None
         total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
-    print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp, "
-          f"{total_seconds:.1f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
+    blur = f", {session.scene.shutter.describe()}" if session.scene.shutter.blurred else ""
+    print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp"
+          f"{blur}, {total_seconds:.1f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
 
 
 def main(argv=None):

@@ -68,7 +68,8 @@ class FarmReport:
         size = next((f"{s['width']}x{s['height']}, " for s in self.stats.values()), "")
         spp = next((f"{s['samples_per_pixel']} spp " for s in self.stats.values()), "")
         split = f", split {self.split}" if self.split > 1 else ""
-        return (f"{rendered} frame(s) {size}{spp}on {self.workers} worker(s){split}, {self.seconds:.1f} s, "
+        shutter = next((f", {s['shutter']}" for s in self.stats.values() if s.get("shutter")), "")
+        return (f"{rendered} frame(s) {size}{spp}on {self.workers} worker(s){split}{shutter}, {self.seconds:.1f} s, "
                 f"{rays / self.seconds / 1e6 if self.seconds > 0 else 0.0:.2f} Mrays/s, "
                 f"{len(self.skipped)} skipped, {len(self.errors)} failed")
 

@@ -118,7 +118,8 @@ def _frame_stats(session, frame, stats, load_seconds, job):
             "render_seconds": stats["seconds"], "rays": stats["rays"],
             "non_finite_samples": stats["non_finite_samples"], "load_seconds": load_seconds,
             "worker": _worker_address(), "pid": os.getpid(), "warnings": list(dict.fromkeys(session.scene.warnings)),
-            "outputs": job.output_paths(frame)}
+            "outputs": job.output_paths(frame),
+            "shutter": session.scene.shutter.describe() if session.scene.shutter.blurred else None}
 
 
 @_forget_session_on_error

@@ -23,7 +23,8 @@ import dataclasses
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade
 
-from . import eyes, lights
+from . import eyes, lights, motion
+from .errors import EyeRenderError
 
 
 @dataclasses.dataclass
@@ -60,16 +61,19 @@ def _nested_instancers(root):
             yield prim
 
 
-def point_instancer_groups(prim, worlds, time, xforms, prefix=None):
-    """The instance groups of PointInstancer `prim`, whose local space is at each of `worlds` (Gf.Matrix4d, row
-    vectors), nested PointInstancers flattened into groups of their own."""
+def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=None):
+    """The instance groups of PointInstancer `prim` at `time`, whose local space is at each of `worlds`
+    (Gf.Matrix4d, row vectors), nested PointInstancers flattened into groups of their own. base_time (default
+    `time`): the time whose samples velocities extrapolate from and whose prototype indices and mask say which
+    instance is which (the frame's, for samples over a shutter: UsdGeom's baseTime)."""
+    base_time = time if base_time is None else base_time
     instancer = UsdGeom.PointInstancer(prim)
     prototypes = instancer.GetPrototypesRel().GetTargets()
-    transforms = instancer.ComputeInstanceTransformsAtTime(time, time, UsdGeom.PointInstancer.IncludeProtoXform,
+    transforms = instancer.ComputeInstanceTransformsAtTime(time, base_time, UsdGeom.PointInstancer.IncludeProtoXform,
                                                            UsdGeom.PointInstancer.IgnoreMask) or []
-    proto_indices = instancer.GetProtoIndicesAttr().Get(time) or []
-    mask = instancer.ComputeMaskAtTime(time) or []
-    colors = _instance_colors(instancer, time, len(proto_indices))
+    proto_indices = instancer.GetProtoIndicesAttr().Get(base_time) or []
+    mask = instancer.ComputeMaskAtTime(base_time) or []
+    colors = _instance_colors(instancer, base_time, len(proto_indices))
     prefix = prefix or prim.GetPath().pathString
     stage = prim.GetStage()
     for p, target in enumerate(prototypes):
@@ -84,8 +88,9 @@ def point_instancer_groups(prim, worlds, time, xforms, prefix=None):
         yield InstanceGroup(group_id, root, group_worlds, group_colors)
         for nested in _nested_instancers(root):
             relative, _ = xforms.ComputeRelativeTransform(nested, root)
-            yield from point_instancer_groups(nested, [relative * w for w in group_worlds], time, xforms,
-                                              f"{group_id}/{nested.GetPath().MakeRelativePath(root.GetPath().GetParentPath())}")
+            yield from point_instancer_groups(
+                nested, [relative * w for w in group_worlds], time, xforms,
+                f"{group_id}/{nested.GetPath().MakeRelativePath(root.GetPath().GetParentPath())}", base_time)
 
 
 def _matrices(worlds):
@@ -121,12 +126,39 @@ class Instancing:
         d = self.delegate
 
         def update(t):
-            cache = UsdGeom.XformCache(t)
-            for group in point_instancer_groups(prim, [cache.GetLocalToWorldTransform(prim)], t, cache):
-                if group.instancer_id in self._instancers:  # eyes-only prototypes have none (flattened, static)
-                    d.store.set_instance_transforms(group.instancer_id, _matrices(group.worlds),
-                                                    _colors(group.colors))
+            groups = self._groups_at(prim, t, UsdGeom.XformCache(t))
+            samples = self._instance_samples(prim, t, groups)
+            for instancer_id, (matrices, colors) in groups.items():
+                d.store.set_instance_transforms(instancer_id, matrices, colors)
+                if instancer_id in samples:
+                    d.store.set_instance_transform_samples(instancer_id, samples[instancer_id].times,
+                                                           samples[instancer_id].values)
         d.add_updater("instancer", update)
+
+    def _groups_at(self, prim, time, cache, base_time=None):
+        """{instancer id: ((m, 4, 4) instance transforms, colours or None)} of a PointInstancer's groups that have
+        an instancer (eyes-only prototypes have none: flattened, static) at time code `time`."""
+        groups = point_instancer_groups(prim, [cache.GetLocalToWorldTransform(prim)], time, cache,
+                                        base_time=base_time)
+        return {g.instancer_id: (_matrices(g.worlds), _colors(g.colors)) for g in groups
+                if g.instancer_id in self._instancers}
+
+    def _instance_samples(self, prim, frame, groups):
+        """{instancer id: motion.Samples} of the groups whose instances move within the shutter (none when it is
+        sharp); instance counts that change within it: one warning, sharp."""
+        sampler = self.delegate.motion_sampler
+        if not sampler.blurred:
+            return {}
+        authored, curved = motion.instancer_times([prim, *_nested_instancers_deep(prim)], sampler.interval())
+        times = sampler.times(authored, prim.GetPath(), uniform=curved)
+        try:
+            samples = motion.instance_samples(sampler, prim.GetPath(), times, lambda t, cache: {
+                k: m for k, (m, _) in self._groups_at(prim, Usd.TimeCode(t), cache, frame).items()})
+        except EyeRenderError as e:
+            sampler.warn(prim.GetPath(), "instances", f"{e}: rendered without motion blur")
+            return {}
+        return {k: s for k, s in samples.items()
+                if not s.static and k in groups and s.values[0].shape == groups[k][0].shape}
 
     def _point_instancer_varies(self, prim):
         d = self.delegate
@@ -136,6 +168,8 @@ class Instancing:
                      pi.GetInvisibleIdsAttr(), pi.GetIdsAttr()]
             if any(a and a.ValueMightBeTimeVarying() for a in attrs) or d.transform_varies(p):
                 return True
+            if pi.GetVelocitiesAttr().HasAuthoredValue() or pi.GetAngularVelocitiesAttr().HasAuthoredValue():
+                return True  # moves within a shutter
         return False
 
     # -- native instances --------------------------------------------------------------------------------------

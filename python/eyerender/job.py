@@ -12,6 +12,7 @@ from typing import Optional
 
 from .errors import EyeRenderError
 from .frames import check_placeholder_precision, has_placeholder, output_path, parse_frames
+from .shutter import parse_shutter_arguments, settings_override
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
@@ -36,7 +37,9 @@ class SessionOptions:
     render_pass_prim: a UsdRender.Pass whose renderSource names the settings prim (usdrecord's -rp); with neither,
     the stage's renderSettingsPrimPath metadata names it; camera_light: light a stage without lights from the
     camera (usdrecord's default; --disableCameraLight); strict: a texture that cannot be read is an EyeRenderError
-    (False: a warning, and its fallback renders).
+    (False: a warning, and its fallback renders); shutter: (open, close) frames relative to the frame that
+    override every shutter the stage authors (--shutter; (0, 0): sharp), None: the render camera's, with the
+    render settings prim's disableMotionBlur / instantaneousShutter (shutter.py).
     """
     width: Optional[int] = None
     height: Optional[int] = None
@@ -51,6 +54,7 @@ class SessionOptions:
     render_pass_prim: Optional[str] = None
     camera_light: bool = True
     strict: bool = False
+    shutter: Optional[tuple[float, float]] = None
 
     def __post_init__(self):
         for name, value in self.normalised().items():
@@ -59,7 +63,8 @@ class SessionOptions:
     def normalised(self):
         """The fields that have one canonical form, in it: sequences as tuples, settings sorted by name."""
         return {"aovs": tuple(self.aovs), "purposes": tuple(self.purposes),
-                "settings": tuple(sorted(dict(self.settings).items()))}
+                "settings": tuple(sorted(dict(self.settings).items())),
+                "shutter": None if self.shutter is None else tuple(float(v) for v in self.shutter)}
 
     def as_dict(self):
         """The SessionOptions fields (of a subclass too: a RenderJob's session) by name."""
@@ -76,7 +81,8 @@ def session_options(args):
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
                   ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
-        plan=plan_options(args), strict=args.strict)
+        plan=plan_options(args), strict=args.strict,
+        shutter=parse_shutter_arguments(args.shutter, args.disableMotionBlur))
 
 
 def parse_purposes(groups):
@@ -243,13 +249,14 @@ def open_session(stage, options, time=None):
     from .render_session import RenderSession
 
     width, height, camera, aovs = image_options(stage, options)
+    shutter = settings_override(stage, render_settings_path(stage, options), options.shutter)
     return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=options.purposes,
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
                          camera_light=options.camera_light,
                          settings=dict(options.settings),
                          plan_overrides=plan_overrides(options.plan, stage, options.refine_level),
-                         strict=options.strict)
+                         strict=options.strict, shutter=shutter)
 
 
 __all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",

@@ -13,6 +13,7 @@ from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
 from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .plan import PlanOverrides, plan_json
+from .shutter import ShutterOverride, resolve_shutter
 from .usd_scene_delegate import UsdSceneDelegate
 
 # AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
@@ -38,7 +39,7 @@ class RenderSession:
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
-                 camera_light=False, strict=False, flatten_instances=False, dome_light_visible=False):
+                 camera_light=False, strict=False, flatten_instances=False, dome_light_visible=False, shutter=None):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
@@ -51,7 +52,10 @@ class RenderSession:
         EyeRenderError (else a warning, and its fallback renders).
         flatten_instances: every instance as its own prims, the reference for shared instancing (slow; tests).
         dome_light_visible: camera rays see dome lights (RenderSettings.dome_light_camera_visibility, usdrecord's
-        --enableDomeLightVisibility; off, domes light the scene behind a black background)."""
+        --enableDomeLightVisibility; off, domes light the scene behind a black background).
+        shutter: what overrides the render camera's shutter:open / shutter:close (shutter.py): a
+        shutter.ShutterOverride (the render settings' switches, --shutter), or an (open, close) pair in frames
+        relative to the frame ((0, 0): sharp); None: the camera's. What moves within the shutter is blurred."""
         unknown = [a for a in aovs if a not in AOV_CHANNELS]
         if unknown:
             raise EyeRenderError(f"unknown AOV '{unknown[0]}' (known: {', '.join(AOV_CHANNELS)})")
@@ -68,6 +72,11 @@ class RenderSession:
                                       flatten_instances=flatten_instances)
         self.scene.populate()
         self.camera_id = self._choose_camera(camera, purposes, width, height)
+        self.shutter_override = shutter if isinstance(shutter, ShutterOverride) or shutter is None else \
+            ShutterOverride(interval=tuple(map(float, shutter)), source="--shutter").check()
+        self.scene.set_shutter(self._shutter_at)
+        if self.camera_id == DEFAULT_CAMERA_ID:  # a camera the scene delegate does not hold
+            self.store.set_camera_params(DEFAULT_CAMERA_ID, self._default_camera_params())
         self.width = int(width)
         self.height = int(height or self._height_from_camera(width))
         check_image_size(self.width, self.height)
@@ -103,8 +112,23 @@ class RenderSession:
         aspect = width / height if height else 1.0
         params, world = cameras.default_camera(self.stage, self.scene.time, self.scene.purposes, aspect)
         self._default_camera_world = np.array(world, dtype=np.float64).reshape(4, 4)
+        self._default_params = params
         self.store.add_camera(DEFAULT_CAMERA_ID, params, self._default_camera_world)
         return DEFAULT_CAMERA_ID
+
+    def _shutter_at(self, time):
+        """The render's shutter at frame `time` (a Usd.TimeCode): the render camera's under the override; a bad
+        authored shutter is one warning (sharp)."""
+        prim = self.stage.GetPrimAtPath(self.camera_id) if self.camera_id != DEFAULT_CAMERA_ID else None
+        notes = []
+        shutter = resolve_shutter(prim, time, self.shutter_override, notes)
+        self.scene.warnings.extend(n for n in notes if n not in self.scene.warnings)
+        return shutter
+
+    def _default_camera_params(self):
+        params = self._default_params
+        params.shutter_open, params.shutter_close = self.scene.shutter.open, self.scene.shutter.close
+        return params
 
     def _camera_to_world(self):
         """The render camera's camera-to-world matrix at the scene's time (4x4 float64)."""
@@ -158,6 +182,7 @@ class RenderSession:
         self.stats = {"samples_per_pixel": done, "seconds": seconds, "rays": rays,
                       "rays_per_second": rays / seconds if seconds > 0 else 0.0, "non_finite_samples": non_finite,
                       "first_sample": first_sample, "updated": dict(self.scene.last_update),
+                      "shutter": (self.scene.shutter.open, self.scene.shutter.close),
                       "stage_changes": dict(self.scene.last_changes)}
         return self.stats
 

@@ -128,6 +128,12 @@ class XformSkinningQuery:
     def HasBlendShapes(self):
         return False
 
+    def GetTimeSamplesInInterval(self, interval):
+        """Time samples in `interval` (Gf.Interval) of the binding's inputs, as UsdSkel.SkinningQuery gives them."""
+        attrs = [self.GetJointIndicesPrimvar().GetAttr(), self.GetJointWeightsPrimvar().GetAttr(),
+                 self.GetGeomBindTransformAttr()]
+        return sorted({t for a in attrs if a for t in a.GetTimeSamplesInInterval(interval)})
+
     def ComputeJointInfluences(self, time):
         return self.GetJointIndicesPrimvar().Get(time), self.GetJointWeightsPrimvar().Get(time)
 

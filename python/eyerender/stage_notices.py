@@ -9,10 +9,9 @@ import collections
 
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
 
-from . import cameras, eyes, lights, materials
+from . import eyes, lights, materials, motion
 from .errors import EyeRenderError
 from .skinning import skel_root_of
-from .usd_values import to_float_array, to_matrix
 from .validation import reading
 
 # What a changed property updates; anything not listed re-populates its prim.
@@ -79,7 +78,9 @@ class StageFollowing:
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
     `_instance_sources` (prim path an instancer reads -> its owners' paths), `_point_counts` (mesh id -> points
     sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `_forget_id`, `warnings`, `_world_of`,
-    `_link_light`, `_light_params` and the eye and material readers."""
+    `_link_light`, `_light_params`, the eye, camera and material readers, and the shutter's: `_motion` (this
+    frame's motion.MotionSampler), `shutter`, `set_shutter`, `push_transform` and `push_points` (samples over the
+    shutter where a prim moves within it)."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -90,6 +91,7 @@ class StageFollowing:
             return self.last_changes
         resynced, changed = self._changes.take()
         self._xforms = UsdGeom.XformCache(self.time)
+        self._motion = motion.MotionSampler(self.time, self.shutter, self.warnings, self._motion_warned)  # new values
         # Skinning reads a whole SkelRoot: an edit inside one re-populates it, with its UsdSkel cache rebuilt.
         for path in resynced + changed:
             root = skel_root_of(self._nearest_prim(path))
@@ -111,6 +113,8 @@ class StageFollowing:
                     if self.strict:  # an unreadable texture it brought in (its warning is above)
                         raise
                     self.warnings.append(f"{e} (edit ignored)")
+        if self._shutter_at and self._shutter_at(self.time) != self.shutter:  # a camera's shutter was edited
+            self.set_shutter(self._shutter_at)
         return self.last_changes
 
     def _nearest_prim(self, path):
@@ -204,6 +208,10 @@ class StageFollowing:
         prim = self.stage.GetPrimAtPath(path)
         if prim and prim.IsActive() and not self._pruned_above(prim):
             self._add_subtree(prim)
+            if self._motion.blurred:  # populate pushed the frame's values: the samples over the shutter
+                for owner, kind, update in self._updaters:
+                    if kind in motion.MOTION_KINDS and owner.HasPrefix(path):
+                        update(self.time)
         added = sum(len(ids) for ids in self._owned.values()) - before
         for kind, count in (("removed prims", removed), ("added prims", added)):
             if count:
@@ -279,8 +287,8 @@ class StageFollowing:
     def _refresh_in_place(self, prim, prim_id, kind):
         """Sends the Set* call for `kind`; False when this prim cannot take it in place."""
         is_light = bool(lights.light_type(prim))
-        if kind == TRANSFORM:
-            self.store.set_transform(prim_id, to_matrix(self._world_of(prim)))
+        if kind == TRANSFORM:  # samples over the shutter where it moves within it
+            self.push_transform(prim, prim_id)
         elif kind == VISIBILITY:
             self.store.set_visible(prim_id, UsdGeom.Imageable(prim).ComputeVisibility(self.time) !=
                                    UsdGeom.Tokens.invisible)
@@ -288,7 +296,7 @@ class StageFollowing:
             self._link_light(prim_id, prim)
             self.store.set_light_params(prim_id, self._light_params(prim, self.time))
         elif kind == PARAMS and prim.IsA(UsdGeom.Camera):
-            self.store.set_camera_params(prim_id, cameras.read_camera(UsdGeom.Camera(prim), self.time))
+            self.store.set_camera_params(prim_id, self._camera_params(UsdGeom.Camera(prim), self.time))
         elif kind == EYE and eyes.is_eye(prim):
             self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, self.time) if prim.IsA(UsdGeom.Mesh)
                                       else eyes.read_eye_params(prim, self.time, self.cornea_model))
@@ -296,7 +304,7 @@ class StageFollowing:
             points = UsdGeom.Mesh(prim).GetPointsAttr().Get(self.time)
             if points is None or len(points) != self._point_counts.get(prim_id):
                 return False  # a new point count needs new topology
-            self.store.set_points(prim_id, to_float_array(points, 3, f"{prim.GetPath()}: points"))
+            self.push_points(prim, prim_id)
         else:
             return False
         return True

@@ -27,6 +27,7 @@ from .console import ProgressBar
 from .errors import EyeRenderError, run_command
 from .image_error import error_noise_bias
 from .job import COMPLEXITY_REFINE_LEVELS, open_stage
+from .shutter import parse_shutter_arguments, settings_override
 
 STUDY_ATTRIBUTE = "eyerender:study"  # the reference EXR's key: what it was rendered from
 EVERY_FEATURE = {"mnee": True, "mnee_all_solutions": True, "sclera_scattering": True}
@@ -45,6 +46,8 @@ def build_parser():
     p.add_argument("--budgets", default="2,5,15", help="time budgets in seconds, comma-separated (default 2,5,15)")
     p.add_argument("--reference-spp", type=int, default=1024, help="reference samples per pixel (default 1024)")
     p.add_argument("--threads", type=int, default=0)
+    p.add_argument("--shutter", nargs="+", type=float, metavar="FRAMES", help="OPEN CLOSE frames relative to the "
+                   "frame, over the camera's shutter (as eyerecord's --shutter; 0: sharp)")
     p.add_argument("--new-reference", action="store_true", help="re-render the reference even if one matches")
     p.add_argument("--no-plot", action="store_true", help="do not write <stem>.study.png")
     p.add_argument("--quiet", "-q", action="store_true")
@@ -64,7 +67,8 @@ def _reference(args, stage_path, frame, make_session, progress):
     path = stem + ".reference.exr"
     key = {"stage": os.path.abspath(stage_path), "mtime": os.path.getmtime(stage_path), "frame": frame,
            "camera": args.camera, "width": args.imageWidth, "height": args.imageHeight,
-           "complexity": args.complexity, "spp": args.reference_spp, "settings": EVERY_FEATURE}
+           "complexity": args.complexity, "spp": args.reference_spp, "settings": EVERY_FEATURE,
+           "shutter": args.shutter}
     if os.path.exists(path) and not args.new_reference:
         try:
             if json.loads(read_exr_attributes(path).get(STUDY_ATTRIBUTE, "null")) == key:
@@ -126,6 +130,7 @@ def _check_args(args):
     """The time budgets (seconds, ascending), after checking them and the output."""
     from .render_session import check_writable
 
+    parse_shutter_arguments(args.shutter)  # bad values fail before any render
     budgets = sorted(float(b) for b in args.budgets.split(",") if b.strip())
     if not budgets or min(budgets) <= 0:
         raise EyeRenderError("--budgets must be positive seconds")
@@ -141,9 +146,11 @@ def _make_session(args, stage, level, time, settings, overrides, seed=0):
 
     s = dict(settings)
     s.update(seed=seed, threads=args.threads)
+    shutter = settings_override(stage, stage.GetMetadata("renderSettingsPrimPath") or None,
+                                parse_shutter_arguments(args.shutter))
     return RenderSession(stage, width=args.imageWidth, height=args.imageHeight, camera=args.camera,
                          aovs=("color", "primId"), refine_level=level, time=time, settings=s,
-                         plan_overrides=overrides)
+                         plan_overrides=overrides, shutter=shutter)
 
 
 def _progress(quiet, msg):

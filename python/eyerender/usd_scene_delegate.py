@@ -5,8 +5,9 @@ Every supported prim becomes one delegate prim with the same path; instances (Po
 become hdeye instancers over prototype prims added once (instancing.py). `populate` reads the
 stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
 transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
-matching dirty bits. What each `set_time` pushed is counted in `last_update`. Edits made to the stage after
-`populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by `apply_stage_changes`
+matching dirty bits. What each `set_time` pushed is counted in `last_update`. Under a shutter that spans time
+(`set_shutter`), what moves is pushed as samples over it through the *_samples calls (motion.py). Edits made to
+the stage after `populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by `apply_stage_changes`
 (stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py. docs/usd_support.md tables
 what is read and how.
 
@@ -26,10 +27,11 @@ import contextlib
 import numpy as np
 from pxr import Usd, UsdGeom, UsdShade, UsdSkel
 
-from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, stage_notices
+from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, motion, stage_notices
 from .errors import EyeRenderError
 from .gprims import tessellate_gprim
 from .instancing import Instancing
+from .shutter import SHARP
 from .skinning import SkinningError, StageSkinning
 from .textures import TextureWarning
 from .usd_values import to_float_array as _array
@@ -38,6 +40,10 @@ from .usd_values import varies as _varies
 from .validation import check_transform, reading
 
 PRIMVARS = ("displayColor", "normals", "rest")
+
+
+def _array_of_points(values, what):
+    return _array(values, 3, what)
 
 
 def _has_skel_binding(prim):
@@ -87,6 +93,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._link_excludes = {}  # light prim path -> (not lit, not shadowing) rprim ids, where linked
         self._populated = False
         self._instancing = Instancing(self, flatten=flatten_instances)
+        self.shutter = SHARP       # the render's shutter at the current time (shutter.py)
+        self._shutter_at = None    # callable(Usd.TimeCode) -> Shutter, from set_shutter
+        self._motion_warned = set()  # (prim path, kind) motion warnings given
+        self._motion = motion.MotionSampler(self.time, SHARP)
 
     # -- public ------------------------------------------------------------------------------------------------
 
@@ -174,11 +184,36 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.time = Usd.TimeCode(time)
         self._xforms.SetTime(self.time)
         self.last_update = collections.Counter()
+        self._follow_shutter()
         with reading(f"time {self.time.GetValue():g}"):
             for _, kind, update in self._updaters:
                 update(self.time)
                 self.last_update[kind] += 1
         return self.last_update
+
+    def set_shutter(self, shutter_at):
+        """Renders under the shutter shutter_at(Usd.TimeCode) gives (a shutter.Shutter) at each frame: every
+        camera's CameraParams carry it, and what moves within it is pushed as samples (motion.py). Re-pushes what
+        moves at the current time when the shutter spans time; a sharp shutter changes nothing."""
+        self._shutter_at = shutter_at
+        before = self.shutter
+        self._follow_shutter()
+        if self._motion.blurred or before.blurred:
+            with reading(f"time {self.time.GetValue():g}"):
+                for _, kind, update in self._updaters:
+                    if kind in motion.MOTION_KINDS:
+                        update(self.time)
+        return self.shutter
+
+    def _follow_shutter(self):
+        """The shutter and motion sampler of the current time; cameras re-pushed when the shutter changed."""
+        shutter = self._shutter_at(self.time) if self._shutter_at else SHARP
+        self._motion = motion.MotionSampler(self.time, shutter, self.warnings, self._motion_warned)
+        if shutter != self.shutter:
+            self.shutter = shutter
+            for prim_id in self.cameras:
+                self.store.set_camera_params(prim_id, self._camera_params(UsdGeom.Camera(
+                    self.stage.GetPrimAtPath(prim_id)), self.time))
 
     def _track(self, entry, owner=None):
         """Registers (kind, callable(time)) for what varies in time, owned by `owner` (default: the prim being
@@ -236,6 +271,11 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         return self._world_of(prim)
 
     @property
+    def motion_sampler(self):
+        """This frame's motion.MotionSampler (its shutter interval, XformCaches at its times, warnings once)."""
+        return self._motion
+
+    @property
     def xform_cache(self):
         """The UsdGeom.XformCache at the current time."""
         return self._xforms
@@ -281,15 +321,18 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._add_analytic_eye(prim, prim_id, transform)
         self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
 
-    def _world_of(self, prim):
-        """prim's local-to-world transform, skinned when it or an ancestor is rigidly bound to a joint; raises
-        EyeRenderError for one no prim can use (validation.check_transform)."""
+    def _world_of(self, prim, time=None, cache=None):
+        """prim's local-to-world transform at `time` (a time code, default the current time; `cache`: the
+        XformCache at it), skinned when it or an ancestor is rigidly bound to a joint; raises EyeRenderError for
+        one no prim can use (validation.check_transform)."""
+        time, cache = (self.time, self._xforms) if time is None else (Usd.TimeCode(time), cache)
         try:
-            world = self._skinning.world(prim, self._xforms, self.time)
+            world = self._skinning.world(prim, cache, time)
         except SkinningError as e:
             self._skinning.drop(self._skinning.rigid_anchor(prim), e)
-            world = self._xforms.GetLocalToWorldTransform(prim)
-        return check_transform(prim.GetPath(), world)
+            world = cache.GetLocalToWorldTransform(prim)
+        what = "transform" if time == self.time else f"transform at time {time.GetValue():g}"
+        return check_transform(prim.GetPath(), world, what)
 
     def _transform_varies(self, prim):
         """Whether prim's local-to-world transform may change: animated xform ops, or animated joints it or an
@@ -312,7 +355,23 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if self._transform_varies(prim):
             prim_id = prim.GetPath().pathString
             kind = "transform" if self._skinning.rigid_anchor(prim) is None else "skinned transform"
-            self._track((kind, lambda t: self.store.set_transform(prim_id, _matrix(self._world_of(prim)))))
+            self._track((kind, lambda t: self.push_transform(prim, prim_id)))
+
+    def push_transform(self, prim, prim_id):
+        """Sends prim's transform at the current time: its samples over the shutter when it spans time and the
+        prim moves within it, else the one value (a sample that cannot be used: one warning, sharp)."""
+        if self._motion.blurred:
+            try:
+                anchor = self._skinning.rigid_anchor(prim)
+                extra = motion.skinning_times(anchor, self._motion.interval()) if anchor is not None else ()
+                samples = motion.transform_samples(self._motion, prim, lambda t, cache: self._world_of(prim, t, cache),
+                                                   extra)
+                if not samples.static:
+                    self.store.set_transform_samples(prim_id, samples.times, samples.values)
+                    return
+            except EyeRenderError as e:
+                self._motion.warn(prim.GetPath(), "transform", f"{e}: rendered without motion blur")
+        self.store.set_transform(prim_id, _matrix(self._world_of(prim)))
 
     def _track_visibility(self, prim, prim_id):
         imageable = UsdGeom.Imageable(prim)
@@ -408,11 +467,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._track(("topology", update_topology))
         elif skinned is not None:
             if skinned.might_vary(self._xforms_vary):
-                self._track(("skinned points", lambda t: self.store.set_points(
-                    prim_id, self._skinned_points(skinned, t, None, normals_id=skin_normals))))
-        elif _varies([points_attr]):
-            self._track(("points", lambda t: self.store.set_points(
-                prim_id, _array(points_attr.Get(t), 3, f"{path}: points"))))
+                self._track(("skinned points", lambda t: self._push_skinned_points(skinned, prim_id, skin_normals)))
+        elif _varies([points_attr, mesh.GetVelocitiesAttr(), mesh.GetAccelerationsAttr()]) or \
+                mesh.GetVelocitiesAttr().HasAuthoredValue():
+            self._track(("points", lambda t: self.push_points(prim, prim_id)))
         for name, source in names.items():
             if source is not None and _varies(self._primvar_attrs(prim, source)):
                 self._track(("primvar", lambda t, n=name, s=source: self._push_primvar(prim, prim_id, n, s, t)))
@@ -484,6 +542,37 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         if fallback is not None:
             return fallback
         return _array(skinned.rest_points(time), 3, f"{skinned.prim.GetPath()}: points")
+
+    def push_points(self, prim, prim_id):
+        """Sends a mesh's points at the current time: their samples over the shutter (velocities and accelerations
+        applied) when it spans time and they move within it, else the authored points (a sample that cannot be
+        used: one warning, sharp)."""
+        path = prim.GetPath()
+        if self._motion.blurred:
+            try:
+                samples = motion.points_samples(self._motion, prim, self._point_counts.get(prim_id), _array_of_points)
+                if not samples.static:
+                    self.store.set_points_samples(prim_id, samples.times, samples.values)
+                    return
+            except EyeRenderError as e:
+                self._motion.warn(path, "points", f"{e}: rendered without motion blur")
+        self.store.set_points(prim_id, _array(UsdGeom.PointBased(prim).GetPointsAttr().Get(self.time), 3,
+                                              f"{path}: points"))
+
+    def _push_skinned_points(self, skinned, prim_id, normals_id):
+        """A skinned mesh's points (and skinned normals at the frame) at the current time, as samples over the
+        shutter when it spans time and they move within it."""
+        points = self._skinned_points(skinned, self.time, None, normals_id=normals_id)
+        if self._motion.blurred and self._skinning.get(skinned.prim) is skinned:
+            try:
+                samples = motion.skinned_points_samples(self._motion, skinned, lambda t, cache: _array_of_points(
+                    skinned.points(Usd.TimeCode(t), cache), f"{skinned.prim.GetPath()}: skinned points at time {t:g}"))
+                if not samples.static:
+                    self.store.set_points_samples(prim_id, samples.times, samples.values)
+                    return
+            except (EyeRenderError, SkinningError) as e:
+                self._motion.warn(skinned.prim.GetPath(), "points", f"{e}: rendered without motion blur")
+        self.store.set_points(prim_id, points)
 
     def _push_rest_time_points(self, prim, prim_id, mesh, count, skinned=None):
         """An eye mesh with eye:restTime and no rest/Pref primvar: its points (skinned, for a skinned mesh) at that
@@ -605,17 +694,23 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
 
+    def _camera_params(self, camera, time):
+        """A camera's CameraParams at `time` with the render's shutter (the render camera's; shutter.py)."""
+        params = cameras.read_camera(camera, time)
+        params.shutter_open, params.shutter_close = self.shutter.open, self.shutter.close
+        return params
+
     def _add_camera(self, prim):
         camera = UsdGeom.Camera(prim)
         prim_id = prim.GetPath().pathString
-        self.store.add_camera(prim_id, cameras.read_camera(camera, self.time), _matrix(self._world_of(prim)))
+        self.store.add_camera(prim_id, self._camera_params(camera, self.time), _matrix(self._world_of(prim)))
         self.cameras.append(prim_id)
         self._own(prim_id)
         if cameras.depth_of_field_note(camera, self.time):
             self.warnings.append(cameras.depth_of_field_note(camera, self.time))
         self._track_transform(prim)
         if _varies(prim.GetAttributes()):
-            self._track(("camera", lambda t: self.store.set_camera_params(prim_id, cameras.read_camera(camera, t))))
+            self._track(("camera", lambda t: self.store.set_camera_params(prim_id, self._camera_params(camera, t))))
 
     def _add_light(self, prim):
         prim_id = prim.GetPath().pathString

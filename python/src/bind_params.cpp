@@ -70,7 +70,9 @@ void BindParams(nb::module_& m) {
       .def_rw("far_clip", &CameraParams::farClip, "scene units")
       .def_rw("f_stop", &CameraParams::fStop, "f-number; 0: pinhole")
       .def_rw("focus_distance", &CameraParams::focusDistance, "scene units")
-      .def_rw("focal_length_unit", &CameraParams::focalLengthUnit, "scene units per focal-length unit (USD: 0.1)");
+      .def_rw("focal_length_unit", &CameraParams::focalLengthUnit, "scene units per focal-length unit (USD: 0.1)")
+      .def_rw("shutter_open", &CameraParams::shutterOpen, "frames relative to the frame")
+      .def_rw("shutter_close", &CameraParams::shutterClose, "frames relative to the frame (== open: sharp)");
   m.def("lens_aperture_diameter", &LensApertureDiameter, "scene units (0: pinhole)");
 
   nb::class_<LightShaping> shaping(m, "LightShaping");

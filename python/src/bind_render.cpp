@@ -32,7 +32,9 @@ void BindRender(nb::module_& m) {
       .def_rw("texture_footprint_scale", &RenderSettings::textureFootprintScale,
               "the camera's ray cone as a fraction of a pixel")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
-              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)");
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
+      .def_rw("time_strata", &RenderSettings::timeStrata,
+              "motion blur: 0 a continuous time per path; N the centres of N shutter strata (sample s at s mod N)");
 
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)

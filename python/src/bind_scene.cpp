@@ -293,6 +293,37 @@ void BindScene(nb::module_& m) {
           "Per-face materials: (material id, face indices) per subset; the first subset naming a face wins.")
       .def("set_transform",
            [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
+      .def(
+          "set_transform_samples",
+          [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<float>& times,
+             const std::vector<Matrix>& matrices) {
+            std::vector<Matrix4d> out;
+            for (const Matrix& m : matrices) out.push_back(ToMatrix(m));
+            s.SetTransformSamples(id, times, out);
+          },
+          nb::arg("id"), nb::arg("times"), nb::arg("matrices"),
+          "Motion samples of a transform: times (frames relative to the frame, ascending), one 4x4 float64 matrix in "
+          "USD's layout per time.")
+      .def(
+          "set_points_samples",
+          [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<float>& times,
+             const std::vector<Points>& points) {
+            std::vector<std::vector<Vec3f>> out;
+            for (const Points& p : points) out.push_back(ToPoints(p));
+            s.SetPointsSamples(id, times, out);
+          },
+          nb::arg("id"), nb::arg("times"), nb::arg("points"),
+          "Motion samples of a point-based prim's points: times (frames, ascending), one (n, 3) float32 array each.")
+      .def(
+          "set_instance_transform_samples",
+          [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<float>& times,
+             const std::vector<Matrices>& transforms) {
+            std::vector<std::vector<Matrix4d>> out;
+            for (const Matrices& m : transforms) out.push_back(ToMatrices(m));
+            s.SetInstanceTransformSamples(id, times, out);
+          },
+          nb::arg("id"), nb::arg("times"), nb::arg("transforms"),
+          "Motion samples of an instancer's transforms: times (frames, ascending), one (m, 4, 4) float64 array each.")
       .def("set_visible", &InMemorySceneDelegate::SetVisible)
       .def("set_primvar",
            [](InMemorySceneDelegate& s, const PrimId& id, const std::string& name, const std::string& interpolation,

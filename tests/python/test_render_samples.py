@@ -9,7 +9,8 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Usd  # noqa: E402
 
 SAMPLES = pathlib.Path(__file__).resolve().parents[2] / "usd_samples"
-EYE_STAGES = ["closeup", "two_eyes", "squash_stretch", "side_lit", "analytic_anterior", "studio_eye_rig"]
+EYE_STAGES = ["closeup", "two_eyes", "squash_stretch", "side_lit", "analytic_anterior", "studio_eye_rig", "saccade",
+              "blink"]
 
 
 def render(name, width=40, spp=2, **kwargs):
@@ -44,3 +45,16 @@ def test_animated_eye_resyncs_points_only():
     assert counts["points"] == 1 and "topology" not in counts and "transform" not in counts
     assert after["stencil_evaluations"] == before["stencil_evaluations"] + 1
     assert after["refinements"] == before["refinements"]  # topology refined once
+
+
+def test_saccade_blurs_the_frame_whose_shutter_sees_the_eye_turn_and_no_other():
+    def image(frame, shutter):
+        stage = Usd.Stage.Open(str(SAMPLES / "saccade.usda"))
+        session = eyerender.RenderSession(stage, width=32, time=frame, refine_level=1, shutter=shutter)
+        session.render(spp=2)
+        return session.image("color")
+
+    assert np.array_equal(image(10, None), image(10, (0.0, 0.0)))  # still through frame 10's shutter
+    blurred, sharp = image(11, None), image(11, (0.0, 0.0))
+    assert np.isfinite(blurred).all()
+    assert np.abs(blurred - sharp).mean() > 0.05 * sharp.mean(), (np.abs(blurred - sharp).mean(), sharp.mean())

@@ -166,7 +166,7 @@ def test_the_eye_stages_contain_the_expected_eyes():
     counts = {name: len(eye_prims(open_stage(name))) for name in STAGES}
     assert counts == {"analytic_anterior.usda": 1, "assets/eye.usda": 1, "closeup.usda": 1,
                       "glass_sphere_table.usda": 0, "side_lit.usda": 1, "squash_stretch.usda": 1,
-                      "two_eyes.usda": 2, "studio_eye_rig.usda": 1}
+                      "two_eyes.usda": 2, "studio_eye_rig.usda": 1, "saccade.usda": 1, "blink.usda": 1}
 
 
 def _check_eye(prim):
@@ -305,6 +305,42 @@ def test_squash_stretch_is_a_volume_preserving_scale_of_the_rest_points_about_th
         assert sx * sy * sz == pytest.approx(1.0, abs=2e-3), (t, sx, sy, sz)
         along.append(sz)
     assert max(along) == pytest.approx(1.5, abs=0.01) and min(along) == pytest.approx(1 / 1.5, abs=0.01)
+
+
+def _gaze_yaw(stage, time):
+    xf = UsdGeom.Xformable(stage.GetPrimAtPath("/World/Eye/Eyeball")).ComputeLocalToWorldTransform(time)
+    gaze = xf.TransformDir(Gf.Vec3d(0, 0, 1))
+    return math.degrees(math.atan2(gaze[0], gaze[2]))
+
+
+def test_saccade_turns_ten_degrees_within_frame_elevens_180_degree_shutter():
+    stage = open_stage("saccade.usda")
+    camera = UsdGeom.Camera(stage.GetPrimAtPath("/World/Camera"))
+    opens, closes = camera.GetShutterOpenAttr().Get(), camera.GetShutterCloseAttr().Get()
+    assert (opens, closes) == (-0.25, 0.25) and stage.GetFramesPerSecond() == 24
+    swept = _gaze_yaw(stage, 11 + closes) - _gaze_yaw(stage, 11 + opens)
+    assert swept == pytest.approx(10.0, abs=1e-6), swept
+    speed = swept / ((closes - opens) / stage.GetFramesPerSecond())  # degrees per second
+    assert 300 <= speed <= 700, speed
+    for frame in (10, 12):  # the eye is still through the neighbouring frames' shutters
+        assert _gaze_yaw(stage, frame + opens) == pytest.approx(_gaze_yaw(stage, frame + closes), abs=1e-9)
+
+
+def test_blink_lids_clear_the_cornea_and_shut_over_it():
+    stage = open_stage("blink.usda")
+    upper = UsdGeom.Mesh(stage.GetPrimAtPath("/World/Eye/UpperLid"))
+    lower = UsdGeom.Mesh(stage.GetPrimAtPath("/World/Eye/LowerLid"))
+    apex_cm = -gen.EYEBALL_CENTER_Z * gen.MM_TO_CM
+    margins = {}
+    for t in upper.GetPointsAttr().GetTimeSamples():
+        points = np.array(upper.GetPointsAttr().Get(t), dtype=np.float64)
+        assert np.linalg.norm(points, axis=1).min() > apex_cm  # never through the cornea
+        margins[t] = math.degrees(math.asin(points[:, 1].min() / np.linalg.norm(points[0])))
+    lower_points = np.array(lower.GetPointsAttr().Get(), dtype=np.float64)
+    assert np.linalg.norm(lower_points, axis=1).min() > apex_cm
+    lower_margin = lower_points[:, 1].max()  # shut, the upper lid comes down past it (they overlap)
+    assert margins[1] > 20 and margins[12] < math.degrees(math.asin(lower_margin / (gen.LOWER_LID_RADIUS_MM / 10)))
+    assert margins[24] == pytest.approx(margins[1])
 
 
 def test_two_eyes_are_instances_that_look_at_the_common_point():

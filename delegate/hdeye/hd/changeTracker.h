@@ -39,6 +39,10 @@ class ChangeTracker {
     if (it == bits_.end() || bits == dirty::Clean) return;
     it->second |= bits;
   }
+  /// Marks bits dirty on every tracked prim (a change every prim's data depends on, such as the render's shutter).
+  void MarkAllDirty(DirtyBits bits) {
+    for (auto& [id, b] : bits_) b |= bits;
+  }
   DirtyBits GetDirtyBits(const PrimId& id) const {
     auto it = bits_.find(id);
     return it == bits_.end() ? dirty::Clean : it->second;

@@ -4,6 +4,7 @@
 // programs and tests.
 #include "hdeye/hd/types.h"
 #include "hdeye/render/params.h"
+#include "hdeye/render/timeSampled.h"
 
 #include <string>
 #include <vector>
@@ -51,6 +52,17 @@ class SceneDelegate {
   virtual std::vector<Matrix4d> GetInstanceTransforms(const PrimId& /*instancerId*/) { return {}; }
   /// Per-instance displayColor (linear RGB), one per instance, or empty: the prototypes' own colours.
   virtual std::vector<Vec3f> GetInstanceColors(const PrimId& /*instancerId*/) { return {}; }
+
+  /// Motion samples over the shutter (HdSceneDelegate::SampleTransform and friends), times in frames relative to
+  /// the frame. The defaults return the one sample of the Get* call at time 0: a static prim. Cameras, lights,
+  /// eyes and rprims all take their transform from SampleTransform.
+  virtual TimeSampled<Matrix4d> SampleTransform(const PrimId& id) { return {{0.0f}, {GetTransform(id)}}; }
+  /// A point-based prim's points per time (every sample has the same count as GetPoints).
+  virtual TimeSampled<std::vector<Vec3f>> SamplePoints(const PrimId& id) { return {{0.0f}, {GetPoints(id)}}; }
+  /// An instancer's per-instance transforms per time (every sample has the same instance count).
+  virtual TimeSampled<std::vector<Matrix4d>> SampleInstanceTransforms(const PrimId& instancerId) {
+    return {{0.0f}, {GetInstanceTransforms(instancerId)}};
+  }
 };
 
 }  // namespace hdeye

@@ -7,9 +7,12 @@
 #include "hdeye/prims/mesh.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/prims/renderParam.h"
+#include "hdeye/render/movingLights.h"
 #include "hdeye/render/renderContext.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 
@@ -58,9 +61,25 @@ void MarkLinked(const std::vector<PrimId>& excludes, const std::map<PrimId, int>
   }
 }
 
+/// Sets the render's shutter from the camera's parameters (read from its scene delegate, as its sync will) before the
+/// index syncs, so prims build their motion over it. A new shutter marks every rprim, instancer and sprim's transform
+/// and points dirty: their motion is built over the shutter.
+void SyncShutter(RenderIndex& index, const PrimId& cameraId, RenderParam* renderParam) {
+  const auto entry = index.Sprims().find(cameraId);
+  if (entry == index.Sprims().end() || !dynamic_cast<const Camera*>(entry->second.prim.get())) return;
+  const CameraParams params = entry->second.sceneDelegate->GetCameraParams(cameraId);
+  const Shutter shutter{params.shutterOpen, params.shutterClose};
+  if (!std::isfinite(shutter.open) || !std::isfinite(shutter.close) || shutter.close < shutter.open)
+    return;  // sync says
+  if (shutter == renderParam->GetShutter()) return;
+  renderParam->SetShutter(shutter);
+  index.GetChangeTracker().MarkAllDirty(dirty::DirtyTransform | dirty::DirtyPoints | dirty::DirtyInstancer);
+}
+
 }  // namespace
 
 RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
+  SyncShutter(*index_, cameraId, index_->GetRenderDelegate()->GetRenderParam());
   index_->SyncAll();
   // The index was made with this delegate (HdEmbreeRenderPass reaches its render param the same way).
   auto* delegate = static_cast<RenderDelegate*>(index_->GetRenderDelegate());
@@ -98,6 +117,9 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   for (const auto& [id, entry] : index_->Sprims())
     if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
       lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
+      if (light->Motion())
+        lights.back().motion = std::make_shared<const LightMotion>(
+            LightMotion{light->Motion(), light->Params(), light->Dome(), light->RectImage()});
       MarkLinked(light->Params().lightLinkExcludes, primIndices, primIndex, &lights.back().unlit);
       MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
     }
@@ -111,6 +133,7 @@ RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const
                             const PlanRules& rules) {
   // Meshes synced now for the first time wait at level 0 for the plan's level (plan/meshRefinePlan.h).
   index_->GetRenderDelegate()->GetRenderParam()->SetMeshLevelsAwaitPlan(true);
+  SyncShutter(*index_, cameraId, index_->GetRenderDelegate()->GetRenderParam());
   index_->SyncAll();
   return MakeRenderPlan(*index_, cameraId, width, height, overrides, rules);
 }

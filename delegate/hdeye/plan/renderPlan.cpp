@@ -139,6 +139,30 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
   return plan;
 }
 
+/// MeasureEye over the open shutter: at the shutter's ends and every motion sample of the eye and the camera inside
+/// it, the measurement where the eye is largest on screen (a saccade's footprint is its widest pose's); in view if
+/// it is in view at any of them.
+EyePlan MeasureEyeOverShutter(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
+                              const CameraView& camera, int width, int height) {
+  const Shutter shutter = camera.GetShutter();
+  if (!shutter.IsOpen() || (!eye.motion && !camera.motion))
+    return MeasureEye(prim, geometry, eye, camera, width, height);
+  std::vector<double> times{shutter.open, shutter.close};
+  for (const TransformMotion* m : {eye.motion ? eye.motion->prim.get() : nullptr, camera.motion.get()})
+    if (m)
+      for (double t : m->times)
+        if (t > shutter.open && t < shutter.close) times.push_back(t);
+  EyePlan widest;
+  bool inView = false, first = true;
+  for (double t : times) {
+    EyePlan e = MeasureEye(prim, geometry, eye.AtTime(t), camera.AtTime(t), width, height);
+    inView = inView || e.inView;
+    if (first || e.pixels > widest.pixels) widest = std::move(e), first = false;
+  }
+  widest.inView = inView;
+  return widest;
+}
+
 LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye) {
   LightFacts f;
   f.light = lightId;
@@ -407,7 +431,7 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
     GeometryContext* context = entry.prim->Context();
     const EyeGeometry* eye = context ? (context->eye ? context->eye : context->meshEye) : nullptr;
     if (!eye) continue;  // not synced yet
-    EyePlan e = MeasureEye(id, entry.type, *eye, camera->View(), width, height);
+    EyePlan e = MeasureEyeOverShutter(id, entry.type, *eye, camera->View(), width, height);
     if (entry.sceneDelegate && !entry.sceneDelegate->GetVisible(id)) e.inView = false;
     for (const auto& [lightId, light] : lights) e.lights.push_back(MeasureLight(lightId, light, *eye));
     DecideEye(&e, rules, overrides);

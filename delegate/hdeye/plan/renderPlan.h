@@ -190,6 +190,10 @@ EyePlan MeasureEye(const PrimId& prim, const std::string& geometry, const EyeGeo
 /// A light as the eye sees it: solid angle, direction off the gaze, whether it can reach the iris.
 LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const EyeGeometry& eye);
 
+/// MeasureEye where the eye is largest on screen over the camera's open shutter (measured at the shutter's ends and
+/// at the eye's and camera's motion samples inside it); MeasureEye itself for a closed shutter or nothing moving.
+EyePlan MeasureEyeOverShutter(const PrimId& prim, const std::string& geometry, const EyeGeometry& eye,
+                              const CameraView& camera, int width, int height);
 /// Fills the eye's decisions and reasons from its facts (MeasureEye, MeasureLight into eye->lights),
 /// the rules and the overrides.
 void DecideEye(EyePlan* eye, const PlanRules& rules, const PlanOverrides& overrides);

@@ -1,6 +1,7 @@
 #include "hdeye/prims/analyticEye.h"
 
 #include "hdeye/prims/eyeParamsSync.h"
+#include "hdeye/prims/motionSync.h"
 #include "hdeye/prims/renderParam.h"
 
 #include <cmath>
@@ -13,10 +14,11 @@ namespace {
 
 /// The first crossing of a ray with the eye, in the ray's own parameter: the cornea cap, or the
 /// closing disk at the iris plane seen from behind.
-bool IntersectEye(const EyeGeometry& eye, const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar,
-                  double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
+/// worldToCanonical: the eye's frame at the ray's time.
+bool IntersectEye(const EyeGeometry& eye, const glm::dmat4& worldToCanonical, const glm::dvec3& o, const glm::dvec3& d,
+                  double tNear, double tFar, double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
   // Map without normalising the direction, so the ray parameter t is the world ray's.
-  const glm::dvec3 oc = eye.ToCanonical(o), dc(eye.worldToCanonical * glm::dvec4(d, 0));
+  const glm::dvec3 oc(worldToCanonical * glm::dvec4(o, 1)), dc(worldToCanonical * glm::dvec4(d, 0));
   bool hit = false;
   glm::dvec3 nc;
   if (const auto h = eye.chamber.Surface().Intersect({oc, dc}, tFar); h && h->t > tNear && h->fromOutside) {
@@ -30,20 +32,35 @@ bool IntersectEye(const EyeGeometry& eye, const glm::dvec3& o, const glm::dvec3&
     if (tb > tNear && tb < (hit ? *t : tFar) && r2 <= R * R)
       *t = tb, *part = EyeGeometry::kBack, nc = {0, 0, -1}, hit = true;
   }
-  if (hit) *worldNormal = glm::normalize(glm::transpose(glm::dmat3(eye.worldToCanonical)) * nc);
+  if (hit) *worldNormal = glm::normalize(glm::transpose(glm::dmat3(worldToCanonical)) * nc);
   return hit;
 }
+
+/// The eye's world-to-canonical frame at Embree ray time `rayTime` (its own when it does not move).
+glm::dmat4 WorldToCanonicalAt(const EyeGeometry& eye, float rayTime) {
+  if (!eye.motion) return eye.worldToCanonical;
+  const EyeMotion& m = *eye.motion;
+  return glm::inverse(m.prim->At(m.shutter.FrameTime(rayTime)) * m.canonicalInPrim);
+}
+
+/// Times a moving eye's bounds are measured at over the shutter: a turn of up to 180 degrees moves the box's corners
+/// by at most 1 - cos(90 / 64 degrees) = 3e-4 of their radius between two of them, which the pad below covers.
+constexpr int kBoundsTimes = 65;
 
 void Bounds(const RTCBoundsFunctionArguments* args) {
   const auto* ctx = static_cast<const GeometryContext*>(args->geometryUserPtr);
   const EyeGeometry& eye = *ctx->eye;
-  // The cap fits in a box of +-7.6 mm by 7.6 mm below the apex to slightly above it.
+  // The cap fits in a box of +-7.6 mm by 7.6 mm below the apex to slightly above it. A moving eye is one static
+  // box over its whole sweep (its intersection evaluates the eye at each ray's time), padded by 0.1 mm.
+  const double pad = eye.motion ? 0.1 : 0.0;
   glm::dvec3 lo(1e300), hi(-1e300);
-  for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 corner(k & 1 ? 7.6 : -7.6, k & 2 ? 7.6 : -7.6, k & 4 ? 0.1 : -4.1);
-    const glm::dvec3 w = eye.ToWorld(corner);
-    lo = glm::min(lo, w), hi = glm::max(hi, w);
-  }
+  for (const glm::dmat4& frame : eye.CanonicalToWorldOverShutter(kBoundsTimes))
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 corner(k & 1 ? 7.6 + pad : -7.6 - pad, k & 2 ? 7.6 + pad : -7.6 - pad,
+                              k & 4 ? 0.1 + pad : -4.1 - pad);
+      const glm::dvec3 w(frame * glm::dvec4(corner, 1));
+      lo = glm::min(lo, w), hi = glm::max(hi, w);
+    }
   RTCBounds* b = args->bounds_o;
   b->lower_x = float(lo.x), b->lower_y = float(lo.y), b->lower_z = float(lo.z);
   b->upper_x = float(hi.x), b->upper_y = float(hi.y), b->upper_z = float(hi.z);
@@ -61,7 +78,9 @@ void Intersect(const RTCIntersectFunctionNArguments* args) {
     double t;
     EyeGeometry::Part part;
     glm::dvec3 n;
-    if (!IntersectEye(*ctx->eye, o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), &t, &part, &n))
+    const EyeGeometry& eye = *ctx->eye;
+    if (!IntersectEye(eye, WorldToCanonicalAt(eye, RTCRayN_time(ray, args->N, i)), o, d, RTCRayN_tnear(ray, args->N, i),
+                      RTCRayN_tfar(ray, args->N, i), &t, &part, &n))
       continue;
     RTCRayN_tfar(ray, args->N, i) = float(t);
     RTCHitN_Ng_x(hitN, args->N, i) = float(n.x);
@@ -86,8 +105,9 @@ void Occluded(const RTCOccludedFunctionNArguments* args) {
     double t;
     EyeGeometry::Part part;
     glm::dvec3 n;
-    if (IntersectEye(*ctx->eye, o, d, RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i), &t,
-                     &part, &n))
+    const EyeGeometry& eye = *ctx->eye;
+    if (IntersectEye(eye, WorldToCanonicalAt(eye, RTCRayN_time(args->ray, args->N, i)), o, d,
+                     RTCRayN_tnear(args->ray, args->N, i), RTCRayN_tfar(args->ray, args->N, i), &t, &part, &n))
       RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
   }
 }
@@ -99,8 +119,15 @@ void AnalyticEye::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, D
   if (bits & (dirty::DirtyParams | dirty::InitRepr)) {
     SyncEyeParams(sceneDelegate, renderParam, "eye", Id(), &params_, &irisTexture_);
   }
-  if (bits & (dirty::DirtyTransform | dirty::InitRepr)) transform_ = sceneDelegate->GetTransform(Id());
+  if (bits & (dirty::DirtyTransform | dirty::InitRepr)) {
+    const PrimMotion synced = SyncTransformMotion(sceneDelegate, renderParam, Id(), "eye " + Id());
+    transform_ = synced.transform;
+    motion_ = synced.motion;
+  }
   eye_ = EyeGeometry(params_, transform_);
+  if (motion_)
+    eye_.motion = std::make_shared<const EyeMotion>(
+        EyeMotion{motion_, params_.modelTransform, renderParam ? renderParam->GetShutter() : Shutter{}});
   eye_.irisTexture = irisTexture_;
   if (!(eye_.worldPerMm > 0) || !std::isfinite(eye_.worldPerMm))
     throw std::runtime_error("eye " + Id() + ": its transform is degenerate");

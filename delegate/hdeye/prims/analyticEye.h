@@ -24,6 +24,7 @@ class AnalyticEye final : public Rprim {
   EyeParams params_;
   std::shared_ptr<const Texture> irisTexture_;  ///< EyeParams::irisTexture, loaded under DirtyParams
   Matrix4d transform_{1.0};
+  std::shared_ptr<const TransformMotion> motion_;  ///< over the open shutter, or null
   EyeGeometry eye_;
   GeometryContext context_;
   RTCGeometry geometry_ = nullptr;

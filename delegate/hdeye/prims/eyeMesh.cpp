@@ -112,6 +112,10 @@ void EyeMesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, Dirty
   if (!(eye_.worldPerMm > 0) || !std::isfinite(eye_.worldPerMm))
     throw std::runtime_error("eye mesh " + Id() + ": its transform or modelTransform is degenerate");
   SyncEyeFrames();
+  // A moving eye mesh: its frames follow the mesh's world motion, the rigid correction measured here kept.
+  if (WorldMotion())
+    eye_.motion = std::make_shared<const EyeMotion>(
+        EyeMotion{WorldMotion(), glm::inverse(Transform()) * eye_.canonicalToWorld, renderParam->GetShutter()});
   eye_.irisTexture = irisTexture_;
   eye_.scleraUsesMaterial = !MaterialId().empty();
   Context()->meshEye = &eye_;

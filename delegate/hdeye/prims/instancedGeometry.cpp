@@ -18,18 +18,20 @@ void InstancedGeometry::Reset(RenderParam* renderParam, RTCGeometry geometry, Ge
   instanceContext_.geometry = context;
   rtcSetGeometryUserData(instance_, &instanceContext_);
   instanceId_ = rtcAttachGeometry(renderParam->AcquireSceneForEdit(), instance_);
-  SetTransform(renderParam, transform_, context);
+  SetTransform(renderParam, transform_, context, motion_);
   SetVisible(renderParam, visible_);
 }
 
-void InstancedGeometry::SetTransform(RenderParam* renderParam, const Matrix4d& transform, GeometryContext* context) {
+void InstancedGeometry::SetTransform(RenderParam* renderParam, const Matrix4d& transform, GeometryContext* context,
+                                     std::shared_ptr<const TransformMotion> motion) {
   transform_ = transform;
+  motion_ = std::move(motion);
   context->normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform)));
   instanceContext_.normalToWorld = context->normalToWorld;
+  instanceContext_.motion = motion_;
   if (!instance_) return;
-  const glm::mat4 m(transform);
   renderParam->AcquireSceneForEdit();
-  rtcSetGeometryTransform(instance_, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
+  SetInstanceMotion(instance_, transform, motion_.get());
   rtcCommitGeometry(instance_);
 }
 
@@ -63,8 +65,13 @@ DirtyBits InstancedRprim::GetInitialDirtyBitsMask() const {
 void InstancedRprim::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   const DirtyBits bits = *dirtyBits;
   if (bits & (dirty::InitRepr | GeometryBits())) SyncGeometry(sceneDelegate, renderParam);
-  if (bits & (dirty::InitRepr | dirty::DirtyTransform))
-    geometry_.SetTransform(renderParam, sceneDelegate->GetTransform(Id()), &context_);
+  if (bits & (dirty::InitRepr | dirty::DirtyTransform)) {
+    const PrimMotion synced = SyncTransformMotion(sceneDelegate, renderParam, Id(), "prim " + Id());
+    const TransformMotion* m = synced.motion.get();
+    geometry_.SetTransform(
+        renderParam, synced.transform, &context_,
+        m ? SteppedMotion(m->times, renderParam->GetShutter(), [m](double t) { return m->At(t); }) : nullptr);
+  }
   if (bits & (dirty::InitRepr | dirty::DirtyVisibility))
     geometry_.SetVisible(renderParam, sceneDelegate->GetVisible(Id()));
   if (bits & (dirty::InitRepr | dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());

@@ -1,5 +1,6 @@
 #include "hdeye/prims/light.h"
 
+#include "hdeye/prims/motionSync.h"
 #include "hdeye/prims/renderParam.h"
 
 #include <cmath>
@@ -9,7 +10,9 @@ namespace hdeye {
 
 void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits* dirtyBits) {
   if (*dirtyBits & dirty::DirtyTransform) {
-    transform_ = sceneDelegate->GetTransform(Id());
+    const PrimMotion synced = SyncTransformMotion(sceneDelegate, renderParam, Id(), "light " + Id());
+    transform_ = synced.transform;
+    motion_ = synced.motion;
     // A NaN position would make the light silently dark; say so instead.
     for (int c = 0; c < 4; ++c)
       if (!std::isfinite(transform_[c][0] + transform_[c][1] + transform_[c][2] + transform_[c][3]))

@@ -2,6 +2,7 @@
 // A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
 // transform; the render pass turns lights into the renderer's world-space light list.
 #include "hdeye/hd/prim.h"
+#include "hdeye/render/motion.h"
 #include "hdeye/render/renderLight.h"
 
 #include <memory>
@@ -17,6 +18,8 @@ class Light final : public Sprim {
 
   const LightParams& Params() const { return params_; }
   const Matrix4d& Transform() const { return transform_; }
+  /// The light's motion over the open shutter (frames), or null: static at Transform().
+  const std::shared_ptr<const TransformMotion>& Motion() const { return motion_; }
   /// A dome's texture with its sampling distribution, loaded through RenderParam::Textures() when
   /// the params change; null for other lights and a constant dome.
   std::shared_ptr<const DomeTexture> Dome() const { return dome_; }
@@ -30,6 +33,7 @@ class Light final : public Sprim {
   std::shared_ptr<const DomeTexture> dome_;
   std::shared_ptr<const Texture> rectImage_;
   Matrix4d transform_{1.0};
+  std::shared_ptr<const TransformMotion> motion_;
 };
 
 }  // namespace hdeye

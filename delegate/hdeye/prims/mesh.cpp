@@ -2,6 +2,7 @@
 
 #include "hdeye/hd/renderIndex.h"
 #include "hdeye/prims/meshBoundary.h"
+#include "hdeye/prims/motionSync.h"
 #include "hdeye/prims/renderParam.h"
 #include "hdeye/prims/subdivRefiner.h"
 #include "hdeye/render/thinWalls.h"
@@ -94,10 +95,14 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
   const DirtyBits bits = *dirtyBits;
   const bool topologyDirty = bits & (dirty::DirtyTopology | dirty::InitRepr);
   if (topologyDirty || (bits & dirty::DirtyPoints)) {
-    // Fetched once: the topology is checked against their count, then they are evaluated.
-    const std::vector<Vec3f> control = sceneDelegate->GetPoints(Id());
+    // Fetched once: the topology is checked against their count, then they are evaluated. Over an open shutter, the
+    // points of every Embree time step (deformation blur); the first step's are the ones shading reads.
+    const PointSteps steps = SyncPointSteps(sceneDelegate, renderParam, Id(), "mesh " + Id());
+    if (steps.points.empty()) Fail(Id(), "no points");
+    const std::vector<Vec3f>& control = steps.points[0];
     if (topologyDirty) SyncTopology(sceneDelegate, renderParam, control);
     SyncPoints(control);
+    SyncLaterSteps(steps);
     renderParam->AcquireSceneForEdit();
     UploadPoints();
   }
@@ -179,6 +184,7 @@ void Mesh::SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, 
   ConfigureTriangles(triangleGeometry_);
   rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
                           std::size_t(pointCount));
+  uploadedSteps_ = 1;
   auto* index = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       triangleGeometry_, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, triangles_.size() / 3));
   for (std::size_t i = 0; i < triangles_.size(); ++i) index[i] = unsigned(triangles_[i]);
@@ -233,14 +239,52 @@ void Mesh::SyncPoints(const std::vector<Vec3f>& control) {
   context_.points = &points_;
 }
 
-void Mesh::UploadPoints() {
-  auto* vertex = static_cast<float*>(rtcGetGeometryBufferData(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0));
-  for (std::size_t i = 0; i < points_.size(); ++i) {
-    vertex[3 * i + 0] = points_[i].x;
-    vertex[3 * i + 1] = points_[i].y;
-    vertex[3 * i + 2] = points_[i].z;
+void Mesh::SyncLaterSteps(const PointSteps& steps) {
+  laterSteps_.clear();
+  laterNormals_.clear();
+  for (std::size_t k = 1; k < steps.points.size(); ++k) {
+    const std::vector<Vec3f>& control = steps.points[k];
+    for (std::size_t i = 0; i < control.size(); ++i)
+      if (!std::isfinite(control[i].x) || !std::isfinite(control[i].y) || !std::isfinite(control[i].z))
+        Fail(Id(), "point " + std::to_string(i) + " of a motion sample is not finite");
+    // As SyncPoints does for the first step: limit positions and normals, or the polygons' smooth normals.
+    std::vector<Vec3f> points, normals;
+    if (refiner_) {
+      refiner_->EvaluateLimit(control, &points, &normals);
+      ++stats_.stencilEvaluations;
+    } else {
+      points = control;
+      normals = SmoothNormals(topology_, points);
+    }
+    if (topology_.leftHanded)
+      for (Vec3f& n : normals) n = -n;
+    laterSteps_.push_back(std::move(points));
+    laterNormals_.push_back(std::move(normals));
   }
-  rtcUpdateGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, 0);
+  context_.laterStepNormals = laterNormals_.empty() ? nullptr : &laterNormals_;
+}
+
+void Mesh::UploadPoints() {
+  // One vertex buffer per Embree time step: points_ at the first, laterSteps_ after it (a new step count re-creates
+  // the slots; a static mesh keeps its one buffer, updated in place).
+  const unsigned stepCount = unsigned(1 + laterSteps_.size());
+  if (stepCount != uploadedSteps_) {
+    rtcSetGeometryTimeStepCount(triangleGeometry_, stepCount);
+    for (unsigned k = 0; k < stepCount; ++k)
+      rtcSetNewGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, k, RTC_FORMAT_FLOAT3, sizeof(float) * 3,
+                              points_.size());
+    uploadedSteps_ = stepCount;
+  }
+  for (unsigned k = 0; k < stepCount; ++k) {
+    const std::vector<Vec3f>& points = k == 0 ? points_ : laterSteps_[k - 1];
+    auto* vertex = static_cast<float*>(rtcGetGeometryBufferData(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, k));
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      vertex[3 * i + 0] = points[i].x;
+      vertex[3 * i + 1] = points[i].y;
+      vertex[3 * i + 2] = points[i].z;
+    }
+    rtcUpdateGeometryBuffer(triangleGeometry_, RTC_BUFFER_TYPE_VERTEX, k);
+  }
   rtcCommitGeometry(triangleGeometry_);
   rtcCommitScene(prototype_);
   for (RTCGeometry instance : instances_) rtcCommitGeometry(instance);  // instance bounds follow the prototype
@@ -308,7 +352,9 @@ bool Instanceable(const Matrix4d& m) {
 
 void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits bits, bool topologyDirty) {
   if (topologyDirty || (bits & dirty::DirtyTransform)) {
-    transform_ = sceneDelegate->GetTransform(Id());
+    const PrimMotion synced = SyncTransformMotion(sceneDelegate, renderParam, Id(), "mesh " + Id());
+    transform_ = synced.transform;
+    transformMotion_ = synced.motion;
     context_.normalToWorld = glm::transpose(glm::inverse(glm::dmat3(transform_)));
     ++stats_.transformUpdates;
   }
@@ -316,19 +362,42 @@ void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam,
   if (topologyDirty || (bits & dirty::DirtyInstancer)) instancerId_ = sceneDelegate->GetInstancerId(Id());
 
   // Each drawn instance: instance transform * the mesh's own (column vectors), as HdInstancer composes them.
+  // Over an open shutter, an instance moves when the mesh or its instance does: its world motion resampled on
+  // Embree's uniform steps (SteppedMotion); a closed shutter takes each instance at the shutter's time.
   std::vector<Matrix4d> worlds;
   std::vector<int> indices;
+  std::vector<std::shared_ptr<const TransformMotion>> motions;
   const Instancer* instancer = nullptr;
+  const Shutter shutter = renderParam->GetShutter();
+  const std::vector<double> meshTimes = transformMotion_ ? transformMotion_->times : std::vector<double>{};
+  auto meshAt = [&](double t) { return transformMotion_ ? transformMotion_->At(t) : transform_; };
   if (instancerId_.empty()) {
-    if (Instanceable(transform_)) worlds.push_back(transform_), indices.push_back(0);
+    if (Instanceable(transform_)) {
+      worlds.push_back(transform_), indices.push_back(0);
+      motions.push_back(transformMotion_ ? SteppedMotion(meshTimes, shutter, meshAt) : nullptr);
+    }
   } else {
     RenderIndex* index = sceneDelegate->GetRenderIndex();
     instancer = index ? index->GetInstancer(instancerId_) : nullptr;
     if (!instancer) Fail(Id(), "instancer " + instancerId_ + " does not exist");
+    for (const std::string& warning : instancer->MotionWarnings()) renderParam->Warn(warning);
     const std::vector<Matrix4d>& transforms = instancer->InstanceTransforms();
+    const auto& instanceMotions = instancer->InstanceMotions();
     for (std::size_t i = 0; i < transforms.size(); ++i) {
-      const Matrix4d world = transforms[i] * transform_;
-      if (Instanceable(world)) worlds.push_back(world), indices.push_back(int(i));
+      const TransformMotion* im = i < instanceMotions.size() ? instanceMotions[i].get() : nullptr;
+      const Matrix4d world = (im ? im->At(shutter.open) : transforms[i]) * transform_;
+      if (!Instanceable(world)) continue;
+      worlds.push_back(world), indices.push_back(int(i));
+      if (!im && !transformMotion_) {
+        motions.push_back(nullptr);
+        continue;
+      }
+      std::vector<double> times = meshTimes;
+      if (im) times.insert(times.end(), im->times.begin(), im->times.end());
+      std::sort(times.begin(), times.end());
+      times.erase(std::unique(times.begin(), times.end()), times.end());
+      motions.push_back(
+          SteppedMotion(times, shutter, [&](double t) { return (im ? im->At(t) : transforms[i]) * meshAt(t); }));
     }
   }
 
@@ -354,8 +423,8 @@ void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam,
     c.instanceIndex = indices[k];
     c.hasColor = colors != nullptr;
     c.color = colors ? (*colors)[std::size_t(indices[k])] : Vec3f(0);
-    const glm::mat4 m(worlds[k]);
-    rtcSetGeometryTransform(instances_[k], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &m[0][0]);
+    c.motion = motions[k];
+    SetInstanceMotion(instances_[k], worlds[k], motions[k].get());
     if (visible_)
       rtcEnableGeometry(instances_[k]);
     else
@@ -363,6 +432,7 @@ void Mesh::SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam,
     rtcCommitGeometry(instances_[k]);
   }
   instanceWorlds_ = std::move(worlds);
+  worldMotion_ = instancerId_.empty() && !motions.empty() ? motions[0] : nullptr;
   stats_.instancesDrawn = int(instances_.size());
   ++stats_.instanceSyncs;
 }

@@ -20,6 +20,7 @@
 // (meshPrimvars.h); "rest" (vertex) is refined to the limit like the points, for eyes on meshes.
 #include "hdeye/hd/prim.h"
 #include "hdeye/prims/meshPrimvars.h"
+#include "hdeye/prims/motionSync.h"
 #include "hdeye/render/renderContext.h"
 
 #include <embree3/rtcore.h>
@@ -94,6 +95,11 @@ class Mesh : public Rprim {
   /// the mesh's own, when not instanced).
   const PrimId& InstancerId() const { return instancerId_; }
   const std::vector<Matrix4d>& InstanceWorldTransforms() const { return instanceWorlds_; }
+  /// A mesh drawn once: its object-to-world motion over the open shutter, on Embree's steps; null when it does not
+  /// move (or is instanced).
+  const std::shared_ptr<const TransformMotion>& WorldMotion() const { return worldMotion_; }
+  /// The Embree time steps of the points (1: no deformation blur).
+  int PointTimeSteps() const { return int(uploadedSteps_); }
 
  protected:
   const Matrix4d& Transform() const { return transform_; }
@@ -106,6 +112,8 @@ class Mesh : public Rprim {
   void SyncSubsets();
   void SyncPoints(const std::vector<Vec3f>& control);
   void SyncPrimvars(SceneDelegate* sceneDelegate);
+  /// The rendered points of every time step after the first (deformation blur), into laterSteps_.
+  void SyncLaterSteps(const PointSteps& steps);
   void UploadPoints();
   /// Rebuilds or moves the Embree instances: the mesh's transform, times its instancer's instance transforms.
   void SyncInstances(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBits bits, bool topologyDirty);
@@ -129,6 +137,11 @@ class Mesh : public Rprim {
   std::vector<PrimId> subsetMaterialIds_;
   std::vector<int> triangleSubsets_;  ///< per rendered triangle: its face's geomSubset, or -1
   Matrix4d transform_{1.0};
+  std::shared_ptr<const TransformMotion> transformMotion_;  ///< the authored motion over the open shutter, or null
+  std::shared_ptr<const TransformMotion> worldMotion_;      ///< see WorldMotion
+  std::vector<std::vector<Vec3f>> laterSteps_;  ///< rendered points at time steps 1.. (deformation blur), object space
+  std::vector<std::vector<Vec3f>> laterNormals_;  ///< their shading normals (GeometryContext::laterStepNormals)
+  unsigned uploadedSteps_ = 1;                    ///< vertex buffer slots of triangleGeometry_
   PrimId materialId_;
 
   RTCScene prototype_ = nullptr;

@@ -1,6 +1,7 @@
 #pragma once
 // What every Sync receives (HdEmbreeRenderParam's role): the one door through which prims edit the
 // Embree scene, which also bumps the scene version so render passes know to restart.
+#include "hdeye/render/motion.h"
 #include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>
@@ -27,6 +28,10 @@ class RenderParam {
   /// its first topology sync; the plan then raises what needs more (plan/meshRefinePlan.h).
   void SetMeshLevelsAwaitPlan(bool await) { meshLevelsAwaitPlan_ = await; }
   bool MeshLevelsAwaitPlan() const { return meshLevelsAwaitPlan_; }
+  /// The shutter of the camera being rendered (RenderPass sets it before syncing): prims with motion samples build
+  /// their Embree motion over it, and evaluate their samples at its time when it is closed.
+  void SetShutter(const Shutter& shutter) { shutter_ = shutter; }
+  const Shutter& GetShutter() const { return shutter_; }
   /// Textures (material, iris, dome) by file path, loaded once per render delegate and shared by the
   /// prims that use them. Thread-safe; lives as long as the render delegate.
   TextureCache& Textures() { return textures_; }
@@ -49,6 +54,7 @@ class RenderParam {
   RTCScene scene_;
   std::uint64_t sceneVersion_ = 0;
   bool meshLevelsAwaitPlan_ = false;
+  Shutter shutter_;
   TextureCache textures_;
   std::mutex warningsMutex_;
   std::vector<std::string> warnings_;

@@ -1,7 +1,10 @@
 #pragma once
 // A camera as the renderer sees it: its parameters and camera-to-world transform, and the rays it shoots
 // (perspective or orthographic, looking down its local -z axis; a thin lens when CameraParams::fStop > 0).
+#include "hdeye/render/motion.h"
 #include "hdeye/render/params.h"
+
+#include <memory>
 
 namespace hdeye {
 
@@ -15,6 +18,17 @@ struct WorldRay {
 struct CameraView {
   CameraParams params;
   Matrix4d transform{1.0};
+  /// The camera's motion over the open shutter (frames), or null: `transform` holds for every path.
+  std::shared_ptr<const TransformMotion> motion;
+
+  Shutter GetShutter() const { return {params.shutterOpen, params.shutterClose}; }
+  /// The camera as a path at frame time `time` sees it (itself when it does not move).
+  CameraView AtTime(double time) const {
+    if (!motion) return *this;
+    CameraView view = *this;
+    view.transform = motion->At(time);
+    return view;
+  }
 
   /// Whether rays start on a lens of non-zero aperture (a perspective camera with fStop > 0): GenerateRay then
   /// reads its lens sample.

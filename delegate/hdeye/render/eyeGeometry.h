@@ -2,6 +2,7 @@
 // An eye as the renderer sees it: the analytic anterior chamber in the canonical frame (mm, apex at
 // the origin, gaze +z) and the similarity transform to world space. The one place where world and
 // canonical coordinates meet.
+#include "hdeye/render/motion.h"
 #include "hdeye/render/params.h"
 #include "hdeye/render/texture.h"
 
@@ -10,8 +11,18 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 namespace hdeye {
+
+/// An eye that moves over the shutter: at frame time t its prim transform is prim->At(t) and its canonical frame
+/// prim->At(t) * canonicalInPrim (the model transform, with the eye mesh's rigid-frame correction measured at
+/// sync): a rigid interpolation of the frame (translation lerp, rotation slerp, scale lerp).
+struct EyeMotion {
+  std::shared_ptr<const TransformMotion> prim;  ///< frames; never null
+  glm::dmat4 canonicalInPrim{1.0};              ///< canonical frame to the prim's local space
+  Shutter shutter;                              ///< maps Embree ray times to frames (analytic eyes' intersection)
+};
 
 struct EyeGeometry {
   /// The parts a ray can hit (the user geometry's primID).
@@ -42,12 +53,20 @@ struct EyeGeometry {
   /// Eye meshes: -1 when the mesh is turned inside out relative to its rest pose (its signed volume
   /// changed sign), so its outward side stays outward; else 1.
   double outwardSign = 1;
+  /// The eye's motion over the open shutter, or null: these frames hold for every path.
+  std::shared_ptr<const EyeMotion> motion;
 
   EyeGeometry() = default;
   EyeGeometry(const EyeParams& params, const Matrix4d& primTransform);
 
   /// The absolute part of SpawnOffset (surfacePoint.h) on this eye: its centimetre in world units (10 x
   /// worldPerMm), so that rays leave the eye's surfaces alike from 1e-8 to 1e4 world units per mm.
+  /// The eye as a path at frame time `time` sees it: its frames (canonical, object to world, scale) at that time.
+  /// A copy of itself when it does not move.
+  EyeGeometry AtTime(double time) const;
+  /// Every frame the eye reaches over the shutter lies in [box at each of `count` times] (for bounds).
+  std::vector<glm::dmat4> CanonicalToWorldOverShutter(int count) const;
+
   double SpawnScale() const { return 10 * worldPerMm; }
 
   glm::dvec3 ToCanonical(const glm::dvec3& p) const { return glm::dvec3(worldToCanonical * glm::dvec4(p, 1)); }

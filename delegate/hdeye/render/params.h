@@ -34,6 +34,10 @@ struct CameraParams {
   /// scene unit (Gf.Camera's convention, 0.1: focalLength 50 is 5 scene units, 50 mm in a cm scene). Sizes the
   /// lens aperture: diameter = focalLength * focalLengthUnit / fStop, scene units.
   double focalLengthUnit = 0.1;
+  /// The shutter interval, frames relative to the frame (UsdGeomCamera shutter:open / shutter:close, or the render's
+  /// override): each camera path carries a time in [shutterOpen, shutterClose] and sees the scene as it is then.
+  /// open == close is a sharp render at that time (0: today's render, bit for bit).
+  double shutterOpen = 0, shutterClose = 0;
 };
 
 /// The lens aperture's diameter of a camera, scene units (0 for a pinhole or orthographic camera).

@@ -2,6 +2,7 @@
 // What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
 // geometry user data. The renderer sees these, never prim classes.
 #include "hdeye/render/eyeRenderOptions.h"
+#include "hdeye/render/motion.h"
 #include "hdeye/render/params.h"
 #include "hdeye/render/texture.h"
 
@@ -46,6 +47,10 @@ struct GeometryContext {
   /// normals; polygon meshes: smooth vertex normals), or null: the renderer then shades with the flat
   /// geometric normal. A zero normal (degenerate vertex) is allowed; the renderer falls back there too.
   const std::vector<Vec3f>* vertexNormals = nullptr;
+  /// A mesh deforming over the shutter: its vertex normals at Embree's time steps 1.. (vertexNormals holds step 0's;
+  /// the steps are uniform over the shutter), so shading normals follow the hit's time as its position does. Null:
+  /// one step.
+  const std::vector<std::vector<Vec3f>>* laterStepNormals = nullptr;
   /// Authored normals per rendered triangle corner (3 per triangle), object space, unit or zero; when
   /// set they replace vertexNormals (polygon meshes only: subdivided meshes keep their limit normals).
   const std::vector<Vec3f>* cornerNormals = nullptr;
@@ -81,6 +86,9 @@ struct InstanceContext {
   Vec3f color{0};
   bool hasColor = false;
   int instanceIndex = 0;  ///< the instance's index in its instancer (0 when drawn once)
+  /// The instance's object-to-world motion over the open shutter, on the steps Embree interpolates (frames), or null:
+  /// static. Its normals then follow the hit's time.
+  std::shared_ptr<const TransformMotion> motion;
 };
 
 }  // namespace hdeye

@@ -47,6 +47,8 @@ struct ShapingRt {
   static constexpr double kHalfTurn = 3.14159265358979323846;
 };
 
+struct LightMotion;
+
 struct RenderLight {
   LightType type = LightType::Sphere;
   /// Emitted radiance (distant: of the sun disk). For a delta light, what it delivers instead: the radiant
@@ -78,6 +80,8 @@ struct RenderLight {
   /// at local (+x, +y) and its last at (-x, -y), so a viewer facing the light sees the image upright:
   /// st = ((1 - a) / 2, (1 + b) / 2) at local point a axisU + b axisV, a and b in [-1, 1].
   std::shared_ptr<const Texture> rectImage;
+  /// A light that moves over the shutter (movingLights.h rebuilds it at each path's time); null: static.
+  std::shared_ptr<const LightMotion> motion;
 
   /// Builds a light from its parameters and local-to-world transform (UsdLux conventions: rect and
   /// disk emit along their local -z, a distant light shines along -z, a cylinder from its side around its local

@@ -29,6 +29,11 @@ struct RenderSettings {
   /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
   /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
   double textureFootprintScale = 0.5;
+  /// Motion blur: 0 draws each camera path's time uniformly over the camera's shutter (one more sample dimension);
+  /// N > 0 renders N discrete times, the centres of N equal strata of the shutter, sample s at stratum s mod N (the
+  /// accumulation-buffer method: the image is the average of N sharp images, which tests check exactly). Unused
+  /// when the shutter is closed.
+  int timeStrata = 0;
 };
 
 }  // namespace hdeye

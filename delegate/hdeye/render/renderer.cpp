@@ -2,6 +2,7 @@
 
 #include "hdeye/render/eyeShading.h"
 #include "hdeye/render/materialShading.h"
+#include "hdeye/render/movingLights.h"
 #include "hdeye/render/previewSurface.h"
 #include "hdeye/render/rayCone.h"
 #include "hdeye/render/renderContext.h"
@@ -49,6 +50,17 @@ class SampleStream {
   std::uint64_t seed_, pixel_, base_, dim_ = 0;
 };
 
+/// The frame time of pixel sample `sample`'s camera path in the camera's shutter (frames): a closed shutter's time
+/// (no random number drawn, so sharp renders are unchanged), stratum `sample mod timeStrata`'s centre, or one more
+/// sample dimension counted from the top (after the lens's two). The one place the path time is drawn: a sampler that
+/// replaces SampleStream re-maps this dimension here.
+double PathTime(const Shutter& shutter, int timeStrata, std::uint64_t sample, const SampleStream& rng) {
+  if (!shutter.IsOpen()) return shutter.open;
+  const double span = shutter.close - shutter.open;
+  if (timeStrata > 0) return shutter.open + span * (double(sample % std::uint64_t(timeStrata)) + 0.5) / timeStrata;
+  return shutter.open + span * rng.FromTop(2);
+}
+
 /// a^2 / (a^2 + b^2), as a ratio so that pdfs past 1e154 (a tiny light far away) do not overflow.
 double PowerHeuristic(double a, double b) {
   if (!(a > 0)) return 0;
@@ -84,6 +96,7 @@ struct SurfaceHit {
   bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
   glm::dmat3 normalToWorld{1.0};              // the hit instance's (object-space normals to world)
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
+  float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.
@@ -202,9 +215,14 @@ class Tracer {
   };
 
   /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
-  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
+  /// shutter: the camera's (the Embree ray time of each path's time).
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+         const Shutter& shutter)
       : scene_(scene),
-        lights_(lights),
+        sourceLights_(lights),
+        lightsNow_(AnyLightMoves(lights) ? lights : std::vector<RenderLight>{}),
+        lights_(AnyLightMoves(lights) ? lightsNow_ : lights),
+        shutter_(shutter),
         settings_(settings),
         cutouts_(cutouts),
         textureThread_(CurrentTextureThread()) {}
@@ -212,7 +230,9 @@ class Tracer {
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
   /// cone: the camera ray's footprint, carried along the path for texture filtering.
-  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng) const {
+  /// time: the path's, frames (PathTime): rays meet the geometry, lights and eyes as they are then.
+  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time) {
+    SetTime(time);
     PathSample sample;
     const auto random = [&rng] { return rng.Next(); };
     // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
@@ -245,7 +265,9 @@ class Tracer {
       path.fromPrim = hit.primIndex;  // the next ray leaves this vertex (light linking)
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
-        const EyeOutcome outcome = ShadeEyeHit(*eye, depth, random, &hit, &path, &sample);
+        // A moving eye is shaded with its frames at the path's time (where the ray met it).
+        const std::optional<EyeGeometry> moved = eye->motion ? std::optional(eye->AtTime(time_)) : std::nullopt;
+        const EyeOutcome outcome = ShadeEyeHit(moved ? *moved : *eye, depth, random, &hit, &path, &sample);
         if (outcome == EyeOutcome::Continue) continue;
         if (outcome == EyeOutcome::End) break;
       }
@@ -267,6 +289,14 @@ class Tracer {
   const Counts& GetCounts() const { return counts_; }
 
  private:
+  /// The path's time: Embree's ray time, and the moving lights moved to it.
+  void SetTime(double time) {
+    time_ = time;
+    rayTime_ = shutter_.RayTime(time);
+    if (&lights_ == &lightsNow_)
+      for (std::size_t k = 0; k < sourceLights_.size(); ++k) MoveLightTo(sourceLights_[k], time, &lightsNow_[k]);
+  }
+
   /// Closest hit of the scene's geometry along the ray, if any.
   bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
     RTCIntersectContext context;
@@ -276,7 +306,7 @@ class Tracer {
     rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
     rh.ray.tnear = float(tNear);
     rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
-    rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
+    rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = rayTime_;
     rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene_, &context, &rh);
     ++counts_.rays;
@@ -292,6 +322,8 @@ class Tracer {
       ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.geomID)));
     }
     hit->normalToWorld = instance ? instance->normalToWorld : ctx->normalToWorld;
+    if (instance && instance->motion)  // a moving instance: its normals at the ray's time, as Embree placed it
+      hit->normalToWorld = glm::transpose(glm::inverse(glm::dmat3(instance->motion->At(time_))));
     hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
@@ -301,6 +333,7 @@ class Tracer {
     hit->u = rh.hit.u, hit->v = rh.hit.v;
     hit->part = rh.hit.primID;
     hit->context = ctx;
+    hit->rayTime = rayTime_;
     FillPrimvars(hit);
     return true;
   }
@@ -323,7 +356,7 @@ class Tracer {
     if (ctx.cornerNormals) {
       local = glm::dvec3(atCorners(*ctx.cornerNormals));
     } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
-      local = InterpolateAtTriangle(*ctx.vertexNormals, &(*ctx.triangleVertices)[firstCorner], bu, bv);
+      local = VertexNormalAt(ctx, &(*ctx.triangleVertices)[firstCorner], bu, bv, hit->rayTime);
     }
     const WorldNormal shading(hit->normalToWorld, local);
     hit->n = !shading.Valid()                   ? hit->ng
@@ -340,6 +373,21 @@ class Tracer {
                                        : glm::dvec3(hit->material->params.diffuseColor);
     hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material->params.emissiveColor);
     hit->primIndex = ctx.primIndex;
+  }
+
+  /// The interpolated vertex normal at barycentrics (u, v) of triangle `tri`, object space; for a deforming mesh
+  /// blended between the two time steps around Embree ray time `rayTime`, as Embree blends the positions.
+  static glm::dvec3 VertexNormalAt(const GeometryContext& ctx, const int* tri, double u, double v, float rayTime) {
+    const glm::dvec3 first = InterpolateAtTriangle(*ctx.vertexNormals, tri, u, v);
+    if (!ctx.laterStepNormals || ctx.laterStepNormals->empty()) return first;
+    const std::size_t segments = ctx.laterStepNormals->size();
+    const double f = std::clamp(double(rayTime), 0.0, 1.0) * double(segments);
+    const std::size_t i = std::min(segments - 1, std::size_t(f));
+    const double w = f - double(i);
+    auto at = [&](std::size_t step) {
+      return step == 0 ? first : InterpolateAtTriangle((*ctx.laterStepNormals)[step - 1], tri, u, v);
+    };
+    return (1 - w) * at(i) + w * at(i + 1);
   }
 
   /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`.
@@ -389,7 +437,7 @@ class Tracer {
     ray.dir_x = float(d.x), ray.dir_y = float(d.y), ray.dir_z = float(d.z);
     ray.tnear = 0;
     ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
-    ray.mask = ~0u, ray.flags = 0, ray.time = 0;
+    ray.mask = ~0u, ray.flags = 0, ray.time = rayTime_;
     ThinWallsMet::Reset();
     rtcOccluded1(scene_, &context, &ray);
     ++counts_.rays;
@@ -592,7 +640,7 @@ class Tracer {
     std::int64_t queries = 0;
     MeshCrossing exitCrossing;
     const WorldBoundary boundary =
-        EyeMeshBoundary(hit.context->prototypeScene, eye.objectToWorld, &queries, &exitCrossing);
+        EyeMeshBoundary(hit.context->prototypeScene, eye.objectToWorld, &queries, &exitCrossing, rayTime_);
     ScleraScatteringSettings ws;
     ws.ior = ior;
     ws.limbalArc = limbalArc;
@@ -691,7 +739,13 @@ class Tracer {
   }
 
   RTCScene scene_;
-  const std::vector<RenderLight>& lights_;
+  const std::vector<RenderLight>& sourceLights_;
+  /// Moving lights at the path's time (a copy of the lights, rebuilt per path); empty when none moves.
+  std::vector<RenderLight> lightsNow_;
+  const std::vector<RenderLight>& lights_;  ///< what paths see: lightsNow_ when a light moves, else sourceLights_
+  Shutter shutter_;
+  double time_ = 0;    ///< the path's time, frames
+  float rayTime_ = 0;  ///< its Embree ray time
   const RenderSettings& settings_;
   bool cutouts_ = false;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
@@ -760,21 +814,25 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  Tracer tracer(scene, lights, settings, cutouts);
+  const Shutter shutter = camera.GetShutter();
+  Tracer tracer(scene, lights, settings, cutouts, shutter);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
         SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
         const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
-        const bool lens = camera.HasLens();
-        const WorldRay ray = camera.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
-                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
+        const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
+        const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
+        const CameraView& view = moved ? *moved : camera;
+        const bool lens = view.HasLens();
+        const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect, lens ? rng.FromTop(0) : 0.5,
+                                              lens ? rng.FromTop(1) : 0.5);
         // Only texture lookups read the cone (and only when filtering): without them it is never computed.
         const RayCone cone = textured && settings.textureFiltering
-                                 ? PixelCone(camera, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
+                                 ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
                                  : RayCone{};
-        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng))) ++counts->nonFinite;
+        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
       }
   }
   counts->Add(tracer.GetCounts());

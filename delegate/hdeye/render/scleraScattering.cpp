@@ -77,8 +77,10 @@ double BoxExit(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& lo, c
 
 class MeshBoundaryQuery {
  public:
-  MeshBoundaryQuery(RTCScene scene, const glm::dmat4& objectToWorld, std::int64_t* rays, MeshCrossing* last)
+  MeshBoundaryQuery(RTCScene scene, const glm::dmat4& objectToWorld, std::int64_t* rays, MeshCrossing* last,
+                    float rayTime)
       : scene_(scene),
+        rayTime_(rayTime),
         worldToObject_(glm::inverse(objectToWorld)),
         normalToWorld_(glm::transpose(glm::inverse(glm::dmat3(objectToWorld)))),
         rays_(rays),
@@ -117,7 +119,7 @@ class MeshBoundaryQuery {
       rh.ray.dir_x = float(-d.x), rh.ray.dir_y = float(-d.y), rh.ray.dir_z = float(-d.z);
       rh.ray.tnear = float(sNear);
       rh.ray.tfar = float(T - tNear);  // s = T - t: t >= tNear
-      rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = 0;
+      rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = rayTime_;
       rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(scene_, &context, &rh);
       if (rays_) ++*rays_;
@@ -151,6 +153,7 @@ class MeshBoundaryQuery {
 
  private:
   RTCScene scene_;
+  float rayTime_;
   glm::dmat4 worldToObject_;
   glm::dmat3 normalToWorld_;
   glm::dvec3 lo_{0.0}, hi_{0.0};
@@ -161,9 +164,9 @@ class MeshBoundaryQuery {
 }  // namespace
 
 WorldBoundary EyeMeshBoundary(RTCScene prototype, const glm::dmat4& objectToWorld, std::int64_t* rays,
-                              MeshCrossing* last) {
+                              MeshCrossing* last, float rayTime) {
   if (!prototype) return {};
-  return MeshBoundaryQuery(prototype, objectToWorld, rays, last);
+  return MeshBoundaryQuery(prototype, objectToWorld, rays, last, rayTime);
 }
 
 }  // namespace hdeye

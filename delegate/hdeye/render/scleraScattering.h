@@ -77,7 +77,9 @@ struct MeshCrossing {
 /// tnear from the float rounding bound of the query's coordinates, not a fixed epsilon.
 /// XXX: a flag in the eye mesh's filter (eyeMesh.cpp: accept inside hits for walk queries) would make
 /// this one forward query; the backward cast costs one extra query only on non-convex meshes.
+/// rayTime: the Embree ray time the walk happens at (a deforming mesh's points at that time; objectToWorld must be
+/// the transform then).
 WorldBoundary EyeMeshBoundary(RTCScene prototype, const glm::dmat4& objectToWorld, std::int64_t* rays = nullptr,
-                              MeshCrossing* last = nullptr);
+                              MeshCrossing* last = nullptr, float rayTime = 0);
 
 }  // namespace hdeye

@@ -3,6 +3,7 @@
 #include "hdeye/hd/renderIndex.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/motion.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -23,6 +24,22 @@ void CheckTransform(const PrimId& id, const Matrix4d& m) {
       std::abs(m[2][3]) > kAffineTolerance || std::abs(m[3][3] - 1) > kAffineTolerance)
     throw std::invalid_argument("prim " + id + ": transform is projective");
   if (glm::determinant(glm::dmat3(m)) == 0) throw std::invalid_argument("prim " + id + ": transform is singular");
+}
+/// Rejects samples that do not pair one value with each time, or none at all.
+template <class T> void CheckSamples(const PrimId& id, const std::vector<float>& times, const std::vector<T>& values) {
+  if (times.empty() || times.size() != values.size())
+    throw std::invalid_argument("prim " + id + ": " + std::to_string(times.size()) + " sample times for " +
+                                std::to_string(values.size()) + " values");
+  for (float t : times)
+    if (!std::isfinite(t)) throw std::invalid_argument("prim " + id + ": a sample time is NaN or Inf");
+}
+
+/// The index of the sample nearest time 0 (what a static Get* call returns when no interpolation applies).
+std::size_t NearestToFrame(const std::vector<float>& times) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (std::abs(times[i]) < std::abs(times[best])) best = i;
+  return best;
 }
 }  // namespace
 
@@ -114,6 +131,7 @@ void InMemorySceneDelegate::AddRenderBuffer(const PrimId& id, int width, int hei
 
 void InMemorySceneDelegate::SetPoints(const PrimId& id, const std::vector<Vec3f>& points) {
   meshes_.at(id).points = points;
+  meshes_.at(id).pointsSamples = {};
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPoints);
 }
 
@@ -121,6 +139,7 @@ void InMemorySceneDelegate::SetTopology(const PrimId& id, const MeshTopology& to
                                         const std::vector<Vec3f>& points) {
   meshes_.at(id).topology = topology;
   meshes_.at(id).points = points;
+  meshes_.at(id).pointsSamples = {};
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTopology | dirty::DirtyPoints);
 }
 
@@ -141,7 +160,73 @@ void InMemorySceneDelegate::SetGeomSubsets(const PrimId& id, const std::vector<G
 void InMemorySceneDelegate::SetTransform(const PrimId& id, const Matrix4d& transform) {
   CheckTransform(id, transform);
   transforms_.at(id) = transform;
+  transformSamples_.erase(id);
   index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
+}
+
+void InMemorySceneDelegate::SetTransformSamples(const PrimId& id, const std::vector<float>& times,
+                                                const std::vector<Matrix4d>& matrices) {
+  CheckSamples(id, times, matrices);
+  for (const Matrix4d& m : matrices) CheckTransform(id, m);
+  Matrix4d& atFrame = transforms_.at(id);
+  const std::optional<TransformMotion> motion = MakeTransformMotion({times, matrices}, id, nullptr);
+  atFrame = motion ? motion->At(0.0) : matrices[NearestToFrame(times)];
+  if (matrices.size() == 1)
+    transformSamples_.erase(id);
+  else
+    transformSamples_[id] = {times, matrices};
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyTransform);
+}
+
+TimeSampled<Matrix4d> InMemorySceneDelegate::SampleTransform(const PrimId& id) {
+  const auto it = transformSamples_.find(id);
+  return it != transformSamples_.end() ? it->second : TimeSampled<Matrix4d>{{0.0f}, {transforms_.at(id)}};
+}
+
+void InMemorySceneDelegate::SetPointsSamples(const PrimId& id, const std::vector<float>& times,
+                                             const std::vector<std::vector<Vec3f>>& pointsPerTime) {
+  CheckSamples(id, times, pointsPerTime);
+  for (const std::vector<Vec3f>& points : pointsPerTime)
+    if (points.size() != pointsPerTime[0].size())
+      throw std::invalid_argument("prim " + id + ": point samples differ in count");
+  MeshData& mesh = meshes_.at(id);
+  mesh.pointsSamples = pointsPerTime.size() == 1 ? TimeSampled<std::vector<Vec3f>>{}
+                                                 : TimeSampled<std::vector<Vec3f>>{times, pointsPerTime};
+  mesh.points = pointsPerTime.size() == 1 ? pointsPerTime[0] : PointsAt(mesh.pointsSamples, 0.0);
+  index_->GetChangeTracker().MarkDirty(id, dirty::DirtyPoints);
+}
+
+TimeSampled<std::vector<Vec3f>> InMemorySceneDelegate::SamplePoints(const PrimId& id) {
+  const MeshData& mesh = meshes_.at(id);
+  return mesh.pointsSamples.values.empty() ? TimeSampled<std::vector<Vec3f>>{{0.0f}, {mesh.points}}
+                                           : mesh.pointsSamples;
+}
+
+void InMemorySceneDelegate::SetInstanceTransformSamples(const PrimId& id, const std::vector<float>& times,
+                                                        const std::vector<std::vector<Matrix4d>>& transformsPerTime) {
+  CheckSamples(id, times, transformsPerTime);
+  for (const std::vector<Matrix4d>& transforms : transformsPerTime)
+    if (transforms.size() != transformsPerTime[0].size())
+      throw std::invalid_argument("instancer " + id + ": instance transform samples differ in count");
+  InstancerData& instancer = instancers_.at(id);
+  const std::size_t count = transformsPerTime[0].size();
+  instancer.transforms.assign(count, Matrix4d(1.0));
+  for (std::size_t k = 0; k < count; ++k) {
+    TimeSampled<Matrix4d> one{times, {}};
+    for (const std::vector<Matrix4d>& transforms : transformsPerTime) one.values.push_back(transforms[k]);
+    const std::optional<TransformMotion> motion = MakeTransformMotion(one, id, nullptr);
+    instancer.transforms[k] = motion ? motion->At(0.0) : one.values[NearestToFrame(times)];
+  }
+  instancer.transformSamples = transformsPerTime.size() == 1
+                                   ? TimeSampled<std::vector<Matrix4d>>{}
+                                   : TimeSampled<std::vector<Matrix4d>>{times, transformsPerTime};
+  index_->GetChangeTracker().MarkInstancerDirty(id);
+}
+
+TimeSampled<std::vector<Matrix4d>> InMemorySceneDelegate::SampleInstanceTransforms(const PrimId& id) {
+  const InstancerData& instancer = instancers_.at(id);
+  return instancer.transformSamples.values.empty() ? TimeSampled<std::vector<Matrix4d>>{{0.0f}, {instancer.transforms}}
+                                                   : instancer.transformSamples;
 }
 
 void InMemorySceneDelegate::SetVisible(const PrimId& id, bool visible) {
@@ -203,7 +288,7 @@ void InMemorySceneDelegate::RemovePrim(const PrimId& id) {
   index_->RemovePrim(id);
   if (const auto mesh = meshes_.find(id); mesh != meshes_.end() && !mesh->second.instancerId.empty())
     index_->GetChangeTracker().RemoveInstancerRprimDependency(mesh->second.instancerId, id);
-  instancers_.erase(id);
+  instancers_.erase(id), transformSamples_.erase(id);
   meshes_.erase(id), curves_.erase(id), transforms_.erase(id), cameras_.erase(id), lights_.erase(id);
   materials_.erase(id), eyes_.erase(id), hidden_.erase(id);
 }

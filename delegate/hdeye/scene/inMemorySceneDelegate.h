@@ -55,6 +55,18 @@ class InMemorySceneDelegate final : public SceneDelegate {
   /// A mesh's per-face materials (the rest of its topology kept). Marks DirtyTopology.
   void SetGeomSubsets(const PrimId& id, const std::vector<GeomSubset>& subsets);
   void SetTransform(const PrimId& id, const Matrix4d& transform);
+  /// Motion samples of a prim's transform (times in frames relative to the frame, ascending; one matrix per time).
+  /// GetTransform then returns the transform at time 0. Marks DirtyTransform, as SetTransform, which sets one
+  /// (static) sample. std::invalid_argument for mismatched lengths, no samples, or a matrix CheckTransform rejects.
+  void SetTransformSamples(const PrimId& id, const std::vector<float>& times, const std::vector<Matrix4d>& matrices);
+  /// Motion samples of a point-based prim's points (each the same count); GetPoints then returns the points at
+  /// time 0. Marks DirtyPoints, as SetPoints.
+  void SetPointsSamples(const PrimId& id, const std::vector<float>& times,
+                        const std::vector<std::vector<Vec3f>>& pointsPerTime);
+  /// Motion samples of an instancer's transforms (each the same instance count; colours kept). Marks the instancer
+  /// dirty, as SetInstanceTransforms.
+  void SetInstanceTransformSamples(const PrimId& id, const std::vector<float>& times,
+                                   const std::vector<std::vector<Matrix4d>>& transformsPerTime);
   void SetVisible(const PrimId& id, bool visible);
   /// A mesh primvar by name ("st", "normals", "displayColor", "rest"); an empty one removes it.
   /// Marks DirtyPrimvar.
@@ -84,6 +96,9 @@ class InMemorySceneDelegate final : public SceneDelegate {
   LightParams GetLightParams(const PrimId& id) override { return lights_.at(id); }
   MaterialParams GetMaterialParams(const PrimId& id) override { return materials_.at(id); }
   EyeParams GetEyeParams(const PrimId& id) override { return eyes_.at(id); }
+  TimeSampled<Matrix4d> SampleTransform(const PrimId& id) override;
+  TimeSampled<std::vector<Vec3f>> SamplePoints(const PrimId& id) override;
+  TimeSampled<std::vector<Matrix4d>> SampleInstanceTransforms(const PrimId& id) override;
 
  private:
   struct MeshData {
@@ -92,15 +107,18 @@ class InMemorySceneDelegate final : public SceneDelegate {
     std::map<std::string, Primvar> primvars;
     PrimId materialId;
     PrimId instancerId;
+    TimeSampled<std::vector<Vec3f>> pointsSamples;  ///< empty: static (`points`)
   };
   struct InstancerData {
     std::vector<Matrix4d> transforms;
     std::vector<Vec3f> colors;
+    TimeSampled<std::vector<Matrix4d>> transformSamples;  ///< empty: static (`transforms`)
   };
   RenderIndex* index_;
   std::map<PrimId, MeshData> meshes_;  ///< meshes, and the points, primvars and material of curves and points
   std::map<PrimId, BasisCurvesTopology> curves_;
   std::map<PrimId, Matrix4d> transforms_;
+  std::map<PrimId, TimeSampled<Matrix4d>> transformSamples_;  ///< prims with motion samples only
   std::map<PrimId, CameraParams> cameras_;
   std::map<PrimId, LightParams> lights_;
   std::map<PrimId, MaterialParams> materials_;
