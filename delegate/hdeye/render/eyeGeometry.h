@@ -64,7 +64,8 @@ struct EyeGeometry {
   /// The eye as a path at frame time `time` sees it: its frames (canonical, object to world, scale) at that time.
   /// A copy of itself when it does not move.
   EyeGeometry AtTime(double time) const;
-  /// Every frame the eye reaches over the shutter lies in [box at each of `count` times] (for bounds).
+  /// The canonical-to-world frame at `count` evenly spaced times over the eye's shutter, ends included (its one frame
+  /// when it does not move): what a moving eye's bounds are measured at.
   std::vector<glm::dmat4> CanonicalToWorldOverShutter(int count) const;
 
   double SpawnScale() const { return 10 * worldPerMm; }
