@@ -96,30 +96,36 @@ TEST_CASE("a diffuse plane under a sphere light matches the analytic irradiance,
 }
 
 TEST_CASE("the image is the same for any thread count, and sample ranges merge into the whole ", "[render]") {
-  Scene s;
-  FurnaceScene(s, 0.7f, 16);
-  s.scene.AddRenderBuffer("/two", 16, 16, 4);
-  s.scene.AddRenderBuffer("/firstHalf", 16, 16, 4);
-  s.scene.AddRenderBuffer("/secondHalf", 16, 16, 4);
-  RenderSettings& settings = s.delegate.Settings();
-  settings.samplesPerPixel = 8;
-  settings.threads = 1;
-  s.Render("/color");
-  settings.threads = 2;
-  s.Render("/two");
-  settings.samplesPerPixel = 4;
-  s.Render("/firstHalf");
-  settings.firstSample = 4;
-  s.Render("/secondHalf");
-  s.Buffer("/firstHalf").Merge(s.Buffer("/secondHalf"));
-  int identical = 0, close = 0;
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int c = 0; c < 4; ++c) {
-        const float whole = s.Buffer("/color").Resolved(x, y, c);
-        identical += whole == s.Buffer("/two").Resolved(x, y, c);
-        close += std::abs(whole - s.Buffer("/firstHalf").Resolved(x, y, c)) <= 1e-6f * (1 + std::abs(whole));
-      }
-  CHECK(identical == 16 * 16 * 4);
-  CHECK(close == 16 * 16 * 4);
+  // For both samplers: each sample is a pure function of (seed, pixel, sample index, dimension).
+  for (const SamplerKind sampler : {SamplerKind::ZSobol, SamplerKind::Independent}) {
+    Scene s;
+    FurnaceScene(s, 0.7f, 16);
+    s.scene.AddRenderBuffer("/two", 16, 16, 4);
+    s.scene.AddRenderBuffer("/firstHalf", 16, 16, 4);
+    s.scene.AddRenderBuffer("/secondHalf", 16, 16, 4);
+    RenderSettings& settings = s.delegate.Settings();
+    settings.sampler = sampler;
+    settings.samplesPerPixel = 8;
+    settings.threads = 1;
+    s.Render("/color");
+    settings.threads = 2;
+    s.Render("/two");
+    settings.samplesPerPixel = 4;
+    s.Render("/firstHalf");
+    settings.firstSample = 4;
+    s.Render("/secondHalf");
+    s.Buffer("/firstHalf").Merge(s.Buffer("/secondHalf"));
+    int identical = 0, close = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        for (int c = 0; c < 4; ++c) {
+          const float whole = s.Buffer("/color").Resolved(x, y, c);
+          identical += whole == s.Buffer("/two").Resolved(x, y, c);
+          close += std::abs(whole - s.Buffer("/firstHalf").Resolved(x, y, c)) <= 1e-6f * (1 + std::abs(whole));
+        }
+    INFO((sampler == SamplerKind::ZSobol ? "zsobol" : "independent")
+         << ": " << identical << " identical across thread counts, " << close << " merged values close, of 1024");
+    CHECK(identical == 16 * 16 * 4);
+    CHECK(close == 16 * 16 * 4);
+  }
 }

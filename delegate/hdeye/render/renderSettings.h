@@ -3,6 +3,10 @@
 // delegate, handed to the renderer by the render pass for each Execute.
 namespace hdeye {
 
+/// Where a path's random numbers come from (sampleStream.h): Owen-scrambled Sobol points in Z order (stratified
+/// per pixel), or independent hashed numbers (the earlier sampler, kept to measure the difference).
+enum class SamplerKind { ZSobol, Independent };
+
 /// Render settings (name, default), read by the render pass for each Execute.
 struct RenderSettings {
   int samplesPerPixel = 16;
@@ -29,6 +33,13 @@ struct RenderSettings {
   /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
   /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
   double textureFootprintScale = 0.5;
+  SamplerKind sampler = SamplerKind::ZSobol;
+  /// Eyes: MNEE estimates of the light at a camera path's first iris vertex, averaged (each weighs 1 / N). More
+  /// than 1 only pays where the light's own sampling is noisy (large or several lights).
+  int irisLightSplits = 1;
+  /// Eyes: chamber walks continued from a camera path's first iris vertex, each gathering the iris light it meets
+  /// with weight 1 / N; the first also carries the path out of the eye (its exit keeps the full weight).
+  int chamberSplits = 1;
 };
 
 }  // namespace hdeye
