@@ -4,6 +4,7 @@
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/sampleStream.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
@@ -127,5 +128,31 @@ TEST_CASE("the image is the same for any thread count, and sample ranges merge i
          << ": " << identical << " identical across thread counts, " << close << " merged values close, of 1024");
     CHECK(identical == 16 * 16 * 4);
     CHECK(close == 16 * 16 * 4);
+  }
+}
+
+TEST_CASE("a path's random numbers do not depend on whether the camera drew its lens and time", "[render][sampler]") {
+  // The camera's dimensions sit at fixed indices (SampleStream): a pinhole camera, which draws none, and a lens
+  // camera with a shutter, which draws three, give the path the same numbers. For both samplers.
+  for (const SamplerKind kind : {SamplerKind::ZSobol, SamplerKind::Independent}) {
+    for (std::uint64_t sample : {0ull, 1ull, 77ull}) {
+      SampleStream pinhole(kind, 5, 12, 34, 256, sample), lens(kind, 5, 12, 34, 256, sample);
+      double jx, jy, kx, ky;
+      pinhole.PixelJitter(&jx, &jy);
+      lens.PixelJitter(&kx, &ky);
+      const double lensU = lens.FromTop(0), lensV = lens.FromTop(1), time = lens.FromTop(2);
+      CHECK(jx == kx);
+      CHECK(jy == ky);
+      int same = 0, distinctFromCamera = 0;
+      for (int d = 0; d < 300; ++d) {
+        const double a = pinhole.Next(), b = lens.Next();
+        same += a == b;
+        distinctFromCamera += a != lensU && a != lensV && a != time;
+      }
+      INFO((kind == SamplerKind::ZSobol ? "zsobol" : "independent")
+           << " sample " << sample << ": " << same << " of 300 path numbers equal");
+      CHECK(same == 300);
+      CHECK(distinctFromCamera == 300);
+    }
   }
 }
