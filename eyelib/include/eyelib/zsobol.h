@@ -104,8 +104,8 @@ inline ZSobolPair ZSobolPoint(std::uint64_t seed, std::uint32_t x, std::uint32_t
                               std::uint64_t pair) {
   constexpr std::uint64_t kSampleMask = (std::uint64_t(1) << kZSobolSampleBits) - 1;
   // Pixel coordinates past 16 bits and sample blocks past the first select a fresh scramble.
-  const std::uint64_t beyond = (std::uint64_t(x >> 16) << 48) ^ (std::uint64_t(y >> 16) << 32) ^
-                               (sample >> kZSobolSampleBits);
+  const std::uint64_t beyond =
+      (std::uint64_t(x >> 16) << 48) ^ (std::uint64_t(y >> 16) << 32) ^ (sample >> kZSobolSampleBits);
   const std::uint64_t pairSeed = SplitMix64(seed ^ SplitMix64(pair ^ SplitMix64(beyond)));
   const std::uint64_t index = (Morton2(x, y) << kZSobolSampleBits) | (sample & kSampleMask);
   // The index permutation: bit b flipped by the bits above it (NestedHash on the reversed index).
