@@ -133,7 +133,7 @@ def plot(rows, path):
                           label=f"{label}: floor at {r['fixed_spp']:.0f} spp below this")
     ax.set_xlabel("render time, s (2 threads)")
     ax.set_ylabel("% of the reference (iris pixels)")
-    ax.set_ylim(bottom=0.1)
+    ax.set_ylim(bottom=0.05)
     ax.set_title("Scene B iris: error against time")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
