@@ -92,6 +92,12 @@ def build_parser():
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
     p.add_argument("--mnee-all-solutions", action="store_true", help="search every refraction path (caustic folds)")
     p.add_argument("--mnee", action="store_true", help="MNEE on for every eye, whatever the render plan finds")
+    p.add_argument("--sampler", choices=("zsobol", "independent"), default="zsobol",
+                   help="A/B: paths' random numbers, Owen-scrambled Sobol in Z order (default) or independent hashes")
+    p.add_argument("--iris-light-splits", type=int, default=1, metavar="N",
+                   help="eyes: MNEE light estimates averaged at a path's first iris vertex (default 1)")
+    p.add_argument("--chamber-splits", type=int, default=1, metavar="N",
+                   help="eyes: chamber walks continued from a path's first iris vertex (default 1)")
     p.add_argument("--plan", action="store_true", help="print the render plan (JSON) on stdout and exit: nothing is "
                    "rendered or written (docs/render_plan.md)")
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
@@ -136,6 +142,9 @@ def samples_per_pixel(args):
         raise EyeRenderError("--spp must be at least 1")
     if args.time_limit < 0 or args.threads < 0 or args.max_depth < 1:
         raise EyeRenderError("--time-limit, --threads and --max-depth must be positive")
+    for name in ("iris_light_splits", "chamber_splits"):
+        if not 1 <= getattr(args, name) <= 64:
+            raise EyeRenderError(f"--{name.replace('_', '-')} {getattr(args, name)}: must be 1 to 64")
     for name in ("imageWidth", "imageHeight"):
         if getattr(args, name) is not None and getattr(args, name) < 1:
             raise EyeRenderError(f"--{name} {getattr(args, name)}: must be at least 1 pixel")

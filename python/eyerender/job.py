@@ -80,7 +80,8 @@ def session_options(args):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
-                  ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
+                  ("dome_light_camera_visibility", args.enableDomeLightVisibility), ("sampler", args.sampler),
+                  ("iris_light_splits", args.iris_light_splits), ("chamber_splits", args.chamber_splits)),
         plan=plan_options(args), strict=args.strict,
         shutter=parse_shutter_arguments(args.shutter, args.disableMotionBlur))
 

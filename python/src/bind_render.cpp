@@ -34,7 +34,25 @@ void BindRender(nb::module_& m) {
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
       .def_rw("time_strata", &RenderSettings::timeStrata,
-              "motion blur: 0 a continuous time per path; N the centres of N shutter strata (sample s at s mod N)");
+              "motion blur: 0 a continuous time per path; N the centres of N shutter strata (sample s at s mod N)")
+      .def_prop_rw(
+          "sampler",
+          [](const RenderSettings& s) {
+            return std::string(s.sampler == SamplerKind::ZSobol ? "zsobol" : "independent");
+          },
+          [](RenderSettings& s, const std::string& name) {
+            if (name == "zsobol")
+              s.sampler = SamplerKind::ZSobol;
+            else if (name == "independent")
+              s.sampler = SamplerKind::Independent;
+            else
+              throw nb::value_error(("sampler must be 'zsobol' or 'independent', not '" + name + "'").c_str());
+          },
+          "where paths' random numbers come from: 'zsobol' (stratified per pixel) or 'independent' (hashed)")
+      .def_rw("iris_light_splits", &RenderSettings::irisLightSplits,
+              "eyes: MNEE estimates averaged at a path's first iris vertex")
+      .def_rw("chamber_splits", &RenderSettings::chamberSplits,
+              "eyes: chamber walks continued from a path's first iris vertex");
 
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)

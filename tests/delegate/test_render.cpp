@@ -4,6 +4,7 @@
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/sampleStream.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
@@ -96,30 +97,62 @@ TEST_CASE("a diffuse plane under a sphere light matches the analytic irradiance,
 }
 
 TEST_CASE("the image is the same for any thread count, and sample ranges merge into the whole ", "[render]") {
-  Scene s;
-  FurnaceScene(s, 0.7f, 16);
-  s.scene.AddRenderBuffer("/two", 16, 16, 4);
-  s.scene.AddRenderBuffer("/firstHalf", 16, 16, 4);
-  s.scene.AddRenderBuffer("/secondHalf", 16, 16, 4);
-  RenderSettings& settings = s.delegate.Settings();
-  settings.samplesPerPixel = 8;
-  settings.threads = 1;
-  s.Render("/color");
-  settings.threads = 2;
-  s.Render("/two");
-  settings.samplesPerPixel = 4;
-  s.Render("/firstHalf");
-  settings.firstSample = 4;
-  s.Render("/secondHalf");
-  s.Buffer("/firstHalf").Merge(s.Buffer("/secondHalf"));
-  int identical = 0, close = 0;
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int c = 0; c < 4; ++c) {
-        const float whole = s.Buffer("/color").Resolved(x, y, c);
-        identical += whole == s.Buffer("/two").Resolved(x, y, c);
-        close += std::abs(whole - s.Buffer("/firstHalf").Resolved(x, y, c)) <= 1e-6f * (1 + std::abs(whole));
+  // For both samplers: each sample is a pure function of (seed, pixel, sample index, dimension).
+  for (const SamplerKind sampler : {SamplerKind::ZSobol, SamplerKind::Independent}) {
+    Scene s;
+    FurnaceScene(s, 0.7f, 16);
+    s.scene.AddRenderBuffer("/two", 16, 16, 4);
+    s.scene.AddRenderBuffer("/firstHalf", 16, 16, 4);
+    s.scene.AddRenderBuffer("/secondHalf", 16, 16, 4);
+    RenderSettings& settings = s.delegate.Settings();
+    settings.sampler = sampler;
+    settings.samplesPerPixel = 8;
+    settings.threads = 1;
+    s.Render("/color");
+    settings.threads = 2;
+    s.Render("/two");
+    settings.samplesPerPixel = 4;
+    s.Render("/firstHalf");
+    settings.firstSample = 4;
+    s.Render("/secondHalf");
+    s.Buffer("/firstHalf").Merge(s.Buffer("/secondHalf"));
+    int identical = 0, close = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        for (int c = 0; c < 4; ++c) {
+          const float whole = s.Buffer("/color").Resolved(x, y, c);
+          identical += whole == s.Buffer("/two").Resolved(x, y, c);
+          close += std::abs(whole - s.Buffer("/firstHalf").Resolved(x, y, c)) <= 1e-6f * (1 + std::abs(whole));
+        }
+    INFO((sampler == SamplerKind::ZSobol ? "zsobol" : "independent")
+         << ": " << identical << " identical across thread counts, " << close << " merged values close, of 1024");
+    CHECK(identical == 16 * 16 * 4);
+    CHECK(close == 16 * 16 * 4);
+  }
+}
+
+TEST_CASE("a path's random numbers do not depend on whether the camera drew its lens and time", "[render][sampler]") {
+  // The camera's dimensions sit at fixed indices (SampleStream): a pinhole camera, which draws none, and a lens
+  // camera with a shutter, which draws three, give the path the same numbers. For both samplers.
+  for (const SamplerKind kind : {SamplerKind::ZSobol, SamplerKind::Independent}) {
+    for (std::uint64_t sample : {0ull, 1ull, 77ull}) {
+      SampleStream pinhole(kind, 5, 12, 34, 256, sample), lens(kind, 5, 12, 34, 256, sample);
+      double jx, jy, kx, ky;
+      pinhole.PixelJitter(&jx, &jy);
+      lens.PixelJitter(&kx, &ky);
+      const double lensU = lens.FromTop(0), lensV = lens.FromTop(1), time = lens.FromTop(2);
+      CHECK(jx == kx);
+      CHECK(jy == ky);
+      int same = 0, distinctFromCamera = 0;
+      for (int d = 0; d < 300; ++d) {
+        const double a = pinhole.Next(), b = lens.Next();
+        same += a == b;
+        distinctFromCamera += a != lensU && a != lensV && a != time;
       }
-  CHECK(identical == 16 * 16 * 4);
-  CHECK(close == 16 * 16 * 4);
+      INFO((kind == SamplerKind::ZSobol ? "zsobol" : "independent")
+           << " sample " << sample << ": " << same << " of 300 path numbers equal");
+      CHECK(same == 300);
+      CHECK(distinctFromCamera == 300);
+    }
+  }
 }

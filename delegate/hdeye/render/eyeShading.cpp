@@ -23,14 +23,89 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
+/// The surface a chamber walk at p (canonical, mm) going along unit d meets next, from inside.
+struct ChamberHit {
+  enum Kind { Iris, Pupil, Cornea, Lost } kind = Lost;
+  glm::dvec3 point{0}, normal{0};  ///< Iris: on the iris plane; Cornea: the point and its outward normal
+};
+
+ChamberHit NextChamberSurface(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& d) {
+  ChamberHit hit;
+  const double tPlane = d.z < 0 ? (eye.chamber.IrisZ() - p.z) / d.z : kInf;
+  auto cap = eye.chamber.Surface().Intersect({p, d});
+  if (cap && cap->fromOutside) cap.reset();  // from inside the chamber only exits can be hit
+  if (tPlane < (cap ? cap->t : kInf)) {
+    hit.point = p + tPlane * d;
+    hit.point.z = eye.chamber.IrisZ();
+    hit.kind = std::hypot(hit.point.x, hit.point.y) < eye.chamber.PupilRadius() ? ChamberHit::Pupil : ChamberHit::Iris;
+    return hit;
+  }
+  if (!cap) return hit;  // through the sub-micrometre gap at the rim: lost
+  hit.kind = ChamberHit::Cornea;
+  hit.point = cap->point;
+  hit.normal = cap->normal;
+  return hit;
+}
+
+/// The iris's diffuse reflection of direct light at x: albedo / pi times the mean of `splits` MNEE estimates.
+glm::dvec3 IrisDirectLight(const EyeGeometry& eye, const glm::dvec3& x, const glm::dvec3& albedo,
+                           const EyeLighting& lighting, const std::function<double()>& random, int splits) {
+  glm::dvec3 E(0);
+  for (int i = 0; i < splits; ++i) E += IrisIrradianceMnee(eye, x, lighting, random);
+  return (albedo / kPi) * (E / double(splits));
+}
+
+/// A cosine-distributed direction off the iris plane into the chamber; one 2D sample (two draws).
+glm::dvec3 IrisBounce(const std::function<double()>& random) {
+  const double u1 = random(), u2 = random();
+  return eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
+}
+
+/// Whether a walk meeting the cornea from inside (unit d, outward normal n) reflects (Fresnel, 1 under total
+/// internal reflection) rather than leaves. Draws two numbers (the second unused) so the walk's next draws start on
+/// a pair.
+bool ReflectsInside(const glm::dvec3& d, const glm::dvec3& n, double ior, const std::function<double()>& random) {
+  const double u = random();
+  random();
+  return u < eyelib::FresnelDielectric(glm::dot(-d, n), ior);
+}
+
+/// The iris light a chamber walk leaving iris point x (a diffuse bounce, unit throughput) gathers before it leaves
+/// the eye or is absorbed, within `maxEvents` events; what leaves the eye is not followed (the walk the path goes on
+/// with carries that).
+glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
+                          const std::function<double()>& random, int maxEvents) {
+  glm::dvec3 gathered(0), beta(1), p = x, d = IrisBounce(random);
+  const double ior = eye.chamber.CorneaIor();
+  for (int k = 0; k < maxEvents; ++k) {
+    const ChamberHit hit = NextChamberSurface(eye, p, d);
+    if (hit.kind == ChamberHit::Iris) {
+      const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
+      if (lighting.mnee) gathered += beta * IrisDirectLight(eye, hit.point, albedo, lighting, random, 1);
+      d = IrisBounce(random);
+      beta *= albedo;
+      p = hit.point;
+    } else if (hit.kind == ChamberHit::Cornea && ReflectsInside(d, hit.normal, ior, random)) {
+      d = d - 2 * glm::dot(d, hit.normal) * hit.normal;
+      p = hit.point;
+    } else {
+      break;
+    }
+  }
+  return gathered;
+}
+
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
                               eyelib::FunctionRef<double()> random) {
   const std::vector<RenderLight>& lights = *lighting.lights;
   // Only the lights MNEE counts; picking among them alone (not among all lights with zero for the rest)
-  // spends every sample on light MNEE is responsible for. The random numbers drawn do not depend on the split.
-  const double pick = random(), u1 = random(), u2 = random();
+  // spends every sample on light MNEE is responsible for. The random numbers drawn do not depend on the split:
+  // four, the light point first (one 2D pair of the renderer's sampler), the fourth unused so the caller's next
+  // draws start on a pair.
+  const double u1 = random(), u2 = random(), pick = random();
+  random();
   std::size_t counted = 0;
   for (std::size_t k = 0; k < lights.size(); ++k) counted += MneeCountsLight(lighting, k);
   if (counted == 0) return glm::dvec3(0);
@@ -149,20 +224,21 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
                            eyelib::FunctionRef<double()> random) {
   EyeEvent ev;
-  const eyelib::AnteriorSurface<double>& surface = eye.chamber.Surface();
   const double ior = eye.chamber.CorneaIor();
   glm::dvec3 p = entry.point, n = entry.normal, d = entry.dir;
   const glm::dvec3 worldPoint = eye.ToWorld(p);
 
-  // Limbus: the sclera's share of this point is its probability of being shaded as sclera.
-  if (random() < eye.chamber.LimbusWeight(std::hypot(p.x, p.y))) {
+  // Limbus: the sclera's share of this point is its probability of being shaded as sclera. Both choices at the
+  // entry are drawn first: one pair.
+  const double uLimbus = random(), uFresnel = random();
+  if (uLimbus < eye.chamber.LimbusWeight(std::hypot(p.x, p.y))) {
     ev.kind = EyeEvent::Sclera;
     ev.scleraAlbedo = eye.scleraColor;
     ev.normal = eye.DirToWorld(n);
     return ev;
   }
   const double F = eyelib::FresnelDielectric(glm::dot(-d, n), ior);
-  if (random() < F) {  // specular reflection off the cornea
+  if (uFresnel < F) {  // specular reflection off the cornea
     ev.kind = EyeEvent::Continue;
     ev.reflectedAtEntry = true;
     ev.dir = eye.DirToWorld(eyelib::Reflect(-d, n));
@@ -176,30 +252,37 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   // The walk inside the chamber. Radiance changes by the squared index ratio across the cornea
   // (pbrt's non-symmetric BTDF): a camera path entering sees inside radiance divided by n^2, and
   // multiplies it back on the way out; light that MNEE brings to the iris keeps only the first.
+  // At the first iris vertex the walk splits (EyeLighting::irisLightSplits, chamberSplits): several MNEE estimates
+  // of the light there, and several walks on from it; this one goes on (and out) with the others' company, so what
+  // it gathers inside from then on weighs 1 / chamberSplits, and its exit keeps the full weight.
   glm::dvec3 beta(1 / (ior * ior));
-  bool straightFromIris = false;
+  bool straightFromIris = false, split = false;
+  double gatherWeight = 1;
+  const int chamberSplits = std::max(1, lighting.chamberSplits);
   for (int k = 0; k < lighting.maxChamberEvents; ++k, ++ev.internalEvents) {
-    const double tPlane = d.z < 0 ? (eye.chamber.IrisZ() - p.z) / d.z : kInf;
-    auto cap = surface.Intersect({p, d});
-    if (cap && cap->fromOutside) cap.reset();  // from inside the chamber only exits can be hit
-    if (tPlane < (cap ? cap->t : kInf)) {
-      glm::dvec3 x = p + tPlane * d;
-      x.z = eye.chamber.IrisZ();
-      if (std::hypot(x.x, x.y) < eye.chamber.PupilRadius()) return ev;  // into the lens: absorbed
-      const glm::dvec3 albedo = eye.IrisAlbedo(x);
-      if (lighting.mnee) ev.radiance += beta * (albedo / kPi) * IrisIrradianceMnee(eye, x, lighting, random);
-      const double u1 = random(), u2 = random();
-      d = eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
+    const ChamberHit hit = NextChamberSurface(eye, p, d);
+    if (hit.kind != ChamberHit::Iris && hit.kind != ChamberHit::Cornea) return ev;  // the lens, or the rim's gap
+    if (hit.kind == ChamberHit::Iris) {
+      const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
+      const int lightSplits = split ? 1 : std::max(1, lighting.irisLightSplits);
+      if (lighting.mnee)
+        ev.radiance += gatherWeight * beta * IrisDirectLight(eye, hit.point, albedo, lighting, random, lightSplits);
+      if (!split && chamberSplits > 1) {
+        gatherWeight = 1.0 / chamberSplits;
+        const int eventsLeft = lighting.maxChamberEvents - k - 1;
+        for (int i = 1; i < chamberSplits; ++i)
+          ev.radiance += gatherWeight * beta * albedo * GatherFromIris(eye, hit.point, lighting, random, eventsLeft);
+      }
+      split = true;
+      d = IrisBounce(random);
       beta *= albedo;
-      p = x;
+      p = hit.point;
       straightFromIris = true;
       continue;
     }
-    if (!cap) return ev;  // through the sub-micrometre gap at the rim: lost
-    p = cap->point;
-    n = cap->normal;                                                    // outward; the path arrives from inside
-    const double Fi = eyelib::FresnelDielectric(glm::dot(-d, n), ior);  // 1 under total internal reflection
-    if (random() < Fi) {
+    p = hit.point;
+    n = hit.normal;  // outward; the path arrives from inside
+    if (ReflectsInside(d, n, ior, random)) {
       d = d - 2 * glm::dot(d, n) * n;
       straightFromIris = false;
       continue;

@@ -21,6 +21,9 @@
 namespace hdeye {
 
 /// What the eye needs from the renderer: its lights, a world-space shadow test, random numbers.
+///
+/// The eye draws its random numbers in whole pairs (every event an even count, a 2D sample on one pair): the
+/// renderer's low-discrepancy sampler pairs dimensions (2k, 2k + 1) into one stratified 2D point (sampleStream.h).
 struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
   /// The fraction of light `light` (an index into *lights) reaching `origin` from along unit `dir` within tFar
@@ -40,6 +43,11 @@ struct EyeLighting {
   const std::vector<bool>* mneeLights = nullptr;
   /// The chamber walk's bound: events inside the anterior chamber before the path is dropped.
   int maxChamberEvents = 64;
+  /// MNEE estimates averaged at a walk's first iris vertex (RenderSettings::irisLightSplits).
+  int irisLightSplits = 1;
+  /// Chamber walks from a walk's first iris vertex (RenderSettings::chamberSplits): the extra ones only gather
+  /// iris light, each weighing 1 / chamberSplits with the walk's own from then on.
+  int chamberSplits = 1;
 };
 
 /// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris

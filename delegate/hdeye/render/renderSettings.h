@@ -3,6 +3,10 @@
 // delegate, handed to the renderer by the render pass for each Execute.
 namespace hdeye {
 
+/// Where a path's random numbers come from (sampleStream.h): Owen-scrambled Sobol points in Z order (stratified
+/// per pixel), or independent hashed numbers (the earlier sampler, kept to measure the difference).
+enum class SamplerKind { ZSobol, Independent };
+
 /// Render settings (name, default), read by the render pass for each Execute.
 struct RenderSettings {
   int samplesPerPixel = 16;
@@ -34,6 +38,13 @@ struct RenderSettings {
   /// accumulation-buffer method: the image is the average of N sharp images, which tests check exactly). Unused
   /// when the shutter is closed.
   int timeStrata = 0;
+  SamplerKind sampler = SamplerKind::ZSobol;
+  /// Eyes: MNEE estimates of the light at a camera path's first iris vertex, averaged (each weighs 1 / N). More
+  /// than 1 only pays where the light's own sampling is noisy (large or several lights).
+  int irisLightSplits = 1;
+  /// Eyes: chamber walks continued from a camera path's first iris vertex, each gathering the iris light it meets
+  /// with weight 1 / N; the first also carries the path out of the eye (its exit keeps the full weight).
+  int chamberSplits = 1;
 };
 
 }  // namespace hdeye

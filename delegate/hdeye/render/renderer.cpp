@@ -6,13 +6,13 @@
 #include "hdeye/render/previewSurface.h"
 #include "hdeye/render/rayCone.h"
 #include "hdeye/render/renderContext.h"
+#include "hdeye/render/sampleStream.h"
 #include "hdeye/render/scleraScattering.h"
 #include "hdeye/render/surfacePoint.h"
 #include "hdeye/render/texture.h"
 #include "hdeye/render/thinWalls.h"
 
 #include <eyelib/optics.h>
-#include <eyelib/random.h>
 #include <eyelib/sampling.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -33,28 +33,11 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kTile = 16;
-// Dimensions per pixel sample: room for the deepest path (world bounces times chamber walks) with no reuse.
-constexpr std::uint64_t kDimsPerSample = std::uint64_t(1) << 16;
-
-/// The random numbers of one pixel sample: dimension d of sample s of pixel p.
-class SampleStream {
- public:
-  SampleStream(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
-      : seed_(seed), pixel_(pixel), base_(sample * kDimsPerSample) {}
-  double Next() { return eyelib::UniformAt(seed_, pixel_, base_ + dim_++ % kDimsPerSample); }
-  /// Dimension k counted from the top of the sample's range (the lens's): Next() never shifts for them, so a
-  /// pinhole render, which draws none, is unchanged bit for bit.
-  double FromTop(std::uint64_t k) const { return eyelib::UniformAt(seed_, pixel_, base_ + kDimsPerSample - 1 - k); }
-
- private:
-  std::uint64_t seed_, pixel_, base_, dim_ = 0;
-};
-
 /// The frame time of pixel sample `sample`'s camera path in the camera's shutter (frames): a closed shutter's time
 /// (no random number drawn, so sharp renders are unchanged), stratum `sample mod timeStrata`'s centre, or one more
 /// sample dimension counted from the top (after the lens's two). The one place the path time is drawn: a sampler that
 /// replaces SampleStream re-maps this dimension here.
-double PathTime(const Shutter& shutter, int timeStrata, std::uint64_t sample, const SampleStream& rng) {
+double PathTime(const Shutter& shutter, int timeStrata, std::uint64_t sample, SampleStream& rng) {
   if (!shutter.IsOpen()) return shutter.open;
   const double span = shutter.close - shutter.open;
   if (timeStrata > 0) return shutter.open + span * (double(sample % std::uint64_t(timeStrata)) + 0.5) / timeStrata;
@@ -265,6 +248,7 @@ class Tracer {
       path.fromPrim = hit.primIndex;  // the next ray leaves this vertex (light linking)
       sample.L += path.beta * hit.emission;
       if (const EyeGeometry* eye = EyeOf(*hit.context)) {
+        rng.AlignToPair();  // the eye draws whole pairs (EyeLighting)
         // A moving eye is shaded with its frames at the path's time (where the ray met it).
         const std::optional<EyeGeometry> moved = eye->motion ? std::optional(eye->AtTime(time_)) : std::nullopt;
         const EyeOutcome outcome = ShadeEyeHit(moved ? *moved : *eye, depth, random, &hit, &path, &sample);
@@ -529,6 +513,8 @@ class Tracer {
     lighting.allSolutions = switches.allSolutions;
     lighting.mneeLights = switches.mneeLights;
     lighting.maxChamberEvents = switches.maxChamberEvents;
+    lighting.irisLightSplits = settings_.irisLightSplits;
+    lighting.chamberSplits = settings_.chamberSplits;
     lighting.receiver = hit->primIndex;
     const EyeEvent ev = ctx.eye
                             ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
@@ -679,10 +665,12 @@ class Tracer {
 
   /// Next event estimation (pbrt's SampleLd): one light chosen uniformly, sampled from `origin`, weighted by the
   /// power heuristic against BSDF sampling; nothing for mirrors and glass (delta lobes). Returns beta times the
-  /// light's contribution. Always takes three random numbers.
+  /// light's contribution. Always draws its light choice and one 2D sample.
   glm::dvec3 SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf, const glm::dvec3& origin,
                       const glm::dvec3& beta, SampleStream& rng) const {
-    const double uPick = rng.Next(), u1 = rng.Next(), u2 = rng.Next();
+    const double uPick = rng.Next();
+    double u1, u2;
+    rng.Next2D(&u1, &u2);
     if (lights_.empty() || !bsdf.HasSmoothLobe()) return glm::dvec3(0);
     const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
     if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
@@ -706,7 +694,9 @@ class Tracer {
   /// bounces. False: the path ends here.
   bool SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const PreviewSurfaceAt& bsdfAt,
                           const glm::dvec3& origin, int depth, SampleStream& rng, PathState* path) const {
-    const double uLobe = rng.Next(), uDir1 = rng.Next(), uDir2 = rng.Next();
+    const double uLobe = rng.Next();
+    double uDir1, uDir2;
+    rng.Next2D(&uDir1, &uDir2);
     BsdfSample bs;
     if (!bsdfAt.Sample(path->insideGlass, uLobe, uDir1, uDir2, &bs)) return false;
     if (bs.transmitted && bsdf.thinWalled) {
@@ -820,8 +810,9 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-        SampleStream rng(settings.seed, std::uint64_t(y) * width + x, std::uint64_t(s));
-        const double jx = s == 0 ? 0.5 : rng.Next(), jy = s == 0 ? 0.5 : rng.Next();
+        SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s));
+        double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
+        if (s != 0) rng.PixelJitter(&jx, &jy);
         const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
         const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
         const CameraView& view = moved ? *moved : camera;

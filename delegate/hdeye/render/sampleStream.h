@@ -1,0 +1,102 @@
+#pragma once
+// The random numbers of one camera path: dimension d of sample s of pixel (x, y), a pure function of
+// (seed, x, y, s, d) for either sampler, so any thread count and any split of the sample range give the same image.
+//
+// ZSobol (eyelib/zsobol.h): the camera's dimensions come first and stay at fixed indices whether or not the camera
+// uses them (a pinhole draws the same path numbers as a lens camera), then the path's in order. Past
+// kLowDiscrepancyDimensions the path falls back to the hash (deep paths, long sclera walks: stratification that
+// deep buys nothing, and a bound keeps the pair cache honest). Dimensions pair up (2k, 2k + 1) into a 2D point:
+// Next2D() starts on a pair, and code that can only call Next() (the eye's, through `random()`) draws whole pairs.
+//
+// Independent: the counter hash of eyelib/random.h, laid out as before (the pixel jitter from Next(), the lens
+// counted from the top of the sample's range), so its images are those of the earlier renderer.
+#include "hdeye/render/renderSettings.h"
+
+#include <eyelib/random.h>
+#include <eyelib/zsobol.h>
+
+#include <cstdint>
+
+namespace hdeye {
+
+class SampleStream {
+ public:
+  /// Named dimensions of the ZSobol layout (fixed whether used or not).
+  static constexpr std::uint64_t kPixelDimension = 0;  ///< and 1: the jitter inside the pixel
+  static constexpr std::uint64_t kLensDimension = 2;   ///< and 3: the point on the lens
+  static constexpr std::uint64_t kTimeDimension = 4;   ///< the shutter time (FromTop(2))
+  static constexpr std::uint64_t kFirstPathDimension = 6;
+  /// Path dimensions drawn from Sobol points; later ones come from the hash.
+  static constexpr std::uint64_t kLowDiscrepancyDimensions = 256;
+
+  SampleStream(SamplerKind kind, std::uint64_t seed, std::uint32_t x, std::uint32_t y, std::uint32_t width,
+               std::uint64_t sample)
+      : kind_(kind), seed_(seed), x_(x), y_(y), pixel_(std::uint64_t(y) * width + x), sample_(sample) {
+    if (kind_ == SamplerKind::ZSobol) dim_ = kFirstPathDimension;
+  }
+
+  /// The next path dimension.
+  double Next() {
+    if (kind_ == SamplerKind::Independent)
+      return eyelib::UniformAt(seed_, pixel_, sample_ * kDimsPerSample + dim_++ % kDimsPerSample);
+    return Dimension(dim_++);
+  }
+
+  /// Two path dimensions for one 2D sample; ZSobol starts them on a pair (skipping one dimension if needed).
+  void Next2D(double* u, double* v) {
+    if (kind_ == SamplerKind::ZSobol) dim_ += dim_ & 1;
+    *u = Next();
+    *v = Next();
+  }
+
+  /// Moves to the start of the next pair (ZSobol; nothing for the independent sampler): the eye's draws, which come
+  /// in whole pairs, then land their 2D samples on pairs.
+  void AlignToPair() {
+    if (kind_ == SamplerKind::ZSobol) dim_ += dim_ & 1;
+  }
+
+  /// The jitter inside the pixel, [0, 1)^2.
+  void PixelJitter(double* jx, double* jy) {
+    if (kind_ == SamplerKind::Independent) {
+      *jx = Next(), *jy = Next();
+      return;
+    }
+    *jx = Dimension(kPixelDimension), *jy = Dimension(kPixelDimension + 1);
+  }
+
+  /// Camera dimension k: 0 and 1 the lens, 2 the shutter time; never shifts the path's dimensions.
+  double FromTop(std::uint64_t k) {
+    if (kind_ == SamplerKind::Independent)
+      return eyelib::UniformAt(seed_, pixel_, sample_ * kDimsPerSample + kDimsPerSample - 1 - k);
+    if (kLensDimension + k < kFirstPathDimension) return Dimension(kLensDimension + k);
+    return eyelib::UniformAt(seed_ ^ kCameraSalt, pixel_, sample_ * kDimsPerSample + k);
+  }
+
+ private:
+  // The independent sampler's room per sample: far above the deepest path, so no two samples share numbers.
+  static constexpr std::uint64_t kDimsPerSample = std::uint64_t(1) << 16;
+  static constexpr std::uint64_t kCameraSalt = 0x6a09e667f3bcc909ull;  // camera dimensions past the named ones
+  static constexpr std::uint64_t kHashSalt = 0xbb67ae8584caa73bull;    // path dimensions past the budget
+
+  /// ZSobol dimension d (the pair's second coordinate kept from its first's evaluation).
+  double Dimension(std::uint64_t d) {
+    if (d >= kFirstPathDimension + kLowDiscrepancyDimensions)
+      return eyelib::UniformAt(seed_ ^ kHashSalt, pixel_, sample_ * kDimsPerSample + d % kDimsPerSample);
+    const std::uint64_t pair = d >> 1;
+    if (pair != cachedPair_) {
+      cached_ = eyelib::ZSobolPoint(seed_, x_, y_, sample_, pair);
+      cachedPair_ = pair;
+    }
+    return d & 1 ? cached_.v : cached_.u;
+  }
+
+  SamplerKind kind_;
+  std::uint64_t seed_;
+  std::uint32_t x_, y_;
+  std::uint64_t pixel_, sample_;
+  std::uint64_t dim_ = 0;
+  std::uint64_t cachedPair_ = ~std::uint64_t(0);
+  eyelib::ZSobolPair cached_{0, 0};
+};
+
+}  // namespace hdeye
