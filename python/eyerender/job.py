@@ -18,6 +18,7 @@ COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
 AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
 DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
 PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
+CHAMBER_ESTIMATORS = ("path", "cache", "controlVariate")  # RenderSettings.chamber_estimator's values
 DEFAULT_TIME = float("nan")  # Usd.TimeCode.Default().GetValue(): usdrecord's --defaultTime
 OUTPUT_EXTENSIONS = (".exr", ".png")
 
@@ -75,7 +76,8 @@ def session_options(args):
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
-                  ("dome_light_camera_visibility", args.enableDomeLightVisibility)),
+                  ("dome_light_camera_visibility", args.enableDomeLightVisibility),
+                  *((("chamber_estimator", args.chamber_estimator),) if args.chamber_estimator else ())),
         plan=plan_options(args), strict=args.strict)
 
 
@@ -252,7 +254,7 @@ def open_session(stage, options, time=None):
                          strict=options.strict)
 
 
-__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
+__all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
            "render_settings_path", "read_render_settings", "image_options", "open_session"]

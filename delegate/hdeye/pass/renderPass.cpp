@@ -95,6 +95,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
       MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
     }
   renderer_.SetCutouts(cutouts);
+  renderer_.SetSceneVersion(committedVersion_);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

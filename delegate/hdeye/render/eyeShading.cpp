@@ -23,6 +23,46 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
+/// Chamber directions per side of the lattice the control variate integrates its prediction over at the first iris
+/// vertex (kControlSide^2 directions, one random shift for all).
+constexpr int kControlSide = 2;
+
+/// An unbiased estimate of the chamber irradiance the cache predicts at iris point x (canonical mm): the cache's
+/// irradiance where a shifted lattice of chamber paths from x lands, times the iris albedo there and the paths'
+/// Fresnel weights (the cosine-weighted hemisphere integral of eyelib's IrisChamberTransport, at x itself).
+glm::dvec3 PredictedChamberLight(const EyeGeometry& eye, const eyelib::IrisChamberCache& cache, const glm::dvec3& x,
+                                 const EyeLighting& lighting, const std::function<double()>& random) {
+  const double u1 = random(), u2 = random();
+  glm::dvec3 E(0);
+  for (int a = 0; a < kControlSide; ++a)
+    for (int b = 0; b < kControlSide; ++b) {
+      double share;
+      const glm::dvec3 d = eyelib::ChamberDirection(a, b, kControlSide, u1, u2, &share);
+      const eyelib::ChamberReturn back = eyelib::TraceChamberReturn(eye.chamber, x, d, lighting.maxChamberEvents);
+      if (back.weight > 0) E += (share * back.weight) * eye.IrisAlbedo(back.point) * cache.Irradiance(back.point);
+    }
+  return E;
+}
+
+/// The irradiance the walk's `vertex`-th iris vertex x (canonical mm; 1 the first) adds through MNEE, by the
+/// lighting's chamber estimator: MNEE at every vertex (Path); MNEE plus the cached chamber light at the first and
+/// nothing after (Cache); MNEE plus an unbiased estimate of the cache's chamber light at the first, then at the
+/// second MNEE minus the cache's prediction of what this and every later vertex bring, MNEE alone after
+/// (ControlVariate: the subtracted term's mean over the first vertex's bounce is what the first added, so the mean
+/// is the path's whatever the cache's error).
+glm::dvec3 IrisLight(const EyeGeometry& eye, const glm::dvec3& x, int vertex, const EyeLighting& lighting,
+                     const std::function<double()>& random) {
+  const eyelib::IrisChamberCache* cache = lighting.chamberCache.get();
+  const ChamberEstimator estimator = cache ? lighting.chamberEstimator : ChamberEstimator::Path;
+  if (estimator == ChamberEstimator::Path) return IrisIrradianceMnee(eye, x, lighting, random);
+  if (estimator == ChamberEstimator::Cache)
+    return vertex == 1 ? IrisIrradianceMnee(eye, x, lighting, random) + cache->Chamber(x) : glm::dvec3(0);
+  glm::dvec3 E = IrisIrradianceMnee(eye, x, lighting, random);
+  if (vertex == 1) E += PredictedChamberLight(eye, *cache, x, lighting, random);
+  if (vertex == 2) E -= cache->Irradiance(x);
+  return E;
+}
+
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
@@ -177,6 +217,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   // multiplies it back on the way out; light that MNEE brings to the iris keeps only the first.
   glm::dvec3 beta(1 / (ior * ior));
   bool straightFromIris = false;
+  int irisVertices = 0;
   for (int k = 0; k < lighting.maxChamberEvents; ++k, ++ev.internalEvents) {
     const double tPlane = d.z < 0 ? (eye.chamber.IrisZ() - p.z) / d.z : kInf;
     auto cap = surface.Intersect({p, d});
@@ -186,7 +227,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
       x.z = eye.chamber.IrisZ();
       if (std::hypot(x.x, x.y) < eye.chamber.PupilRadius()) return ev;  // into the lens: absorbed
       const glm::dvec3 albedo = eye.IrisAlbedo(x);
-      if (lighting.mnee) ev.radiance += beta * (albedo / kPi) * IrisIrradianceMnee(eye, x, lighting, random);
+      if (lighting.mnee) ev.radiance += beta * (albedo / kPi) * IrisLight(eye, x, ++irisVertices, lighting, random);
       const double u1 = random(), u2 = random();
       d = eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
       beta *= albedo;

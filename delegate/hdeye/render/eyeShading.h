@@ -13,8 +13,12 @@
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/eyeMeshMapping.h"
 #include "hdeye/render/renderLight.h"
+#include "hdeye/render/renderSettings.h"
+
+#include <eyelib/iris_chamber_cache.h>
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace hdeye {
@@ -38,6 +42,10 @@ struct EyeLighting {
   const std::vector<bool>* mneeLights = nullptr;
   /// The chamber walk's bound: events inside the anterior chamber before the path is dropped.
   int maxChamberEvents = 64;
+  /// With `mnee`: how the iris gathers chamber light; Cache and ControlVariate need `chamberCache` (null: Path).
+  ChamberEstimator chamberEstimator = ChamberEstimator::Path;
+  /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
+  std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
 };
 
 /// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris

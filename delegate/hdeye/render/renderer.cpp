@@ -1,5 +1,6 @@
 #include "hdeye/render/renderer.h"
 
+#include "hdeye/render/chamberLightCache.h"
 #include "hdeye/render/eyeShading.h"
 #include "hdeye/render/materialShading.h"
 #include "hdeye/render/previewSurface.h"
@@ -194,11 +195,14 @@ class Tracer {
   };
 
   /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
-  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts)
+  /// chamberCaches: the eyes' chamber light (RenderSettings::chamberEstimator), or null.
+  Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
+         ChamberLightCaches* chamberCaches = nullptr)
       : scene_(scene),
         lights_(lights),
         settings_(settings),
         cutouts_(cutouts),
+        chamberCaches_(chamberCaches),
         textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
@@ -471,6 +475,9 @@ class Tracer {
     lighting.mneeLights = switches.mneeLights;
     lighting.maxChamberEvents = switches.maxChamberEvents;
     lighting.receiver = hit->primIndex;
+    lighting.chamberEstimator = settings_.chamberEstimator;
+    const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
+    lighting.chamberCache = cached ? chamberCaches_->Get(&ctx, eye, lighting) : nullptr;
     const EyeEvent ev = ctx.eye
                             ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
                             : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
@@ -682,6 +689,7 @@ class Tracer {
   const std::vector<RenderLight>& lights_;
   const RenderSettings& settings_;
   bool cutouts_ = false;
+  ChamberLightCaches* chamberCaches_ = nullptr;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
@@ -744,11 +752,11 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
                  const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
-                 const AovBuffers& aovs, SharedCounts* counts) {
+                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
-  Tracer tracer(scene, lights, settings, cutouts);
+  Tracer tracer(scene, lights, settings, cutouts, chamberCaches);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
@@ -777,6 +785,8 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
   SharedCounts counts;
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
+  chamberCaches_->BeginRender(lights, sceneVersion_);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
   // the same samples.
@@ -784,7 +794,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, aovs, &counts, chamberCaches_.get());
       });
     });
     ++stats.passes;
