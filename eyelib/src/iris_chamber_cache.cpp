@@ -22,24 +22,50 @@ double Azimuth(double x, double y) {
 
 }  // namespace
 
+IrisPolarGrid IrisChamberTransport::Valid(IrisPolarGrid grid) {
+  grid.rings = std::max(1, grid.rings);
+  grid.sectors = std::max(1, grid.sectors);
+  grid.directionsPerSide = std::max(1, grid.directionsPerSide);
+  return grid;
+}
+
+std::vector<IrisChamberTransport::Landing> IrisChamberTransport::NodeLandings(const AnteriorChamber<double>& chamber,
+                                                                              const IrisPolarGrid& grid, int i,
+                                                                              int maxEvents) {
+  const IrisPolarGrid g = Valid(grid);
+  const Vec3d x = NodeOf(g, chamber.PupilRadius(), chamber.IrisRadius(), chamber.IrisZ(), i);
+  const int side = g.directionsPerSide;
+  std::vector<Landing> landings;
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) {
+      double share;
+      const Vec3d d = ChamberDirection(a, b, side, 0.5, 0.5, &share);
+      const ChamberReturn back = TraceChamberReturn(chamber, x, d, maxEvents);
+      if (back.weight > 0) landings.push_back({back.point.x, back.point.y, share * back.weight});
+    }
+  return landings;
+}
+
 IrisChamberTransport::IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
                                            int maxEvents)
-    : grid_(grid), rMin_(chamber.PupilRadius()), rMax_(chamber.IrisRadius()), irisZ_(chamber.IrisZ()) {
-  grid_.rings = std::max(1, grid_.rings);
-  grid_.sectors = std::max(1, grid_.sectors);
-  grid_.directionsPerSide = std::max(1, grid_.directionsPerSide);
-  const int side = grid_.directionsPerSide;
+    : grid_(Valid(grid)), rMin_(chamber.PupilRadius()), rMax_(chamber.IrisRadius()), irisZ_(chamber.IrisZ()) {
   offsets_.reserve(Nodes() + 1);
   offsets_.push_back(0);
   for (int i = 0; i < Nodes(); ++i) {
-    const Vec3d x = Node(i);
-    for (int a = 0; a < side; ++a)
-      for (int b = 0; b < side; ++b) {
-        double share;
-        const Vec3d d = ChamberDirection(a, b, side, 0.5, 0.5, &share);
-        const ChamberReturn back = TraceChamberReturn(chamber, x, d, maxEvents);
-        if (back.weight > 0) landings_.push_back({back.point.x, back.point.y, share * back.weight});
-      }
+    const std::vector<Landing> node = NodeLandings(chamber, grid_, i, maxEvents);
+    landings_.insert(landings_.end(), node.begin(), node.end());
+    offsets_.push_back(landings_.size());
+  }
+}
+
+IrisChamberTransport::IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
+                                           const std::vector<std::vector<Landing>>& nodeLandings)
+    : grid_(Valid(grid)), rMin_(chamber.PupilRadius()), rMax_(chamber.IrisRadius()), irisZ_(chamber.IrisZ()) {
+  offsets_.reserve(Nodes() + 1);
+  offsets_.push_back(0);
+  for (int i = 0; i < Nodes(); ++i) {
+    if (std::size_t(i) < nodeLandings.size())
+      landings_.insert(landings_.end(), nodeLandings[i].begin(), nodeLandings[i].end());
     offsets_.push_back(landings_.size());
   }
 }
@@ -73,11 +99,11 @@ Vec3d ChamberDirection(int a, int b, int side, double u1, double u2, double* wei
   return SampleCosineHemisphere(Vec3d(0, 0, 1), 1 - (1 - t) * (1 - t), (b + u2) / side);
 }
 
-Vec3d IrisChamberTransport::Node(int i) const {
-  const int ring = i / grid_.sectors, sector = i % grid_.sectors;
-  const double r = rMin_ + (ring + 0.5) * (rMax_ - rMin_) / grid_.rings;
-  const double phi = (sector + 0.5) * 2 * paper::kPi / grid_.sectors;
-  return {r * std::cos(phi), r * std::sin(phi), irisZ_};
+Vec3d IrisChamberTransport::NodeOf(const IrisPolarGrid& grid, double rMin, double rMax, double irisZ, int i) {
+  const int ring = i / grid.sectors, sector = i % grid.sectors;
+  const double r = rMin + (ring + 0.5) * (rMax - rMin) / grid.rings;
+  const double phi = (sector + 0.5) * 2 * paper::kPi / grid.sectors;
+  return {r * std::cos(phi), r * std::sin(phi), irisZ};
 }
 
 double IrisChamberTransport::MeanReturn() const {

@@ -95,8 +95,9 @@ IrisChamberCache HalfLitCache(const IrisChamberTransport& t, double albedo) {
 
 }  // namespace
 
-TEST_CASE("the cached chamber light is the chamber walk's mean within its resolution bias, the control variate's "
-          "exactly") {
+TEST_CASE(
+    "the cached chamber light is the chamber walk's mean within its resolution bias, the control variate's "
+    "exactly") {
   const AnteriorChamber<double> chamber;
   const double albedo = 0.5;
   const IrisChamberTransport coarse(chamber, IrisPolarGrid{}), fine(chamber, IrisPolarGrid{32, 96, 24});
@@ -117,18 +118,20 @@ TEST_CASE("the cached chamber light is the chamber walk's mean within its resolu
     // second: the two means must agree whatever the cache's own error.
     const auto [added, addedSigma] = PredictAtFirstVertex(chamber, cache, x, albedo, 200000, 70 + k);
     const double cvZ = (added - walk.predicted) / std::hypot(addedSigma, walk.predictedSigma);
-    std::printf("x (%5.2f, %5.2f): walk %.5f +- %.5f, fine cache %.5f (z %+.2f), default cache %.5f (%+.2f %%); "
-                "control variate adds %.5f, subtracts %.5f (z %+.2f)\n",
-                x.x, x.y, walk.mean, walk.sigma, f, z, c, 100 * bias, added, walk.predicted, cvZ);
+    std::printf(
+        "x (%5.2f, %5.2f): walk %.5f +- %.5f, fine cache %.5f (z %+.2f), default cache %.5f (%+.2f %%); "
+        "control variate adds %.5f, subtracts %.5f (z %+.2f)\n",
+        x.x, x.y, walk.mean, walk.sigma, f, z, c, 100 * bias, added, walk.predicted, cvZ);
     worstCv = std::max(worstCv, std::abs(cvZ));
     CHECK(std::abs(cvZ) < 4);
     worstZ = std::max(worstZ, std::abs(z));
     worstBias = std::max(worstBias, std::abs(bias));
     CHECK(std::abs(z) < 6);
   }
-  std::printf("worst |z| of the fine cache %.2f; worst bias of the default cache %.2f %% (of the chamber light); "
-              "worst |z| of the control variate's two terms %.2f\n",
-              worstZ, 100 * worstBias, worstCv);
+  std::printf(
+      "worst |z| of the fine cache %.2f; worst bias of the default cache %.2f %% (of the chamber light); "
+      "worst |z| of the control variate's two terms %.2f\n",
+      worstZ, 100 * worstBias, worstCv);
   CHECK(worstBias < 0.08);
 }
 
@@ -155,7 +158,8 @@ TEST_CASE("a chamber without first-order light has no chamber light, and the cac
 TEST_CASE("chamber light is finite everywhere on the iris and in the pupil, and zero-albedo irises return nothing") {
   const AnteriorChamber<double> chamber;
   const IrisChamberTransport t(chamber, IrisPolarGrid{8, 24, 8});
-  const IrisChamberCache lit(t, std::vector<Vec3d>(t.Nodes(), Vec3d(1)), std::vector<Vec3d>(t.Landings().size(), Vec3d(1)));
+  const IrisChamberCache lit(t, std::vector<Vec3d>(t.Nodes(), Vec3d(1)),
+                             std::vector<Vec3d>(t.Landings().size(), Vec3d(1)));
   for (double r = 0; r <= 7.6; r += 0.1)
     for (double phi = 0; phi < 6.3; phi += 0.05) {
       const Vec3d e = lit.Chamber(Vec3d(r * std::cos(phi), r * std::sin(phi), chamber.IrisZ()));
@@ -163,6 +167,7 @@ TEST_CASE("chamber light is finite everywhere on the iris and in the pupil, and 
       REQUIRE(e.x >= 0);
       REQUIRE(e.x < 10);  // albedo 1: at most R / (1 - R) for the largest return R (about 0.5)
     }
-  const IrisChamberCache black(t, std::vector<Vec3d>(t.Nodes(), Vec3d(1)), std::vector<Vec3d>(t.Landings().size(), Vec3d(0)));
+  const IrisChamberCache black(t, std::vector<Vec3d>(t.Nodes(), Vec3d(1)),
+                               std::vector<Vec3d>(t.Landings().size(), Vec3d(0)));
   for (const Vec3d& e : black.ChamberAtNodes()) CHECK(e == Vec3d(0));
 }

@@ -3,6 +3,7 @@
 #include "hdeye/render/eyeShading.h"
 
 #include <eyelib/random.h>
+#include <tbb/parallel_for.h>
 
 #include <cstring>
 
@@ -69,7 +70,7 @@ void ChamberLightCaches::BeginRender(const std::vector<RenderLight>& lights, std
 }
 
 std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const void* owner, const EyeGeometry& eye,
-                                                                       const EyeLighting& lighting) {
+                                                                        const EyeLighting& lighting) {
   const eyelib::ChamberParams& chamber = eye.chamber.Params();
   KeyHash geometry;
   geometry.Add(int(chamber.model)).Add(chamber.irisDepth).Add(chamber.pupilDiameter).Add(chamber.corneaIor);
@@ -82,19 +83,37 @@ std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const vo
   key.Add(lighting.mnee).Add(lighting.mneeLights ? lighting.mneeLights->size() : std::size_t(0));
   if (lighting.mneeLights)
     for (bool b : *lighting.mneeLights) key.Add(b);
-  std::lock_guard<std::mutex> lock(mutex_);
-  key.Add(renderKey_);
-  Entry& entry = entries_[owner];
-  if (entry.cache && entry.key == key.Value()) return entry.cache;
-  if (!entry.transport || entry.geometryKey != geometryKey)
-    entry.transport = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, resolution_.grid,
-                                                                           lighting.maxChamberEvents);
-  entry.geometryKey = geometryKey;
-  entry.cache = std::make_shared<const eyelib::IrisChamberCache>(
-      BuildChamberLightCache(eye, *entry.transport, lighting, resolution_.directSamples));
-  entry.key = key.Value();
-  ++builds_;
-  return entry.cache;
+  std::shared_ptr<Slot<eyelib::IrisChamberTransport>> transport;
+  std::shared_ptr<Slot<eyelib::IrisChamberCache>> cache;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    key.Add(renderKey_);
+    auto& t = transports_[geometryKey];
+    if (!t) t = std::make_shared<Slot<eyelib::IrisChamberTransport>>();
+    transport = t;
+    Entry& entry = entries_[owner];
+    if (!entry.cache || entry.key != key.Value()) {
+      entry.cache = std::make_shared<Slot<eyelib::IrisChamberCache>>();
+      entry.key = key.Value();
+      ++builds_;
+    }
+    cache = entry.cache;
+  }
+  const eyelib::IrisPolarGrid& grid = resolution_.grid;
+  tbb::collaborative_call_once(cache->once, [&] {
+    tbb::collaborative_call_once(transport->once, [&] {
+      // The geometry's chamber paths per node, in parallel (each node's its own), then stored in node order.
+      std::vector<std::vector<eyelib::IrisChamberTransport::Landing>> nodes(std::size_t(grid.rings) * grid.sectors);
+      tbb::parallel_for(std::size_t(0), nodes.size(), [&](std::size_t i) {
+        nodes[i] = eyelib::IrisChamberTransport::NodeLandings(eye.chamber, grid, int(i), lighting.maxChamberEvents);
+      });
+      transport->value = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, grid, nodes);
+    });
+    // MNEE at the nodes runs on this thread: its shadow rays are the calling tracer's.
+    cache->value = std::make_shared<const eyelib::IrisChamberCache>(
+        BuildChamberLightCache(eye, *transport->value, lighting, resolution_.directSamples));
+  });
+  return cache->value;
 }
 
 }  // namespace hdeye

@@ -10,6 +10,7 @@
 #include "hdeye/render/renderSettings.h"
 
 #include <eyelib/iris_chamber_cache.h>
+#include <tbb/collaborative_call_once.h>
 
 #include <cstdint>
 #include <map>
@@ -40,21 +41,28 @@ class ChamberLightCaches {
   /// A render starts: its lights and scene version (RenderPass's committed Embree scene) are part of every key.
   void BeginRender(const std::vector<RenderLight>& lights, std::uint64_t sceneVersion);
   /// The cache of the eye that `owner` (its GeometryContext) holds, under `lighting` (its lights, receiver,
-  /// switches); built here if missing or stale. Thread-safe; a build runs on the calling thread (the others wait).
+  /// switches); built here if missing or stale. Thread-safe: the render's threads that need a cache being built join
+  /// its build (tbb::collaborative_call_once) instead of waiting idle; the result does not depend on how many do.
   std::shared_ptr<const eyelib::IrisChamberCache> Get(const void* owner, const EyeGeometry& eye,
                                                       const EyeLighting& lighting);
   int Builds() const { return builds_; }
 
  private:
+  /// One build, done once by whichever threads arrive.
+  template <class T> struct Slot {
+    tbb::collaborative_once_flag once;
+    std::shared_ptr<const T> value;
+  };
   struct Entry {
-    std::uint64_t key = 0, geometryKey = 0;
-    std::shared_ptr<const eyelib::IrisChamberTransport> transport;
-    std::shared_ptr<const eyelib::IrisChamberCache> cache;
+    std::uint64_t key = 0;
+    std::shared_ptr<Slot<eyelib::IrisChamberCache>> cache;
   };
   ChamberCacheResolution resolution_;
-  std::mutex mutex_;
+  std::mutex mutex_;  ///< guards the maps and keys, never held during a build
   std::uint64_t renderKey_ = 0;
   std::map<const void*, Entry> entries_;
+  /// Transports by chamber geometry (model, depth, pupil, index, walk bound): they depend on nothing else.
+  std::map<std::uint64_t, std::shared_ptr<Slot<eyelib::IrisChamberTransport>>> transports_;
   int builds_ = 0;
 };
 

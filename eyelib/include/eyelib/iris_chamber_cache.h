@@ -25,7 +25,7 @@ struct IrisPolarGrid {
 
 /// A chamber path that left the iris and came back onto it after reflecting off the cornea's inside.
 struct ChamberReturn {
-  Vec3d point{0};   ///< mm, on the iris plane
+  Vec3d point{0};     ///< mm, on the iris plane
   double weight = 0;  ///< the product of the Fresnel reflectances on the way; 0: the path left the eye or met the pupil
 };
 
@@ -54,11 +54,17 @@ class IrisChamberTransport {
 
   /// maxEvents: cornea reflections followed per path (> 0); paths whose weight falls below 1e-9 end early.
   IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid, int maxEvents = 64);
+  /// The same from each node's NodeLandings, computed by the caller (in parallel, say): nodeLandings[i] for node i.
+  IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
+                       const std::vector<std::vector<Landing>>& nodeLandings);
+  /// The landings of node i's paths (what the constructor stores for it).
+  static std::vector<Landing> NodeLandings(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid, int i,
+                                           int maxEvents = 64);
 
   const IrisPolarGrid& Grid() const { return grid_; }
   int Nodes() const { return grid_.rings * grid_.sectors; }
   /// Node i = ring * sectors + sector, on the iris plane (mm).
-  Vec3d Node(int i) const;
+  Vec3d Node(int i) const { return NodeOf(grid_, rMin_, rMax_, irisZ_, i); }
   /// The landings of node i's paths.
   const Landing* LandingsBegin(int i) const { return landings_.data() + offsets_[i]; }
   const Landing* LandingsEnd(int i) const { return landings_.data() + offsets_[i + 1]; }
@@ -71,6 +77,9 @@ class IrisChamberTransport {
   double IrisZ() const { return irisZ_; }
 
  private:
+  static IrisPolarGrid Valid(IrisPolarGrid grid);
+  static Vec3d NodeOf(const IrisPolarGrid& grid, double rMin, double rMax, double irisZ, int i);
+
   IrisPolarGrid grid_;
   double rMin_, rMax_, irisZ_;
   std::vector<Landing> landings_;
