@@ -31,8 +31,9 @@ constexpr int kControlSide = 2;
 /// An unbiased estimate of the chamber irradiance the cache predicts at iris point x (canonical mm): the cache's
 /// irradiance where a shifted lattice of chamber paths from x lands, times the iris albedo there and the paths'
 /// Fresnel weights (the cosine-weighted hemisphere integral of eyelib's IrisChamberTransport, at x itself).
-glm::dvec3 PredictedChamberLight(const EyeGeometry& eye, const eyelib::IrisChamberCache& cache, const glm::dvec3& x,
-                                 const EyeLighting& lighting, const std::function<double()>& random) {
+template <class Random> glm::dvec3 PredictedChamberLight(const EyeGeometry& eye, const eyelib::IrisChamberCache& cache,
+                                                         const glm::dvec3& x, const EyeLighting& lighting,
+                                                         const Random& random) {
   const double u1 = random(), u2 = random();
   glm::dvec3 E(0);
   for (int a = 0; a < kControlSide; ++a)
@@ -51,8 +52,8 @@ glm::dvec3 PredictedChamberLight(const EyeGeometry& eye, const eyelib::IrisChamb
 /// second MNEE minus the cache's prediction of what this and every later vertex bring, MNEE alone after
 /// (ControlVariate: the subtracted term's mean over the first vertex's bounce is what the first added, so the mean
 /// is the path's whatever the cache's error).
-glm::dvec3 IrisLight(const EyeGeometry& eye, const glm::dvec3& x, int vertex, const EyeLighting& lighting,
-                     const std::function<double()>& random) {
+template <class Random> glm::dvec3 IrisLight(const EyeGeometry& eye, const glm::dvec3& x, int vertex,
+                                             const EyeLighting& lighting, const Random& random) {
   const eyelib::IrisChamberCache* cache = lighting.chamberCache.get();
   const ChamberEstimator estimator = cache ? lighting.chamberEstimator : ChamberEstimator::Path;
   if (estimator == ChamberEstimator::Path) return IrisIrradianceMnee(eye, x, lighting, random);
