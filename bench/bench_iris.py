@@ -6,8 +6,24 @@ glint excluded; with two seeds the noise and the bias floor sqrt(mean(e1 e2)), t
 a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, and
 the floor at the longest budget. --markdown and --plot write the table and the figure docs/iris_benchmark.md shows.
 
-Usage: python3 bench/bench_iris.py [--budgets 2.5,10] [--floor-spp N] [--build LABEL=PYTHON ...]
-                                   [--lever "LABEL=EYERECORD FLAGS" ...] [--scene-dir DIR]
+        for lever in args.lever or []:
+            label, _, flags = lever.partition("=")
+            if not label:
+                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
+            builds.append((label, sys.executable, tuple(flags.split())))
+        if args.estimators:
+            estimators = [e for e in args.estimators.split(",") if e]
+            single = len(builds) == 1 and not args.build and not args.lever
+            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
+                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
+        if args.keep_dir:
+            os.makedirs(args.keep_dir, exist_ok=True)
+        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
+            if budgets or args.floor_spp else []
+        if args.grazing:
+            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
+                                      args.keep_dir)
                                    [--csv FILE] [--plot FILE] [--from-csv A.csv,B.csv]
 --lever measures this build with extra eyerecord flags (the sampler, splitting), for example
     --lever "independent=--sampler independent" --lever "zsobol=--sampler zsobol"
@@ -19,6 +35,12 @@ fixed-sample renders, where the machine's load changes the time but not the erro
 The scene directory defaults to $EYERENDER_SCENE_B or /work/shared/bench/sceneB (sceneB.usda, compare.py, the
 reference). Times are wall-clock budgets of the progressive render on a shared machine: error x sqrt(s) is the
 number to compare (it is constant for an unbiased estimator whose noise falls as 1/sqrt(time)).
+--estimators renders every build with each chamber-light estimator (eyerecord --chamber-estimator), interleaved.
+--grazing D also measures a variant of scene B whose key is D degrees off the gaze (same azimuth and distance), 128
+pixels wide, where chamber light is all the light the shadowed part of the iris gets: its reference is the path
+estimator at --grazing-reference-spp (two seeds), the shadow is where a first-order render (the chamber walk cut after
+the iris bounce's exit) is below 1 % of the iris median, and the table gives each estimator's relative RMSE there and
+over the iris (about 3 min at the defaults, on top of the scene B rows).
 """
 import argparse
 import csv
@@ -36,13 +58,24 @@ FIELDS = ("label", "fixed_spp", "seconds", "relrmse", "relrmse_seed2", "noise", 
 IMAGE_PIXELS = 256 * 256
 
 
-def render(python, scene_dir, seconds, seed, out, spp=0, flags=()):
-    """One eyerecord render by `python`'s eyerender (with the extra eyerecord `flags`), `seconds` long or of `spp`
-    samples per pixel; returns the samples per pixel it reached and the seconds it took (from its summary line)."""
-    budget = ["--spp", str(spp)] if spp else ["--time-limit", str(seconds)]
-    cmd = [python, "-m", "eyerender.eyerecord", "--camera", "/World/main_cam", "--imageWidth", "256",
-           *budget, "--threads", "2", "--seed", str(seed), "--quiet", *flags, os.path.join(scene_dir, "sceneB.usda"),
-           out]
+        for lever in args.lever or []:
+            label, _, flags = lever.partition("=")
+            if not label:
+                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
+            builds.append((label, sys.executable, tuple(flags.split())))
+        if args.estimators:
+            estimators = [e for e in args.estimators.split(",") if e]
+            single = len(builds) == 1 and not args.build and not args.lever
+            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
+                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
+        if args.keep_dir:
+            os.makedirs(args.keep_dir, exist_ok=True)
+        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
+            if budgets or args.floor_spp else []
+        if args.grazing:
+            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
+                                      args.keep_dir)
     run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode != 0:
         sys.exit(f"bench_iris: eyerecord failed ({run.returncode}): {run.stderr.strip()[-200:]}")
@@ -65,8 +98,24 @@ def compare(scene_dir, a, b):
 def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels=None):
     """One row per build and time budget, then (floor_spp > 0) one per build of floor_spp samples per pixel, its time
     the mean of the two seeds'. builds: (label, python) pairs, rendered in turn at every budget and seed so that the
-    machine's changing load falls on all of them alike. A build may carry a third element, eyerecord flags (a lever).
-    floor_labels: the labels that render the floor pair (None: all)."""
+        for lever in args.lever or []:
+            label, _, flags = lever.partition("=")
+            if not label:
+                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
+            builds.append((label, sys.executable, tuple(flags.split())))
+        if args.estimators:
+            estimators = [e for e in args.estimators.split(",") if e]
+            single = len(builds) == 1 and not args.build and not args.lever
+            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
+                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
+        if args.keep_dir:
+            os.makedirs(args.keep_dir, exist_ok=True)
+        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
+            if budgets or args.floor_spp else []
+        if args.grazing:
+            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
+                                      args.keep_dir)
     rows = []
     runs = [(seconds, 0) for seconds in budgets] + ([(0, floor_spp)] if floor_spp else [])
     with tempfile.TemporaryDirectory() as scratch:
@@ -75,13 +124,24 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels
             done = {}
             chosen = [k for k, b in enumerate(builds) if not spp or floor_labels is None or b[0] in floor_labels]
             for seed in (1, 2):
-                for k in chosen:
-                    python, flags = builds[k][1], builds[k][2] if len(builds[k]) > 2 else ()
-                    budget = f"{spp}spp" if spp else f"{seconds:g}s"
-                    out = os.path.join(tmp, f"build{k}_{budget}_seed{seed}.exr")
-                    done[k, seed] = (out, *render(python, scene_dir, seconds, seed, out, spp, flags))
-            for k in chosen:
-                label = builds[k][0]
+        for lever in args.lever or []:
+            label, _, flags = lever.partition("=")
+            if not label:
+                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
+            builds.append((label, sys.executable, tuple(flags.split())))
+        if args.estimators:
+            estimators = [e for e in args.estimators.split(",") if e]
+            single = len(builds) == 1 and not args.build and not args.lever
+            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
+                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
+        if args.keep_dir:
+            os.makedirs(args.keep_dir, exist_ok=True)
+        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
+            if budgets or args.floor_spp else []
+        if args.grazing:
+            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
+                                      args.keep_dir)
                 (a, spp1, s1), (b, spp2, s2) = done[k, 1], done[k, 2]
                 c = compare(scene_dir, a, b)
                 err = 0.5 * (c["relRMSE"] + c["relRMSE2"])
@@ -94,6 +154,120 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels
                 budget = f"{spp} spp" if spp else f"{seconds:g} s"
                 print(f"  {label}: {budget} done (relRMSE {err:.4f})", file=sys.stderr)
     return rows
+
+
+GRAZING_WIDTH = 128  # pixels: a quarter of scene B's, so that the path reference takes about a minute per seed
+# A first-order render for the shadow mask: the chamber walk ends at its second event (the iris bounce's exit), so no
+# light that reflected inside the chamber reaches the image.
+FIRST_ORDER = """
+import sys
+import numpy as np
+from pxr import Usd
+from eyerender.plan import make_overrides
+from eyerender.render_session import RenderSession
+session = RenderSession(Usd.Stage.Open(sys.argv[1]), width=int(sys.argv[2]), camera="/World/main_cam",
+                        settings={"threads": 2, "seed": 9}, plan_overrides=make_overrides(chamber_events=2))
+session.render(spp=int(sys.argv[3]))
+np.save(sys.argv[4], session.image("color")[..., :3].mean(-1))
+"""
+
+
+def write_grazing_scene(scene_dir, degrees, out_dir):
+    """Scene B with its key moved to `degrees` off the gaze at the same azimuth (200 degrees) and distance (100 mm);
+    returns the file's name in out_dir."""
+    with open(os.path.join(scene_dir, "sceneB.usda")) as f:
+        text = f.read()
+    a, phi = math.radians(degrees), math.radians(200)
+    position = f"({100 * math.sin(a) * math.cos(phi):.9f}, {100 * math.sin(a) * math.sin(phi):.9f}, " \
+               f"{100 * math.cos(a):.9f})"
+    moved, n = re.subn(r'(def SphereLight "Key".*?double3 xformOp:translate = )\([^)]*\)',
+                       lambda m: m.group(1) + position, text, count=1, flags=re.DOTALL)
+    if n != 1:
+        sys.exit("bench_iris: sceneB.usda has no SphereLight Key with a translate to move")
+    name = f"sceneB_key{degrees:g}.usda"
+    with open(os.path.join(out_dir, name), "w") as f:
+        f.write(moved)
+    return name
+
+
+def load_exr(path):
+    """An EXR's grey value (the mean of R, G, B), float64 (height, width)."""
+    import numpy as np
+    import OpenEXR
+    with OpenEXR.File(path) as f:
+        ch = f.channels()
+        key = "RGBA" if "RGBA" in ch else "RGB"
+        return np.asarray(ch[key].pixels, dtype=np.float64)[..., :3].mean(-1)
+
+
+def measure_grazing(scene_dir, degrees, budgets, builds, reference_spp, keep_dir=None):
+    """The grazing variant's rows: per build and budget, the relative RMSE (mean of two seeds) over the shadowed iris
+    and over the whole iris, against the first build's path estimator at reference_spp (two seeds averaged)."""
+    import numpy as np
+    rows = []
+    with tempfile.TemporaryDirectory() as scratch:
+        tmp = keep_dir or scratch
+        scene = write_grazing_scene(scene_dir, degrees, tmp)
+        python = builds[0][1]
+        refs = []
+        for seed in (101, 102):
+            out = os.path.join(tmp, f"grazing_reference_seed{seed}.exr")
+            render(python, tmp, 0, seed, out, reference_spp, ("--chamber-estimator", "path"), scene, GRAZING_WIDTH)
+            refs.append(load_exr(out))
+            print(f"  grazing reference seed {seed} done", file=sys.stderr)
+        first_path = os.path.join(tmp, "grazing_first_order.npy")
+        run = subprocess.run([python, "-c", FIRST_ORDER, os.path.join(tmp, scene), str(GRAZING_WIDTH), "64",
+                              first_path], capture_output=True, text=True, check=False)
+        if run.returncode != 0:
+            sys.exit(f"bench_iris: the first-order render failed: {run.stderr.strip()[-200:]}")
+        first = np.load(first_path)
+        ref = 0.5 * (refs[0] + refs[1])
+        # Scene B's iris mask (256 px), a pixel here where its whole 2 x 2 block is iris; the glint as compare.py
+        # excludes it.
+        full = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
+        iris = full.reshape(GRAZING_WIDTH, 2, GRAZING_WIDTH, 2).all(axis=(1, 3))
+        median = np.median(ref[iris])
+        glint = ref > 20 * median
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                glint = glint | np.roll(np.roll(ref > 20 * median, dy, 0), dx, 1)
+        sel = iris & ~glint & (ref > 0)
+        shadow = sel & (first < 0.01 * median)
+        ref_noise = {name: float(np.sqrt(np.mean(((refs[0][m] - refs[1][m]) / (2 * ref[m])) ** 2)))
+                     for name, m in (("shadow", shadow), ("iris", sel))}
+        print(f"  grazing: {int(shadow.sum())} shadowed of {int(sel.sum())} iris pixels; reference noise "
+              f"{100 * ref_noise['shadow']:.2f} % (shadow) / {100 * ref_noise['iris']:.2f} % (iris)", file=sys.stderr)
+        for seconds in budgets:
+            done = {}
+            for seed in (1, 2):
+                for k, (_, python_k, *extra) in enumerate(builds):
+                    out = os.path.join(tmp, f"grazing_build{k}_{seconds:g}s_seed{seed}.exr")
+                    spp, _ = render(python_k, tmp, seconds, seed, out, 0, *extra, scene=scene, width=GRAZING_WIDTH)
+                    done[k, seed] = (load_exr(out), spp)
+            for k, (label, *_) in enumerate(builds):
+                errors = {}
+                for name, m in (("shadow", shadow), ("iris", sel)):
+                    errors[name] = [float(np.sqrt(np.mean(((done[k, seed][0][m] - ref[m]) / ref[m]) ** 2)))
+                                    for seed in (1, 2)]
+                rows.append({"label": label, "seconds": seconds, "shadow": errors["shadow"], "iris": errors["iris"],
+                             "spp": 0.5 * (done[k, 1][1] + done[k, 2][1]), "shadow_pixels": int(shadow.sum()),
+                             "ref_noise_shadow": ref_noise["shadow"], "ref_noise_iris": ref_noise["iris"]})
+                print(f"  grazing {label}: {seconds:g} s done", file=sys.stderr)
+    return rows
+
+
+def grazing_table(rows, degrees):
+    lines = [f"| code (key {degrees:g} deg off the gaze) | budget | rel RMSE, shadowed iris (seed 1 / 2) "
+             "| rel RMSE, iris (seed 1 / 2) | spp |", "|---|---|---|---|---|"]
+    for r in rows:
+        shadow, iris = r["shadow"], r["iris"]
+        lines.append(f"| {r['label']} | {r['seconds']:g} s | {100 * shadow[0]:.2f} % / {100 * shadow[1]:.2f} % "
+                     f"| {100 * iris[0]:.2f} % / {100 * iris[1]:.2f} % | {r['spp']:.0f} |")
+    if rows:
+        lines.append(f"\n{rows[0]['shadow_pixels']} shadowed pixels; the reference's own noise "
+                     f"{100 * rows[0]['ref_noise_shadow']:.2f} % there, {100 * rows[0]['ref_noise_iris']:.2f} % over "
+                     "the iris (it is in every error above).")
+    return "\n".join(lines)
 
 
 def table(rows):
@@ -154,6 +328,12 @@ def main():
     ap.add_argument("--floor-levers", help="comma-separated labels that render the floor pair (default: all)")
     ap.add_argument("--floor-spp", type=int, default=0,
                     help="also render both seeds at this many samples per pixel, for the bias floor (0: none)")
+    ap.add_argument("--estimators", help="comma-separated chamber-light estimators to render every build with "
+                    "(path, cache, controlVariate; default: the renderer's default alone)")
+    ap.add_argument("--grazing", type=float, default=0,
+                    help="also measure scene B with its key this many degrees off the gaze (0: not)")
+    ap.add_argument("--grazing-reference-spp", type=int, default=512,
+                    help="samples per pixel of the grazing variant's path reference, each of two seeds")
     ap.add_argument("--csv", help="write the rows to this CSV")
     ap.add_argument("--keep-dir", help="keep the renders in this folder (default: a temporary one)")
     ap.add_argument("--from-csv", help="comma-separated CSVs to read instead of rendering")
@@ -177,11 +357,23 @@ def main():
             if not label:
                 sys.exit("bench_iris: --lever takes LABEL=FLAGS")
             builds.append((label, sys.executable, tuple(flags.split())))
+        if args.estimators:
+            estimators = [e for e in args.estimators.split(",") if e]
+            single = len(builds) == 1 and not args.build and not args.lever
+            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
+                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
         if args.keep_dir:
             os.makedirs(args.keep_dir, exist_ok=True)
         floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels)
+        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
+            if budgets or args.floor_spp else []
+        if args.grazing:
+            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
+                                      args.keep_dir)
     print(table(rows))
+    if not args.from_csv and args.grazing:
+        print()
+        print(grazing_table(grazing, args.grazing))
     if args.csv:
         with open(args.csv, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=FIELDS)

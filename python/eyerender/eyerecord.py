@@ -17,6 +17,7 @@ from .denoise import GUIDE_AOVS, denoised_png_path
 from .errors import EyeRenderError, run_command
 from .job import (
     AOV_NAMES,
+    CHAMBER_ESTIMATORS,
     COMPLEXITY_REFINE_LEVELS,
     PURPOSES,
     check_output_extension,
@@ -91,6 +92,8 @@ def build_parser():
     p.add_argument("--no-mnee", action="store_true",
                    help="A/B: iris direct light by path tracing through the cornea instead of MNEE")
     p.add_argument("--mnee-all-solutions", action="store_true", help="search every refraction path (caustic folds)")
+    p.add_argument("--chamber-estimator", choices=CHAMBER_ESTIMATORS, default=None,
+                   help="how the iris gathers chamber light (default: the renderer's; docs/iris_benchmark.md)")
     p.add_argument("--mnee", action="store_true", help="MNEE on for every eye, whatever the render plan finds")
     p.add_argument("--sampler", choices=("zsobol", "independent"), default="zsobol",
                    help="A/B: paths' random numbers, Owen-scrambled Sobol in Z order (default) or independent hashes")

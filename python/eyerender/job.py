@@ -19,6 +19,7 @@ COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
 AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
 DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
 PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
+CHAMBER_ESTIMATORS = ("path", "cache", "controlVariate")  # RenderSettings.chamber_estimator's values
 DEFAULT_TIME = float("nan")  # Usd.TimeCode.Default().GetValue(): usdrecord's --defaultTime
 OUTPUT_EXTENSIONS = (".exr", ".png")
 
@@ -81,7 +82,8 @@ def session_options(args):
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
                   ("dome_light_camera_visibility", args.enableDomeLightVisibility), ("sampler", args.sampler),
-                  ("iris_light_splits", args.iris_light_splits), ("chamber_splits", args.chamber_splits)),
+                  ("iris_light_splits", args.iris_light_splits), ("chamber_splits", args.chamber_splits),
+                  *((("chamber_estimator", args.chamber_estimator),) if args.chamber_estimator else ())),
         plan=plan_options(args), strict=args.strict,
         shutter=parse_shutter_arguments(args.shutter, args.disableMotionBlur))
 
@@ -260,7 +262,7 @@ def open_session(stage, options, time=None):
                          strict=options.strict, shutter=shutter)
 
 
-__all__ = ["AOV_NAMES", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
+__all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
            "render_settings_path", "read_render_settings", "image_options", "open_session"]

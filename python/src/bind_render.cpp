@@ -25,6 +25,15 @@ void BindRender(nb::module_& m) {
       .def_rw("mis", &RenderSettings::mis)
       .def_rw("mnee", &RenderSettings::mnee)
       .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_prop_rw(
+          "chamber_estimator", [](const RenderSettings& s) { return ChamberEstimatorName(s.chamberEstimator); },
+          [](RenderSettings& s, const std::string& name) {
+            const std::optional<ChamberEstimator> e = ParseChamberEstimator(name);
+            if (!e)
+              throw nb::value_error(("chamber_estimator: '" + name + "' is not path, cache or controlVariate").c_str());
+            s.chamberEstimator = *e;
+          },
+          "how the iris gathers chamber light: path, cache or controlVariate (docs/iris_benchmark.md)")
       .def_rw("dome_light_camera_visibility", &RenderSettings::domeLightCameraVisibility,
               "camera rays see dome lights (eyerecord: --enableDomeLightVisibility)")
       .def_rw("texture_filtering", &RenderSettings::textureFiltering,

@@ -121,6 +121,29 @@ def test_no_mnee_and_paraboloid_switches_change_the_iris(stage_file, tmp_path):
     assert not np.array_equal(images["mnee"]["R"], images["parab"]["R"])
 
 
+def test_chamber_estimators_light_the_iris_alike_and_unknown_names_are_refused(stage_file, tmp_path, capsys):
+    means = {}
+    for name in ("path", "cache", "controlVariate"):
+        out = tmp_path / f"{name}.exr"
+        assert run(stage_file, out, "-w", 16, "--spp", 16, "--aov", "irisMnee", "-q", "--chamber-estimator", name) == 0
+        iris = eyerender.read_exr(str(out))["irisMnee.R"]
+        assert np.isfinite(iris).all()
+        means[name] = float(iris.mean())
+    print(means)
+    assert means["path"] > 0
+    for name in ("cache", "controlVariate"):  # 16 pixels wide, 16 samples: the means agree to a few per cent
+        assert abs(means[name] / means["path"] - 1) < 0.1, means
+    settings = eyerender.RenderSettings()
+    assert settings.chamber_estimator == "controlVariate"  # the default (docs/iris_benchmark.md)
+    settings.chamber_estimator = "cache"
+    assert settings.chamber_estimator == "cache"
+    with pytest.raises(ValueError, match="guided"):
+        settings.chamber_estimator = "guided"
+    capsys.readouterr()
+    with pytest.raises(SystemExit):  # argparse: one usage line and exit status 2
+        run(stage_file, tmp_path / "bad.exr", "--chamber-estimator", "guided")
+
+
 @pytest.mark.parametrize("case", ["missing file", "malformed", "bad camera", "not a camera", "unwritable",
                                   "bad extension", "frames without placeholder", "bad frames"])
 def test_bad_input_is_one_line_and_nonzero(case, stage_file, tmp_path, capsys):

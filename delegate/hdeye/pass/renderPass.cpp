@@ -125,6 +125,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
     }
   renderer_.SetCutouts(cutouts);
   renderer_.SetTextured(textured);
+  renderer_.SetSceneVersion(committedVersion_);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings));
 }

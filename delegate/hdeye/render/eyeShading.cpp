@@ -47,16 +47,52 @@ ChamberHit NextChamberSurface(const EyeGeometry& eye, const glm::dvec3& p, const
   return hit;
 }
 
-/// The iris's diffuse reflection of direct light at x: albedo / pi times the mean of `splits` MNEE estimates.
-glm::dvec3 IrisDirectLight(const EyeGeometry& eye, const glm::dvec3& x, const glm::dvec3& albedo,
-                           const EyeLighting& lighting, const std::function<double()>& random, int splits) {
+/// Chamber directions per side of the lattice the control variate integrates its prediction over at the first iris
+/// vertex (kControlSide^2 directions, one random shift for all): 2 x 2, measured against 1, 3 x 3 and 4 x 4 in
+/// docs/iris_benchmark.md (one direction is noisier than the walk itself; more than four cost more than they gain).
+constexpr int kControlSide = 2;
+
+/// An unbiased estimate of the chamber irradiance the cache predicts at iris point x (canonical mm): the cache's
+/// irradiance where a shifted lattice of chamber paths from x lands, times the iris albedo there and the paths'
+/// Fresnel weights (the cosine-weighted hemisphere integral of eyelib's IrisChamberTransport, at x itself).
+template <class Random> glm::dvec3 PredictedChamberLight(const EyeGeometry& eye, const eyelib::IrisChamberCache& cache,
+                                                         const glm::dvec3& x, const EyeLighting& lighting,
+                                                         const Random& random) {
+  const double u1 = random(), u2 = random();
+  glm::dvec3 E(0);
+  for (int a = 0; a < kControlSide; ++a)
+    for (int b = 0; b < kControlSide; ++b) {
+      double share;
+      const glm::dvec3 d = eyelib::ChamberDirection(a, b, kControlSide, u1, u2, &share);
+      const eyelib::ChamberReturn back = eyelib::TraceChamberReturn(eye.chamber, x, d, lighting.maxChamberEvents);
+      if (back.weight > 0) E += (share * back.weight) * eye.IrisAlbedo(back.point) * cache.Irradiance(back.point);
+    }
+  return E;
+}
+
+/// The iris's diffuse reflection at x (canonical mm), the walk's `vertex`-th iris vertex (1 the first): albedo / pi
+/// times the mean of `splits` MNEE estimates of its direct light and the chamber estimator's term. Path: MNEE alone at
+/// every vertex. Cache: at the first vertex also the cached chamber light, nothing after. ControlVariate: at the first
+/// vertex also an unbiased estimate of the cache's chamber light, at the second minus the cache's prediction of what
+/// this and every later vertex bring (its mean over the first vertex's bounce is what the first added, so the mean
+/// is the path's whatever the cache's error).
+glm::dvec3 IrisDirectLight(const EyeGeometry& eye, const glm::dvec3& x, const glm::dvec3& albedo, int vertex,
+                           const EyeLighting& lighting, eyelib::FunctionRef<double()> random, int splits) {
+  const eyelib::IrisChamberCache* cache = lighting.chamberCache.get();
+  const ChamberEstimator estimator = cache ? lighting.chamberEstimator : ChamberEstimator::Path;
+  if (estimator == ChamberEstimator::Cache && vertex > 1) return glm::dvec3(0);
   glm::dvec3 E(0);
   for (int i = 0; i < splits; ++i) E += IrisIrradianceMnee(eye, x, lighting, random);
-  return (albedo / kPi) * (E / double(splits));
+  E /= double(splits);
+  if (estimator == ChamberEstimator::Cache) E += cache->Chamber(x);
+  if (estimator == ChamberEstimator::ControlVariate && vertex == 1)
+    E += PredictedChamberLight(eye, *cache, x, lighting, random);
+  if (estimator == ChamberEstimator::ControlVariate && vertex == 2) E -= cache->Irradiance(x);
+  return (albedo / kPi) * E;
 }
 
 /// A cosine-distributed direction off the iris plane into the chamber; one 2D sample (two draws).
-glm::dvec3 IrisBounce(const std::function<double()>& random) {
+glm::dvec3 IrisBounce(eyelib::FunctionRef<double()> random) {
   const double u1 = random(), u2 = random();
   return eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
 }
@@ -64,7 +100,7 @@ glm::dvec3 IrisBounce(const std::function<double()>& random) {
 /// Whether a walk meeting the cornea from inside (unit d, outward normal n) reflects (Fresnel, 1 under total
 /// internal reflection) rather than leaves. Draws two numbers (the second unused) so the walk's next draws start on
 /// a pair.
-bool ReflectsInside(const glm::dvec3& d, const glm::dvec3& n, double ior, const std::function<double()>& random) {
+bool ReflectsInside(const glm::dvec3& d, const glm::dvec3& n, double ior, eyelib::FunctionRef<double()> random) {
   const double u = random();
   random();
   return u < eyelib::FresnelDielectric(glm::dot(-d, n), ior);
@@ -74,14 +110,15 @@ bool ReflectsInside(const glm::dvec3& d, const glm::dvec3& n, double ior, const 
 /// the eye or is absorbed, within `maxEvents` events; what leaves the eye is not followed (the walk the path goes on
 /// with carries that).
 glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
-                          const std::function<double()>& random, int maxEvents) {
+                          eyelib::FunctionRef<double()> random, int maxEvents) {
   glm::dvec3 gathered(0), beta(1), p = x, d = IrisBounce(random);
   const double ior = eye.chamber.CorneaIor();
+  int vertex = 1;  // x is the walk's first iris vertex
   for (int k = 0; k < maxEvents; ++k) {
     const ChamberHit hit = NextChamberSurface(eye, p, d);
     if (hit.kind == ChamberHit::Iris) {
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
-      if (lighting.mnee) gathered += beta * IrisDirectLight(eye, hit.point, albedo, lighting, random, 1);
+      if (lighting.mnee) gathered += beta * IrisDirectLight(eye, hit.point, albedo, ++vertex, lighting, random, 1);
       d = IrisBounce(random);
       beta *= albedo;
       p = hit.point;
@@ -257,6 +294,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   // it gathers inside from then on weighs 1 / chamberSplits, and its exit keeps the full weight.
   glm::dvec3 beta(1 / (ior * ior));
   bool straightFromIris = false, split = false;
+  int irisVertices = 0;
   double gatherWeight = 1;
   const int chamberSplits = std::max(1, lighting.chamberSplits);
   for (int k = 0; k < lighting.maxChamberEvents; ++k, ++ev.internalEvents) {
@@ -266,7 +304,8 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
       const int lightSplits = split ? 1 : std::max(1, lighting.irisLightSplits);
       if (lighting.mnee)
-        ev.radiance += gatherWeight * beta * IrisDirectLight(eye, hit.point, albedo, lighting, random, lightSplits);
+        ev.radiance += gatherWeight * beta *
+                       IrisDirectLight(eye, hit.point, albedo, ++irisVertices, lighting, random, lightSplits);
       if (!split && chamberSplits > 1) {
         gatherWeight = 1.0 / chamberSplits;
         const int eventsLeft = lighting.maxChamberEvents - k - 1;

@@ -13,9 +13,13 @@
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/eyeMeshMapping.h"
 #include "hdeye/render/renderLight.h"
+#include "hdeye/render/renderSettings.h"
+
+#include <eyelib/iris_chamber_cache.h>
 
 #include <eyelib/function_ref.h>
 
+#include <memory>
 #include <vector>
 
 namespace hdeye {
@@ -48,6 +52,10 @@ struct EyeLighting {
   /// Chamber walks from a walk's first iris vertex (RenderSettings::chamberSplits): the extra ones only gather
   /// iris light, each weighing 1 / chamberSplits with the walk's own from then on.
   int chamberSplits = 1;
+  /// With `mnee`: how the iris gathers chamber light; Cache and ControlVariate need `chamberCache` (null: Path).
+  ChamberEstimator chamberEstimator = ChamberEstimator::Path;
+  /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
+  std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
 };
 
 /// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris

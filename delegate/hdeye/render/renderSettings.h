@@ -1,11 +1,39 @@
 #pragma once
 // The render settings the renderer reads (HdRenderSettingsMap's role, as a struct): set on the render
 // delegate, handed to the renderer by the render pass for each Execute.
+#include <optional>
+#include <string>
+
 namespace hdeye {
 
 /// Where a path's random numbers come from (sampleStream.h): Owen-scrambled Sobol points in Z order (stratified
 /// per pixel), or independent hashed numbers (the earlier sampler, kept to measure the difference).
 enum class SamplerKind { ZSobol, Independent };
+
+/// How an iris point gathers chamber light (light that left another iris point and reflected off the cornea's
+/// inside back onto it): docs/iris_benchmark.md measures them.
+enum class ChamberEstimator {
+  /// The chamber walk alone: MNEE at every iris vertex the walk reaches (it finds the lit iris by chance).
+  Path,
+  /// The eye's chamber-light cache (chamberLightCache.h) at the walk's first iris vertex; MNEE only there.
+  /// Biased by the cache's resolution.
+  Cache,
+  /// The cache as a control variate: its value at the first iris vertex, plus, at the second, the path's MNEE
+  /// minus the cache's prediction of everything from there on. Unbiased up to the cache's interpolation of its
+  /// own hemisphere integral.
+  ControlVariate,
+};
+
+/// The estimator's setting name: "path", "cache", "controlVariate".
+inline std::string ChamberEstimatorName(ChamberEstimator e) {
+  return e == ChamberEstimator::Cache ? "cache" : e == ChamberEstimator::ControlVariate ? "controlVariate" : "path";
+}
+/// The estimator a setting names, or nothing.
+inline std::optional<ChamberEstimator> ParseChamberEstimator(const std::string& name) {
+  for (ChamberEstimator e : {ChamberEstimator::Path, ChamberEstimator::Cache, ChamberEstimator::ControlVariate})
+    if (name == ChamberEstimatorName(e)) return e;
+  return std::nullopt;
+}
 
 /// Render settings (name, default), read by the render pass for each Execute.
 struct RenderSettings {
@@ -20,6 +48,9 @@ struct RenderSettings {
   /// happen to hit a light: plain path tracing, for A/B comparisons).
   bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
+  /// Eyes with MNEE: how the iris gathers chamber light. The control variate by default: unbiased, and on scene B
+  /// 1.3x less error than the walk alone at 10 s (docs/iris_benchmark.md); the cache has less still but a bias floor.
+  ChamberEstimator chamberEstimator = ChamberEstimator::ControlVariate;
   /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.

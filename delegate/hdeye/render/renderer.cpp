@@ -1,5 +1,6 @@
 #include "hdeye/render/renderer.h"
 
+#include "hdeye/render/chamberLightCache.h"
 #include "hdeye/render/eyeShading.h"
 #include "hdeye/render/materialShading.h"
 #include "hdeye/render/movingLights.h"
@@ -199,8 +200,9 @@ class Tracer {
 
   /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
   /// shutter: the camera's (the Embree ray time of each path's time).
+  /// chamberCaches: the eyes' chamber light (RenderSettings::chamberEstimator), or null.
   Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
-         const Shutter& shutter)
+         const Shutter& shutter, ChamberLightCaches* chamberCaches = nullptr)
       : scene_(scene),
         sourceLights_(lights),
         lightsNow_(AnyLightMoves(lights) ? lights : std::vector<RenderLight>{}),
@@ -208,6 +210,7 @@ class Tracer {
         shutter_(shutter),
         settings_(settings),
         cutouts_(cutouts),
+        chamberCaches_(chamberCaches),
         textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
@@ -502,10 +505,26 @@ class Tracer {
   /// The probability of picking any one light for next event estimation (uniform).
   double LightSelectPdf() const { return lights_.empty() ? 0 : 1.0 / double(lights_.size()); }
 
+  /// The eye's chamber-light cache (RenderSettings::chamberEstimator): one per render whatever the path's time.
+  /// Under an open shutter it is built from the eye, the lights and the shadow rays at the shutter's opening, so
+  /// which path builds it (thread count, sample split) never changes it; the control variate stays unbiased for
+  /// an eye or light that moves, the cache alone then shows them where they were at the opening.
+  std::shared_ptr<const eyelib::IrisChamberCache> ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
+                                                                 const EyeLighting& lighting) {
+    if (!shutter_.IsOpen()) return chamberCaches_->Get(&ctx, eye, lighting);
+    const double pathTime = time_;
+    SetTime(shutter_.open);
+    const EyeGeometry& still = *EyeOf(ctx);
+    const std::optional<EyeGeometry> atOpen = still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
+    auto cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting);
+    SetTime(pathTime);
+    return cache;
+  }
+
   /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
   /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
   EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
-                         PathState* path, PathSample* sample) const {
+                         PathState* path, PathSample* sample) {
     const GeometryContext& ctx = *hit->context;
     const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
     EyeLighting& lighting = path->eyeLighting;
@@ -516,6 +535,9 @@ class Tracer {
     lighting.irisLightSplits = settings_.irisLightSplits;
     lighting.chamberSplits = settings_.chamberSplits;
     lighting.receiver = hit->primIndex;
+    lighting.chamberEstimator = settings_.chamberEstimator;
+    const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
+    lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
     const EyeEvent ev = ctx.eye
                             ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
                             : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
@@ -738,6 +760,7 @@ class Tracer {
   float rayTime_ = 0;  ///< its Embree ray time
   const RenderSettings& settings_;
   bool cutouts_ = false;
+  ChamberLightCaches* chamberCaches_ = nullptr;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
@@ -800,12 +823,12 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
                  const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
-                 const AovBuffers& aovs, SharedCounts* counts) {
+                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
   const Shutter shutter = camera.GetShutter();
-  Tracer tracer(scene, lights, settings, cutouts, shutter);
+  Tracer tracer(scene, lights, settings, cutouts, shutter, chamberCaches);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
@@ -841,6 +864,8 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
   SharedCounts counts;
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
+  chamberCaches_->BeginRender(lights, sceneVersion_);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
   // the same samples.
@@ -848,7 +873,8 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts);
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
+                    chamberCaches_.get());
       });
     });
     ++stats.passes;

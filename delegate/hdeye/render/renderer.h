@@ -13,9 +13,12 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace hdeye {
+
+class ChamberLightCaches;
 
 /// The AOVs a render pass can bind; null ones are not written. "color" has 4 components (RGB,
 /// alpha = camera ray hit geometry), albedo and normal 3, depth (distance along the camera ray, 0
@@ -64,9 +67,15 @@ class Renderer {
   /// needed and not computed. Set by the render pass before Render.
   void SetTextured(bool textured) { textured_ = textured; }
 
+  /// The committed Embree scene's version (RenderParam::SceneVersion): the eyes' chamber-light caches
+  /// (chamberLightCache.h), kept across Render calls, are rebuilt when it or the lights change.
+  void SetSceneVersion(std::uint64_t version) { sceneVersion_ = version; }
+
  private:
   bool cutouts_ = false;
   bool textured_ = true;
+  std::uint64_t sceneVersion_ = 0;
+  mutable std::shared_ptr<ChamberLightCaches> chamberCaches_;  ///< created by the first Render
 };
 
 }  // namespace hdeye

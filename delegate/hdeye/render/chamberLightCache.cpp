@@ -1,0 +1,120 @@
+#include "hdeye/render/chamberLightCache.h"
+
+#include "hdeye/render/eyeShading.h"
+
+#include <eyelib/random.h>
+#include <tbb/parallel_for.h>
+
+#include <cstring>
+
+namespace hdeye {
+
+namespace {
+
+/// FNV-1a over the bytes of values whose bytes are their value (doubles, ints, pointers: no padding).
+class KeyHash {
+ public:
+  template <class T> KeyHash& Add(const T& v) {
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &v, sizeof(T));
+    for (unsigned char b : bytes) h_ = (h_ ^ b) * 0x100000001b3ull;
+    return *this;
+  }
+  KeyHash& Add(const glm::dvec3& v) { return Add(v.x).Add(v.y).Add(v.z); }
+  KeyHash& Add(bool v) { return Add(int(v)); }
+  KeyHash& Add(const std::vector<char>& v) {
+    Add(v.size());
+    for (char c : v) Add(int(c));
+    return *this;
+  }
+  std::uint64_t Value() const { return h_; }
+
+ private:
+  std::uint64_t h_ = 0xcbf29ce484222325ull;
+};
+
+/// The fixed stream the cache's MNEE estimates draw from (no render seed: the cache is the same for every seed).
+constexpr std::uint64_t kCacheSeed = 0x63686d6272636163ull;
+
+}  // namespace
+
+eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const eyelib::IrisChamberTransport& transport,
+                                                const EyeLighting& lighting, int directSamples) {
+  const int nodes = transport.Nodes(), samples = std::max(1, directSamples);
+  std::vector<glm::dvec3> direct(nodes, glm::dvec3(0));
+  for (int i = 0; i < nodes; ++i) {
+    std::uint64_t dim = 0;
+    const auto random = [&] { return eyelib::UniformAt(kCacheSeed, std::uint64_t(i), dim++); };
+    glm::dvec3 sum(0);
+    for (int k = 0; k < samples; ++k) sum += IrisIrradianceMnee(eye, transport.Node(i), lighting, random);
+    direct[i] = sum / double(samples);
+  }
+  std::vector<glm::dvec3> albedo;
+  albedo.reserve(transport.Landings().size());
+  for (const auto& l : transport.Landings()) albedo.push_back(eye.IrisAlbedo(glm::dvec3(l.x, l.y, transport.IrisZ())));
+  return eyelib::IrisChamberCache(transport, direct, albedo);
+}
+
+void ChamberLightCaches::BeginRender(const std::vector<RenderLight>& lights, std::uint64_t sceneVersion) {
+  KeyHash h;
+  h.Add(sceneVersion).Add(lights.size());
+  for (const RenderLight& l : lights) {
+    h.Add(int(l.type)).Add(l.radiance).Add(l.delta).Add(l.position).Add(l.direction).Add(l.axisU).Add(l.axisV);
+    h.Add(l.radius).Add(l.cosHalfAngle).Add(l.dome.get()).Add(l.rectImage.get()).Add(l.unlit).Add(l.unshadowed);
+    h.Add(l.shaping.enabled).Add(l.shaping.cutoff).Add(l.shaping.smoothStart).Add(l.shaping.focus);
+    h.Add(l.shaping.focusTint).Add(l.shaping.ies.get()).Add(l.shaping.iesProfileScale).Add(l.shaping.iesFactor);
+    h.Add(l.frameX).Add(l.frameY).Add(l.halfLength).Add(l.motion.get());
+    for (int c = 0; c < 3; ++c) h.Add(l.domeToWorld[c][0]).Add(l.domeToWorld[c][1]).Add(l.domeToWorld[c][2]);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  renderKey_ = h.Value();
+}
+
+std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const void* owner, const EyeGeometry& eye,
+                                                                        const EyeLighting& lighting) {
+  const eyelib::ChamberParams& chamber = eye.chamber.Params();
+  KeyHash geometry;
+  geometry.Add(int(chamber.model)).Add(chamber.irisDepth).Add(chamber.pupilDiameter).Add(chamber.corneaIor);
+  geometry.Add(lighting.maxChamberEvents);
+  const std::uint64_t geometryKey = geometry.Value();
+  KeyHash key = geometry;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) key.Add(eye.canonicalToWorld[c][r]);
+  key.Add(eye.irisColor).Add(eye.irisTexture.get()).Add(lighting.receiver).Add(lighting.allSolutions);
+  key.Add(lighting.mnee).Add(lighting.mneeLights ? lighting.mneeLights->size() : std::size_t(0));
+  if (lighting.mneeLights)
+    for (bool b : *lighting.mneeLights) key.Add(b);
+  std::shared_ptr<Slot<eyelib::IrisChamberTransport>> transport;
+  std::shared_ptr<Slot<eyelib::IrisChamberCache>> cache;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    key.Add(renderKey_);
+    auto& t = transports_[geometryKey];
+    if (!t) t = std::make_shared<Slot<eyelib::IrisChamberTransport>>();
+    transport = t;
+    Entry& entry = entries_[owner];
+    if (!entry.cache || entry.key != key.Value()) {
+      entry.cache = std::make_shared<Slot<eyelib::IrisChamberCache>>();
+      entry.key = key.Value();
+      ++builds_;
+    }
+    cache = entry.cache;
+  }
+  const eyelib::IrisPolarGrid& grid = resolution_.grid;
+  tbb::collaborative_call_once(cache->once, [&] {
+    tbb::collaborative_call_once(transport->once, [&] {
+      // The geometry's chamber paths per node, in parallel (each node's its own), then stored in node order.
+      std::vector<std::vector<eyelib::IrisChamberTransport::Landing>> nodes(std::size_t(grid.rings) * grid.sectors);
+      tbb::parallel_for(std::size_t(0), nodes.size(), [&](std::size_t i) {
+        nodes[i] = eyelib::IrisChamberTransport::NodeLandings(eye.chamber, grid, int(i), lighting.maxChamberEvents);
+      });
+      transport->value = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, grid, nodes);
+    });
+    // MNEE at the nodes runs on this thread: its shadow rays are the calling tracer's.
+    cache->value = std::make_shared<const eyelib::IrisChamberCache>(
+        BuildChamberLightCache(eye, *transport->value, lighting, resolution_.directSamples));
+  });
+  return cache->value;
+}
+
+}  // namespace hdeye

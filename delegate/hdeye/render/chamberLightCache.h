@@ -1,0 +1,69 @@
+#pragma once
+// Chamber light (light that reaches the iris after leaving the iris and reflecting off the cornea's inside) from a
+// cache instead of from the chamber walk alone finding the lit part of the iris by chance. Per eye, a polar grid over
+// the iris (eyelib's IrisChamberCache) is built from MNEE at its nodes, with the render's own lights and shadow
+// rays, the first time a render needs it, and kept while the eye, its lights and the scene stay the same: a
+// progressive render (one Render call per sample) builds it once. Its build uses no random number of the render, so
+// every sample stays a pure function of (seed, pixel, sample index) and split sample ranges still merge exactly.
+#include "hdeye/render/eyeGeometry.h"
+#include "hdeye/render/renderLight.h"
+#include "hdeye/render/renderSettings.h"
+
+#include <eyelib/iris_chamber_cache.h>
+#include <tbb/collaborative_call_once.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace hdeye {
+
+struct EyeLighting;
+
+/// The resolution of the cache and of the first-order irradiance it is built from.
+struct ChamberCacheResolution {
+  eyelib::IrisPolarGrid grid;
+  int directSamples = 8;  ///< MNEE estimates averaged per node (a light point each)
+};
+
+/// Builds an eye's cache: MNEE's first-order irradiance at the transport's nodes (directSamples estimates each, from
+/// a fixed random stream per node), the iris albedo where each chamber path lands, then the fixed point. World-unit
+/// irradiance, as IrisIrradianceMnee's. Zero where no light reaches the iris.
+eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const eyelib::IrisChamberTransport& transport,
+                                                const EyeLighting& lighting, int directSamples);
+
+/// The caches of a renderer's eyes, across its Render calls.
+class ChamberLightCaches {
+ public:
+  explicit ChamberLightCaches(ChamberCacheResolution resolution = {}) : resolution_(resolution) {}
+  /// A render starts: its lights and scene version (RenderPass's committed Embree scene) are part of every key.
+  void BeginRender(const std::vector<RenderLight>& lights, std::uint64_t sceneVersion);
+  /// The cache of the eye that `owner` (its GeometryContext) holds, under `lighting` (its lights, receiver,
+  /// switches); built here if missing or stale. Thread-safe: the render's threads that need a cache being built join
+  /// its build (tbb::collaborative_call_once) instead of waiting idle; the result does not depend on how many do.
+  std::shared_ptr<const eyelib::IrisChamberCache> Get(const void* owner, const EyeGeometry& eye,
+                                                      const EyeLighting& lighting);
+  int Builds() const { return builds_; }
+
+ private:
+  /// One build, done once by whichever threads arrive.
+  template <class T> struct Slot {
+    tbb::collaborative_once_flag once;
+    std::shared_ptr<const T> value;
+  };
+  struct Entry {
+    std::uint64_t key = 0;
+    std::shared_ptr<Slot<eyelib::IrisChamberCache>> cache;
+  };
+  ChamberCacheResolution resolution_;
+  std::mutex mutex_;  ///< guards the maps and keys, never held during a build
+  std::uint64_t renderKey_ = 0;
+  std::map<const void*, Entry> entries_;
+  /// Transports by chamber geometry (model, depth, pupil, index, walk bound): they depend on nothing else.
+  std::map<std::uint64_t, std::shared_ptr<Slot<eyelib::IrisChamberTransport>>> transports_;
+  int builds_ = 0;
+};
+
+}  // namespace hdeye
