@@ -6,24 +6,9 @@ glint excluded; with two seeds the noise and the bias floor sqrt(mean(e1 e2)), t
 a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, and
 the floor at the longest budget. --markdown and --plot write the table and the figure docs/iris_benchmark.md shows.
 
-        for lever in args.lever or []:
-            label, _, flags = lever.partition("=")
-            if not label:
-                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
-            builds.append((label, sys.executable, tuple(flags.split())))
-        if args.estimators:
-            estimators = [e for e in args.estimators.split(",") if e]
-            single = len(builds) == 1 and not args.build and not args.lever
-            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
-                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
-        if args.keep_dir:
-            os.makedirs(args.keep_dir, exist_ok=True)
-        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
-            if budgets or args.floor_spp else []
-        if args.grazing:
-            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
-                                      args.keep_dir)
+Usage: python3 bench/bench_iris.py [--budgets 2.5,10] [--floor-spp N] [--build LABEL=PYTHON ...]
+                                   [--lever "LABEL=EYERECORD FLAGS" ...] [--scene-dir DIR]
+                                   [--estimators path,cache,controlVariate] [--grazing DEGREES]
                                    [--csv FILE] [--plot FILE] [--from-csv A.csv,B.csv]
 --lever measures this build with extra eyerecord flags (the sampler, splitting), for example
     --lever "independent=--sampler independent" --lever "zsobol=--sampler zsobol"
@@ -58,24 +43,13 @@ FIELDS = ("label", "fixed_spp", "seconds", "relrmse", "relrmse_seed2", "noise", 
 IMAGE_PIXELS = 256 * 256
 
 
-        for lever in args.lever or []:
-            label, _, flags = lever.partition("=")
-            if not label:
-                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
-            builds.append((label, sys.executable, tuple(flags.split())))
-        if args.estimators:
-            estimators = [e for e in args.estimators.split(",") if e]
-            single = len(builds) == 1 and not args.build and not args.lever
-            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
-                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
-        if args.keep_dir:
-            os.makedirs(args.keep_dir, exist_ok=True)
-        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
-            if budgets or args.floor_spp else []
-        if args.grazing:
-            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
-                                      args.keep_dir)
+def render(python, scene_dir, seconds, seed, out, spp=0, extra=(), scene="sceneB.usda", width=256):
+    """One eyerecord render by `python`'s eyerender, `seconds` long or of `spp` samples per pixel, with the extra
+    eyerecord arguments `extra`; returns the samples per pixel it reached and the seconds it took (from its summary
+    line)."""
+    budget = ["--spp", str(spp)] if spp else ["--time-limit", str(seconds)]
+    cmd = [python, "-m", "eyerender.eyerecord", "--camera", "/World/main_cam", "--imageWidth", str(width),
+           *budget, "--threads", "2", "--seed", str(seed), "--quiet", *extra, os.path.join(scene_dir, scene), out]
     run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode != 0:
         sys.exit(f"bench_iris: eyerecord failed ({run.returncode}): {run.stderr.strip()[-200:]}")
@@ -98,24 +72,9 @@ def compare(scene_dir, a, b):
 def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels=None):
     """One row per build and time budget, then (floor_spp > 0) one per build of floor_spp samples per pixel, its time
     the mean of the two seeds'. builds: (label, python) pairs, rendered in turn at every budget and seed so that the
-        for lever in args.lever or []:
-            label, _, flags = lever.partition("=")
-            if not label:
-                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
-            builds.append((label, sys.executable, tuple(flags.split())))
-        if args.estimators:
-            estimators = [e for e in args.estimators.split(",") if e]
-            single = len(builds) == 1 and not args.build and not args.lever
-            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
-                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
-        if args.keep_dir:
-            os.makedirs(args.keep_dir, exist_ok=True)
-        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
-            if budgets or args.floor_spp else []
-        if args.grazing:
-            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
-                                      args.keep_dir)
+    machine's changing load falls on all of them alike. A build may carry a third element, its eyerecord
+    flags (a lever, an estimator).
+    floor_labels: the labels that render the floor pair (None: all)."""
     rows = []
     runs = [(seconds, 0) for seconds in budgets] + ([(0, floor_spp)] if floor_spp else [])
     with tempfile.TemporaryDirectory() as scratch:
@@ -124,24 +83,13 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels
             done = {}
             chosen = [k for k, b in enumerate(builds) if not spp or floor_labels is None or b[0] in floor_labels]
             for seed in (1, 2):
-        for lever in args.lever or []:
-            label, _, flags = lever.partition("=")
-            if not label:
-                sys.exit("bench_iris: --lever takes LABEL=FLAGS")
-            builds.append((label, sys.executable, tuple(flags.split())))
-        if args.estimators:
-            estimators = [e for e in args.estimators.split(",") if e]
-            single = len(builds) == 1 and not args.build and not args.lever
-            builds = [(e if single else f"{label}, {e}", python, (*flags, "--chamber-estimator", e))
-                      for label, python, *rest in builds for flags in [rest[0] if rest else ()] for e in estimators]
-        if args.keep_dir:
-            os.makedirs(args.keep_dir, exist_ok=True)
-        floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
-        rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
-            if budgets or args.floor_spp else []
-        if args.grazing:
-            grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
-                                      args.keep_dir)
+                for k in chosen:
+                    python, flags = builds[k][1], builds[k][2] if len(builds[k]) > 2 else ()
+                    budget = f"{spp}spp" if spp else f"{seconds:g}s"
+                    out = os.path.join(tmp, f"build{k}_{budget}_seed{seed}.exr")
+                    done[k, seed] = (out, *render(python, scene_dir, seconds, seed, out, spp, flags))
+            for k in chosen:
+                label = builds[k][0]
                 (a, spp1, s1), (b, spp2, s2) = done[k, 1], done[k, 2]
                 c = compare(scene_dir, a, b)
                 err = 0.5 * (c["relRMSE"] + c["relRMSE2"])
