@@ -72,23 +72,15 @@ IrisChamberTransport::IrisChamberTransport(const AnteriorChamber<double>& chambe
 
 ChamberReturn TraceChamberReturn(const AnteriorChamber<double>& chamber, const Vec3d& x, const Vec3d& d0,
                                  int maxEvents) {
-  const AnteriorSurface<double>& surface = chamber.Surface();
   Vec3d p = x, d = d0;
   double weight = 1;
   for (int k = 0; k < maxEvents && weight > kNegligibleWeight; ++k) {
-    const double tPlane = d.z < 0 ? (chamber.IrisZ() - p.z) / d.z : kInf;
-    auto cap = surface.Intersect({p, d});
-    if (cap && cap->fromOutside) cap.reset();  // from inside the chamber only exits can be hit
-    if (tPlane < (cap ? cap->t : kInf)) {
-      Vec3d land = p + tPlane * d;
-      land.z = chamber.IrisZ();
-      if (std::hypot(land.x, land.y) < chamber.PupilRadius()) return {};  // into the lens: absorbed
-      return {land, weight};
-    }
-    if (!cap) return {};  // through the gap at the rim
-    p = cap->point;
-    weight *= FresnelDielectric(glm::dot(-d, cap->normal), chamber.CorneaIor());
-    d = d - 2 * glm::dot(d, cap->normal) * cap->normal;
+    const ChamberSurfaceHit<double> hit = chamber.NextSurfaceFromInside(p, d);
+    if (hit.kind == ChamberSurfaceHit<double>::Iris) return {hit.point, weight};
+    if (hit.kind != ChamberSurfaceHit<double>::Cornea) return {};  // into the lens, or through the gap at the rim
+    p = hit.point;
+    weight *= FresnelDielectric(glm::dot(-d, hit.normal), chamber.CorneaIor());
+    d = d - 2 * glm::dot(d, hit.normal) * hit.normal;
   }
   return {};
 }

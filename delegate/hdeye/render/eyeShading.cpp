@@ -23,29 +23,7 @@ glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3&
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
 }
 
-/// The surface a chamber walk at p (canonical, mm) going along unit d meets next, from inside.
-struct ChamberHit {
-  enum Kind { Iris, Pupil, Cornea, Lost } kind = Lost;
-  glm::dvec3 point{0}, normal{0};  ///< Iris: on the iris plane; Cornea: the point and its outward normal
-};
-
-ChamberHit NextChamberSurface(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& d) {
-  ChamberHit hit;
-  const double tPlane = d.z < 0 ? (eye.chamber.IrisZ() - p.z) / d.z : kInf;
-  auto cap = eye.chamber.Surface().Intersect({p, d});
-  if (cap && cap->fromOutside) cap.reset();  // from inside the chamber only exits can be hit
-  if (tPlane < (cap ? cap->t : kInf)) {
-    hit.point = p + tPlane * d;
-    hit.point.z = eye.chamber.IrisZ();
-    hit.kind = std::hypot(hit.point.x, hit.point.y) < eye.chamber.PupilRadius() ? ChamberHit::Pupil : ChamberHit::Iris;
-    return hit;
-  }
-  if (!cap) return hit;  // through the sub-micrometre gap at the rim: lost
-  hit.kind = ChamberHit::Cornea;
-  hit.point = cap->point;
-  hit.normal = cap->normal;
-  return hit;
-}
+using ChamberHit = eyelib::ChamberSurfaceHit<double>;
 
 /// Chamber directions per side of the lattice the control variate integrates its prediction over at the first iris
 /// vertex (kControlSide^2 directions, one random shift for all): 2 x 2, measured against 1, 3 x 3 and 4 x 4 in
@@ -115,7 +93,7 @@ glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const Eye
   const double ior = eye.chamber.CorneaIor();
   int vertex = 1;  // x is the walk's first iris vertex
   for (int k = 0; k < maxEvents; ++k) {
-    const ChamberHit hit = NextChamberSurface(eye, p, d);
+    const ChamberHit hit = eye.chamber.NextSurfaceFromInside(p, d);
     if (hit.kind == ChamberHit::Iris) {
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
       if (lighting.mnee) gathered += beta * IrisDirectLight(eye, hit.point, albedo, ++vertex, lighting, random, 1);
@@ -298,7 +276,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   double gatherWeight = 1;
   const int chamberSplits = std::max(1, lighting.chamberSplits);
   for (int k = 0; k < lighting.maxChamberEvents; ++k, ++ev.internalEvents) {
-    const ChamberHit hit = NextChamberSurface(eye, p, d);
+    const ChamberHit hit = eye.chamber.NextSurfaceFromInside(p, d);
     if (hit.kind != ChamberHit::Iris && hit.kind != ChamberHit::Cornea) return ev;  // the lens, or the rim's gap
     if (hit.kind == ChamberHit::Iris) {
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);

@@ -28,6 +28,15 @@ template <class T> struct IrisHit {
   Vec3<T> point;  ///< mm, on the plane z = -irisDepth
 };
 
+/// The surface a ray inside the chamber meets next (AnteriorChamber::NextSurfaceFromInside).
+template <class T> struct ChamberSurfaceHit {
+  /// Iris and Pupil: on the iris plane (Pupil: into the lens); Cornea: the anterior surface from inside; Lost:
+  /// nothing (through the sub-micrometre gap at the rim).
+  enum Kind { Iris, Pupil, Cornea, Lost } kind = Lost;
+  Vec3<T> point{0};   ///< mm
+  Vec3<T> normal{0};  ///< Cornea: the surface's outward normal
+};
+
 template <class T> class AnteriorChamber {
  public:
   /// `params` must pass ValidateChamberParams (checked by callers that take user input).
@@ -60,6 +69,27 @@ template <class T> class AnteriorChamber {
     const T r2 = RadiusSquared(p);
     if (r2 > irisRadius_ * irisRadius_ || r2 < pupilRadius_ * pupilRadius_) return std::nullopt;
     return IrisHit<T>{t, p};
+  }
+
+  /// What a ray from p inside the chamber along unit d meets first (mm): the iris plane or the cornea, from
+  /// inside (only exits of the anterior surface count there).
+  ChamberSurfaceHit<T> NextSurfaceFromInside(const Vec3<T>& p, const Vec3<T>& d) const {
+    ChamberSurfaceHit<T> hit;
+    const T tPlane = d.z < 0 ? (irisZ_ - p.z) / d.z : std::numeric_limits<T>::infinity();
+    auto cap = surface_.Intersect({p, d});
+    if (cap && cap->fromOutside) cap.reset();
+    if (tPlane < (cap ? cap->t : std::numeric_limits<T>::infinity())) {
+      hit.point = p + tPlane * d;
+      hit.point.z = irisZ_;
+      hit.kind = std::hypot(hit.point.x, hit.point.y) < pupilRadius_ ? ChamberSurfaceHit<T>::Pupil
+                                                                     : ChamberSurfaceHit<T>::Iris;
+      return hit;
+    }
+    if (!cap) return hit;
+    hit.kind = ChamberSurfaceHit<T>::Cornea;
+    hit.point = cap->point;
+    hit.normal = cap->normal;
+    return hit;
   }
 
   /// Sclera weight at radius r (mm): 0 inside the inner limbus edge (clear cornea), 1 outside the
