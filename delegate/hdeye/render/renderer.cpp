@@ -511,13 +511,24 @@ class Tracer {
   /// an eye or light that moves, the cache alone then shows them where they were at the opening.
   std::shared_ptr<const eyelib::IrisChamberCache> ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
                                                                  const EyeLighting& lighting) {
-    if (!shutter_.IsOpen()) return chamberCaches_->Get(&ctx, eye, lighting);
-    const double pathTime = time_;
-    SetTime(shutter_.open);
-    const EyeGeometry& still = *EyeOf(ctx);
-    const std::optional<EyeGeometry> atOpen = still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
-    auto cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting);
-    SetTime(pathTime);
+    // Successive eye hits are mostly the same eye's: the last cache is kept so that they skip the shared map's
+    // lock and key (and, under an open shutter, moving the lights to the opening and back).
+    const EyeGeometry& still = shutter_.IsOpen() ? *EyeOf(ctx) : eye;
+    LastChamberCache& last = lastChamberCache_;
+    if (last.cache && last.ctx == &ctx && last.receiver == lighting.receiver && last.frame == still.canonicalToWorld)
+      return last.cache;
+    std::shared_ptr<const eyelib::IrisChamberCache> cache;
+    if (!shutter_.IsOpen()) {
+      cache = chamberCaches_->Get(&ctx, eye, lighting);
+    } else {
+      const double pathTime = time_;
+      SetTime(shutter_.open);
+      const std::optional<EyeGeometry> atOpen =
+          still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
+      cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting);
+      SetTime(pathTime);
+    }
+    last = {&ctx, lighting.receiver, still.canonicalToWorld, cache};
     return cache;
   }
 
@@ -761,6 +772,13 @@ class Tracer {
   const RenderSettings& settings_;
   bool cutouts_ = false;
   ChamberLightCaches* chamberCaches_ = nullptr;
+  /// The chamber-light cache of the last eye hit (ChamberCacheOf), by its context, receiver and unmoved frame.
+  struct LastChamberCache {
+    const GeometryContext* ctx = nullptr;
+    int receiver = -1;
+    glm::dmat4 frame{0.0};
+    std::shared_ptr<const eyelib::IrisChamberCache> cache;
+  } lastChamberCache_;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
