@@ -314,6 +314,7 @@ def test_a_blurred_card_covers_its_sweep_by_the_time_it_spends_there(how):
     above = alpha[np.abs(x) > 0.6]
     # A pixel's coverage is binomial over its samples: mean 1/4 to within 4 standard errors of the region's mean.
     tolerance = 4 * math.sqrt(0.25 * 0.75 / (spp * middle.size))
+    print(f"blurred card ({how}): alpha {middle.mean():.4f} over the middle of the sweep (0.25 expected)")
     assert abs(middle.mean() - 0.25) < tolerance + 0.01, (middle.mean(), tolerance)
     assert middle.min() > 0.05 and middle.max() < 0.5, (middle.min(), middle.max())
     assert outside.max() == 0 and above.max() == 0, (outside.max(), above.max())
