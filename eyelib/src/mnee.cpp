@@ -191,6 +191,21 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
   return {0, 0};
 }
 
+Vec3d ApproximateEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
+                            int iterations) {
+  Vec3d p(0), n(0, 0, 1);
+  for (int k = 0; k < iterations; ++k) {
+    const Vec3d toLight = light.distant ? light.direction : light.position - p;
+    const double length = glm::length(toLight);
+    Vec3d inside;
+    if (!(length > 0 && std::isfinite(length)) || !Refract(toLight / length, n, chamber.CorneaIor(), &inside)) break;
+    const ChamberSurfaceHit<double> hit = chamber.NextSurfaceFromInside(x, -inside);
+    if (hit.kind != ChamberSurfaceHit<double>::Cornea) break;
+    p = hit.point, n = hit.normal;
+  }
+  return p;
+}
+
 MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
                                const SeedStrategy& seeds, const MneeOptions& options) {
   MneeResult result;

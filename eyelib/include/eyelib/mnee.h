@@ -81,6 +81,15 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
 /// Falls back to the apex if that line misses the cap.
 Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light);
 
+/// Approximately where light from `light` refracts into the chamber on its way to iris point x (mm): from the
+/// apex, `iterations` fixed-point steps (refract the direction towards the light at the current point, then go back
+/// from x against that direction to the cornea). The apex if a step misses the cap or cannot refract. A light's
+/// sampling origin: MNEE's weight for a light point is cos(emission towards the path's cornea point) over the cosine
+/// the sampling origin sees there, which diverges at the light's rim (as seen from the origin) when the origin is the
+/// apex and the path crosses the cornea millimetres away; from this point the two cosines nearly agree.
+Vec3d ApproximateEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
+                            int iterations = 3);
+
 /// How to look for solutions.
 struct SeedStrategy {
   /// false: one solution: the straight-line seed, then (if it fails and `fallback` is on) the
