@@ -29,11 +29,11 @@ IrisPolarGrid IrisChamberTransport::Valid(IrisPolarGrid grid) {
   return grid;
 }
 
-std::vector<IrisChamberTransport::Landing> IrisChamberTransport::NodeLandings(const AnteriorChamber<double>& chamber,
-                                                                              const IrisPolarGrid& grid, int i,
+std::vector<IrisChamberTransport::Landing> IrisChamberTransport::RingLandings(const AnteriorChamber<double>& chamber,
+                                                                              const IrisPolarGrid& grid, int ring,
                                                                               int maxEvents) {
   const IrisPolarGrid g = Valid(grid);
-  const Vec3d x = NodeOf(g, chamber.PupilRadius(), chamber.IrisRadius(), chamber.IrisZ(), i);
+  const Vec3d x = NodeOf(g, chamber.PupilRadius(), chamber.IrisRadius(), chamber.IrisZ(), ring * g.sectors);
   const int side = g.directionsPerSide;
   std::vector<Landing> landings;
   for (int a = 0; a < side; ++a)
@@ -49,23 +49,23 @@ std::vector<IrisChamberTransport::Landing> IrisChamberTransport::NodeLandings(co
 IrisChamberTransport::IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
                                            int maxEvents)
     : grid_(Valid(grid)), rMin_(chamber.PupilRadius()), rMax_(chamber.IrisRadius()), irisZ_(chamber.IrisZ()) {
-  offsets_.reserve(Nodes() + 1);
+  offsets_.reserve(grid_.rings + 1);
   offsets_.push_back(0);
-  for (int i = 0; i < Nodes(); ++i) {
-    const std::vector<Landing> node = NodeLandings(chamber, grid_, i, maxEvents);
-    landings_.insert(landings_.end(), node.begin(), node.end());
+  for (int r = 0; r < grid_.rings; ++r) {
+    const std::vector<Landing> ring = RingLandings(chamber, grid_, r, maxEvents);
+    landings_.insert(landings_.end(), ring.begin(), ring.end());
     offsets_.push_back(landings_.size());
   }
 }
 
 IrisChamberTransport::IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
-                                           const std::vector<std::vector<Landing>>& nodeLandings)
+                                           const std::vector<std::vector<Landing>>& ringLandings)
     : grid_(Valid(grid)), rMin_(chamber.PupilRadius()), rMax_(chamber.IrisRadius()), irisZ_(chamber.IrisZ()) {
-  offsets_.reserve(Nodes() + 1);
+  offsets_.reserve(grid_.rings + 1);
   offsets_.push_back(0);
-  for (int i = 0; i < Nodes(); ++i) {
-    if (std::size_t(i) < nodeLandings.size())
-      landings_.insert(landings_.end(), nodeLandings[i].begin(), nodeLandings[i].end());
+  for (int r = 0; r < grid_.rings; ++r) {
+    if (std::size_t(r) < ringLandings.size())
+      landings_.insert(landings_.end(), ringLandings[r].begin(), ringLandings[r].end());
     offsets_.push_back(landings_.size());
   }
 }
@@ -101,39 +101,59 @@ Vec3d IrisChamberTransport::NodeOf(const IrisPolarGrid& grid, double rMin, doubl
 double IrisChamberTransport::MeanReturn() const {
   double sum = 0;
   for (const Landing& l : landings_) sum += l.weight;
-  return Nodes() > 0 ? sum / Nodes() : 0;
+  return sum / grid_.rings;  // every node of a ring returns what its first node does
 }
 
 IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const std::vector<Vec3d>& direct,
-                                   const std::vector<Vec3d>& landingAlbedo, int maxBounces, double tolerance)
+                                   const std::vector<Vec3d>& albedo, int maxBounces, double tolerance)
     : grid_(transport.Grid()), rMin_(transport.InnerRadius()), rMax_(transport.OuterRadius()) {
   const int nodes = transport.Nodes();
+  const auto valid = [](const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   direct_.assign(nodes, Vec3d(0));
-  for (int i = 0; i < nodes && i < int(direct.size()); ++i) {
-    const Vec3d& e = direct[i];
-    const bool valid = std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z);
-    direct_[i] = valid ? glm::max(e, Vec3d(0)) : Vec3d(0);
+  std::vector<Vec3d> nodeAlbedo(nodes, Vec3d(0));
+  for (int i = 0; i < nodes; ++i) {
+    if (i < int(direct.size()) && valid(direct[i])) direct_[i] = glm::max(direct[i], Vec3d(0));
+    if (i < int(albedo.size()) && valid(albedo[i])) nodeAlbedo[i] = glm::clamp(albedo[i], Vec3d(0), Vec3d(1));
   }
   chamber_.assign(nodes, Vec3d(0));
+  // Where each of a ring's landings interpolates the grid, once: node (ring, s) reads it turned by s sectors. The
+  // transport is then the same kernel for every node of a ring, turned: kernel[i][j][d] is what node (j, d + s)
+  // sends to node (i, s) per unit of light leaving it.
   const std::vector<IrisChamberTransport::Landing>& landings = transport.Landings();
-  std::vector<Vec3d> albedo(landings.size(), Vec3d(0));
-  for (std::size_t k = 0; k < landings.size() && k < landingAlbedo.size(); ++k) {
-    const Vec3d& a = landingAlbedo[k];
-    const bool valid = std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-    albedo[k] = valid ? glm::clamp(a, Vec3d(0), Vec3d(1)) : Vec3d(0);
+  const int rings = grid_.rings, sectors = grid_.sectors;
+  std::vector<Stencil> stencil(landings.size());
+  std::vector<double> kernel(std::size_t(rings) * nodes, 0.0);
+  for (int i = 0; i < rings; ++i) {
+    double* k = &kernel[std::size_t(i) * nodes];
+    for (const auto* l = transport.RingLandingsBegin(i); l != transport.RingLandingsEnd(i); ++l) {
+      const Stencil st = stencil[l - landings.data()] = StencilAt(Vec3d(l->x, l->y, 0));
+      const int r1 = std::min(rings - 1, st.ring + 1), s1 = (st.sector + 1) % sectors;
+      const double fr = st.fr, fs = st.fs;
+      k[st.ring * sectors + st.sector] += l->weight * (1 - fr) * (1 - fs);
+      k[st.ring * sectors + s1] += l->weight * (1 - fr) * fs;
+      k[r1 * sectors + st.sector] += l->weight * fr * (1 - fs);
+      k[r1 * sectors + s1] += l->weight * fr * fs;
+    }
   }
   // Jacobi iteration of E_chamber = T[albedo (E_direct + E_chamber)]: the cosine-weighted quadrature already
   // carries the 1 / pi of the Lambertian lobe (E = pi x the mean radiance over cosine-distributed directions).
   // Each bounce scales by at most albedo x MeanReturn (about 0.1): it converges in a few bounces.
-  std::vector<Vec3d> next(nodes);
+  std::vector<Vec3d> next(nodes), leaving(nodes);
+  const auto leave = [&] {
+    for (int i = 0; i < nodes; ++i) leaving[i] = nodeAlbedo[i] * (direct_[i] + chamber_[i]);
+  };
   for (bounces_ = 0; bounces_ < std::max(1, maxBounces);) {
+    leave();
     double added = 0, total = 0;
     for (int i = 0; i < nodes; ++i) {
+      const int ring = i / sectors, sector = i % sectors;
+      const double* k = &kernel[std::size_t(ring) * nodes];
       Vec3d e(0);
-      const auto* first = transport.LandingsBegin(i);
-      for (const auto* l = first; l != transport.LandingsEnd(i); ++l) {
-        const Vec3d land(l->x, l->y, 0);
-        e += l->weight * albedo[l - landings.data()] * (Interpolate(direct_, land) + Interpolate(chamber_, land));
+      for (int j = 0; j < rings; ++j) {
+        const double* kj = k + j * sectors;
+        const Vec3d* from = &leaving[std::size_t(j) * sectors];
+        for (int d = 0; d < sectors - sector; ++d) e += kj[d] * from[d + sector];  // turned, without a modulo
+        for (int d = sectors - sector; d < sectors; ++d) e += kj[d] * from[d + sector - sectors];
       }
       next[i] = e;
       added += glm::length(e - chamber_[i]);
@@ -145,19 +165,26 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
   }
 }
 
-Vec3d IrisChamberCache::Interpolate(const std::vector<Vec3d>& values, const Vec3d& x) const {
-  if (values.empty()) return Vec3d(0);
+IrisChamberCache::Stencil IrisChamberCache::StencilAt(const Vec3d& x) const {
   const int rings = grid_.rings, sectors = grid_.sectors;
   const double rr = (std::hypot(x.x, x.y) - rMin_) / (rMax_ - rMin_) * rings - 0.5;
   const double ss = Azimuth(x.x, x.y) / (2 * paper::kPi) * sectors - 0.5;
   const double rc = std::clamp(rr, 0.0, double(rings - 1));
-  const int r0 = std::min(rings - 1, int(std::floor(rc))), r1 = std::min(rings - 1, r0 + 1);
-  const double fr = rc - r0;
+  const int r0 = std::min(rings - 1, int(std::floor(rc)));
   const double sf = std::floor(ss);
-  const double fs = ss - sf;
-  const int s0 = ((int(sf) % sectors) + sectors) % sectors, s1 = (s0 + 1) % sectors;
-  const auto at = [&](int r, int s) { return values[std::size_t(r) * sectors + s]; };
-  return (1 - fr) * ((1 - fs) * at(r0, s0) + fs * at(r0, s1)) + fr * ((1 - fs) * at(r1, s0) + fs * at(r1, s1));
+  return {r0, ((int(sf) % sectors) + sectors) % sectors, float(rc - r0), float(ss - sf)};
+}
+
+Vec3d IrisChamberCache::Apply(const Stencil& s, const std::vector<Vec3d>& values, int turn) const {
+  const int sectors = grid_.sectors, r1 = std::min(grid_.rings - 1, s.ring + 1);
+  const int s0 = (s.sector + turn) % sectors, s1 = (s0 + 1) % sectors;
+  const auto at = [&](int r, int q) { return values[std::size_t(r) * sectors + q]; };
+  const double fr = s.fr, fs = s.fs;
+  return (1 - fr) * ((1 - fs) * at(s.ring, s0) + fs * at(s.ring, s1)) + fr * ((1 - fs) * at(r1, s0) + fs * at(r1, s1));
+}
+
+Vec3d IrisChamberCache::Interpolate(const std::vector<Vec3d>& values, const Vec3d& x) const {
+  return values.empty() ? Vec3d(0) : Apply(StencilAt(x), values);
 }
 
 }  // namespace eyelib

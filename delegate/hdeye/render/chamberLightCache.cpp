@@ -5,6 +5,7 @@
 #include <eyelib/random.h>
 #include <tbb/parallel_for.h>
 
+#include <cmath>
 #include <cstring>
 
 namespace hdeye {
@@ -49,9 +50,22 @@ eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const ey
     for (int k = 0; k < samples; ++k) sum += IrisIrradianceMnee(eye, transport.Node(i), lighting, random);
     direct[i] = sum / double(samples);
   }
-  std::vector<glm::dvec3> albedo;
-  albedo.reserve(transport.Landings().size());
-  for (const auto& l : transport.Landings()) albedo.push_back(eye.IrisAlbedo(glm::dvec3(l.x, l.y, transport.IrisZ())));
+  // Each node's albedo: the mean over its cell (4 x 4 points), so a textured iris's fine detail averages out
+  // instead of aliasing into the chamber light.
+  const eyelib::IrisPolarGrid& grid = transport.Grid();
+  const double dr = (transport.OuterRadius() - transport.InnerRadius()) / grid.rings, dphi = transport.SectorAngle();
+  constexpr int kAlbedoSide = 4;
+  std::vector<glm::dvec3> albedo(nodes, glm::dvec3(0));
+  for (int i = 0; i < nodes; ++i) {
+    const int ring = i / grid.sectors, sector = i % grid.sectors;
+    for (int a = 0; a < kAlbedoSide; ++a)
+      for (int b = 0; b < kAlbedoSide; ++b) {
+        const double r = transport.InnerRadius() + (ring + (a + 0.5) / kAlbedoSide) * dr,
+                     phi = (sector + (b + 0.5) / kAlbedoSide) * dphi;
+        albedo[i] += eye.IrisAlbedo(glm::dvec3(r * std::cos(phi), r * std::sin(phi), transport.IrisZ()));
+      }
+    albedo[i] /= double(kAlbedoSide * kAlbedoSide);
+  }
   return eyelib::IrisChamberCache(transport, direct, albedo);
 }
 
@@ -103,12 +117,12 @@ std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const vo
   const eyelib::IrisPolarGrid& grid = resolution_.grid;
   tbb::collaborative_call_once(cache->once, [&] {
     tbb::collaborative_call_once(transport->once, [&] {
-      // The geometry's chamber paths per node, in parallel (each node's its own), then stored in node order.
-      std::vector<std::vector<eyelib::IrisChamberTransport::Landing>> nodes(std::size_t(grid.rings) * grid.sectors);
-      tbb::parallel_for(std::size_t(0), nodes.size(), [&](std::size_t i) {
-        nodes[i] = eyelib::IrisChamberTransport::NodeLandings(eye.chamber, grid, int(i), lighting.maxChamberEvents);
+      // The geometry's chamber paths per ring, in parallel (each ring's its own), then stored in ring order.
+      std::vector<std::vector<eyelib::IrisChamberTransport::Landing>> rings(grid.rings);
+      tbb::parallel_for(std::size_t(0), rings.size(), [&](std::size_t r) {
+        rings[r] = eyelib::IrisChamberTransport::RingLandings(eye.chamber, grid, int(r), lighting.maxChamberEvents);
       });
-      transport->value = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, grid, nodes);
+      transport->value = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, grid, rings);
     });
     // MNEE at the nodes runs on this thread: its shadow rays are the calling tracer's.
     cache->value = std::make_shared<const eyelib::IrisChamberCache>(

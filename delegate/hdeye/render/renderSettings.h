@@ -16,7 +16,7 @@ enum class ChamberEstimator {
   /// The chamber walk alone: MNEE at every iris vertex the walk reaches (it finds the lit iris by chance).
   Path,
   /// The eye's chamber-light cache (chamberLightCache.h) at the walk's first iris vertex; MNEE only there.
-  /// Biased by the cache's resolution.
+  /// Biased by the cache's resolution (on scene B a floor of 0.17 % of the pixel).
   Cache,
   /// The cache as a control variate: its value at the first iris vertex, plus, at the second, the path's MNEE
   /// minus the cache's prediction of everything from there on. Unbiased up to the cache's interpolation of its
@@ -48,9 +48,9 @@ struct RenderSettings {
   /// happen to hit a light: plain path tracing, for A/B comparisons).
   bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
-  /// Eyes with MNEE: how the iris gathers chamber light. The control variate by default: unbiased, and on scene B
-  /// 1.3x less error than the walk alone at 10 s (docs/iris_benchmark.md); the cache has less still but a bias floor.
-  ChamberEstimator chamberEstimator = ChamberEstimator::ControlVariate;
+  /// Eyes with MNEE: how the iris gathers chamber light. The cache by default: on scene B its bias floor is 0.17 %
+  /// and its noise at equal samples a seventh of the control variate's (docs/iris_benchmark.md).
+  ChamberEstimator chamberEstimator = ChamberEstimator::Cache;
   /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
   /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.

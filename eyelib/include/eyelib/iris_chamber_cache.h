@@ -18,9 +18,9 @@ using Vec3d = Vec3<double>;
 /// Nodes at the centres of a polar lattice over the iris annulus (pupil radius to iris radius), and the
 /// directions integrated per node.
 struct IrisPolarGrid {
-  int rings = 16;              ///< radial nodes, >= 1
-  int sectors = 48;            ///< azimuthal nodes, >= 1
-  int directionsPerSide = 24;  ///< the hemisphere per node: directionsPerSide^2 cosine-weighted strata, >= 1
+  int rings = 32;              ///< radial nodes, >= 1
+  int sectors = 96;            ///< azimuthal nodes, >= 1
+  int directionsPerSide = 48;  ///< the hemisphere per node: directionsPerSide^2 cosine-weighted strata, >= 1
 };
 
 /// A chamber path that left the iris and came back onto it after reflecting off the cornea's inside.
@@ -43,32 +43,36 @@ ChamberReturn TraceChamberReturn(const AnteriorChamber<double>& chamber, const V
 Vec3d ChamberDirection(int a, int b, int side, double u1, double u2, double* weight);
 
 /// Where the chamber paths leaving each node of a grid land on the iris again, with their Fresnel weights.
-/// Deterministic: each stratum's centre direction, no random numbers.
+/// Deterministic: each stratum's centre direction, no random numbers. The chamber is a surface of revolution, so a
+/// node's paths are those of the first node of its ring turned by the angle between them (a whole number of sectors):
+/// only the first node of each ring is traced, and its landings stand for the ring.
 class IrisChamberTransport {
  public:
-  /// One chamber path: it leaves a node, reflects off the cornea's inside (weight: the product of the Fresnel
-  /// reflectances, over the number of directions) and lands at (x, y) on the iris (mm, outside the pupil).
+  /// One chamber path from the first node of a ring: it reflects off the cornea's inside (weight: the product of the
+  /// Fresnel reflectances, over the number of directions) and lands at (x, y) on the iris (mm, outside the pupil).
   struct Landing {
     double x, y, weight;
   };
 
   /// maxEvents: cornea reflections followed per path (> 0); paths whose weight falls below 1e-9 end early.
   IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid, int maxEvents = 64);
-  /// The same from each node's NodeLandings, computed by the caller (in parallel, say): nodeLandings[i] for node i.
+  /// The same from each ring's RingLandings, computed by the caller (in parallel, say): ringLandings[r] for ring r.
   IrisChamberTransport(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid,
-                       const std::vector<std::vector<Landing>>& nodeLandings);
-  /// The landings of node i's paths (what the constructor stores for it).
-  static std::vector<Landing> NodeLandings(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid, int i,
+                       const std::vector<std::vector<Landing>>& ringLandings);
+  /// The landings of the paths from the first node of `ring` (what the constructor stores for it).
+  static std::vector<Landing> RingLandings(const AnteriorChamber<double>& chamber, const IrisPolarGrid& grid, int ring,
                                            int maxEvents = 64);
 
   const IrisPolarGrid& Grid() const { return grid_; }
   int Nodes() const { return grid_.rings * grid_.sectors; }
   /// Node i = ring * sectors + sector, on the iris plane (mm).
   Vec3d Node(int i) const { return NodeOf(grid_, rMin_, rMax_, irisZ_, i); }
-  /// The landings of node i's paths.
-  const Landing* LandingsBegin(int i) const { return landings_.data() + offsets_[i]; }
-  const Landing* LandingsEnd(int i) const { return landings_.data() + offsets_[i + 1]; }
+  /// The landings of the paths from the first node of `ring`; node (ring, s)'s are these turned by s sectors.
+  const Landing* RingLandingsBegin(int ring) const { return landings_.data() + offsets_[ring]; }
+  const Landing* RingLandingsEnd(int ring) const { return landings_.data() + offsets_[ring + 1]; }
   const std::vector<Landing>& Landings() const { return landings_; }
+  /// The angle between neighbouring sectors, radians.
+  double SectorAngle() const { return 2 * paper::kPi / grid_.sectors; }
   /// The fraction of a node's cosine-weighted light that the cornea sends back onto the iris, averaged over nodes.
   double MeanReturn() const;
 
@@ -83,7 +87,7 @@ class IrisChamberTransport {
   IrisPolarGrid grid_;
   double rMin_, rMax_, irisZ_;
   std::vector<Landing> landings_;
-  std::vector<std::size_t> offsets_;  ///< Nodes() + 1
+  std::vector<std::size_t> offsets_;  ///< rings + 1
 };
 
 /// RGB chamber irradiance on an IrisChamberTransport's grid, with the first-order irradiance it came from.
@@ -91,10 +95,11 @@ class IrisChamberCache {
  public:
   IrisChamberCache() = default;
   /// direct: first-order irradiance at each node (Nodes() values, >= 0, finite; others count as 0);
-  /// landingAlbedo: the iris albedo at each landing (Landings().size() values, in [0, 1]). The fixed point is
-  /// iterated at most maxBounces times (>= 1), stopping once a bounce adds less than `tolerance` of the total.
+  /// albedo: the iris albedo of each node's cell, its mean over the cell (Nodes() values, in [0, 1]): a chamber path
+  /// landing between nodes sees the albedo and irradiance interpolated together. The fixed point is iterated at most
+  /// maxBounces times (>= 1), stopping once a bounce adds less than `tolerance` of the total.
   IrisChamberCache(const IrisChamberTransport& transport, const std::vector<Vec3d>& direct,
-                   const std::vector<Vec3d>& landingAlbedo, int maxBounces = 16, double tolerance = 1e-6);
+                   const std::vector<Vec3d>& albedo, int maxBounces = 16, double tolerance = 1e-6);
 
   /// What the cache predicts a Lambertian iris point at x sends into the chamber, over albedo / pi: the first-order
   /// plus the chamber irradiance there.
@@ -104,15 +109,25 @@ class IrisChamberCache {
   /// The first-order irradiance the cache was built from, interpolated the same way.
   Vec3d Direct(const Vec3d& x) const { return Interpolate(direct_, x); }
   const std::vector<Vec3d>& ChamberAtNodes() const { return chamber_; }
+
   int Bounces() const { return bounces_; }
   bool Empty() const { return chamber_.empty(); }
 
  private:
+  /// Bilinear interpolation at a point: its lower ring and sector, and its fractions towards the next ones.
+  struct Stencil {
+    int ring, sector;
+    float fr, fs;
+  };
+  Stencil StencilAt(const Vec3d& x) const;
+  /// The stencil's interpolation of `values`, turned by `turn` sectors (>= 0).
+  Vec3d Apply(const Stencil& stencil, const std::vector<Vec3d>& values, int turn = 0) const;
   Vec3d Interpolate(const std::vector<Vec3d>& values, const Vec3d& x) const;
 
   IrisPolarGrid grid_;
   double rMin_ = 0, rMax_ = 0;
   std::vector<Vec3d> direct_, chamber_;
+
   int bounces_ = 0;
 };
 
