@@ -841,7 +841,8 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
 /// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
 void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
                  const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
-                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches) {
+                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches,
+                 const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
@@ -851,7 +852,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-        SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s));
+        SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
         double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
         if (s != 0) rng.PixelJitter(&jx, &jy);
         const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
@@ -884,6 +885,7 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
   chamberCaches_->BeginRender(lights, sceneVersion_);
+  const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
 
   // One pass per sample index, so a time limit stops between whole passes and every pixel has
   // the same samples.
@@ -891,8 +893,8 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
-                    chamberCaches_.get());
+        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts, chamberCaches_.get(),
+                    &sampleKeys);
       });
     });
     ++stats.passes;
