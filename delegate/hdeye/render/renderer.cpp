@@ -838,11 +838,13 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
 
-/// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
-void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
-                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches,
-                 const eyelib::ZSobolKeyTable* sampleKeys) {
+/// Samples [firstSample, firstSample + samples) of every pixel in a range of tiles, each (pixel, sample) from its own
+/// random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
+/// per sample): its buffer entries stay in cache, where a pass over the whole image would fetch them again each time.
+void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, RTCScene scene,
+                 const CameraView& camera, const std::vector<RenderLight>& lights, const RenderSettings& settings,
+                 bool cutouts, bool textured, const AovBuffers& aovs, SharedCounts* counts,
+                 ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
@@ -851,22 +853,23 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
-      for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-        SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
-        double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
-        if (s != 0) rng.PixelJitter(&jx, &jy);
-        const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
-        const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
-        const CameraView& view = moved ? *moved : camera;
-        const bool lens = view.HasLens();
-        const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect, lens ? rng.FromTop(0) : 0.5,
-                                              lens ? rng.FromTop(1) : 0.5);
-        // Only texture lookups read the cone (and only when filtering): without them it is never computed.
-        const RayCone cone = textured && settings.textureFiltering
-                                 ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
-                                 : RayCone{};
-        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
-      }
+      for (int x = x0; x < std::min(width, x0 + kTile); ++x)
+        for (int s = firstSample; s < firstSample + samples; ++s) {
+          SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
+          double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
+          if (s != 0) rng.PixelJitter(&jx, &jy);
+          const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
+          const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
+          const CameraView& view = moved ? *moved : camera;
+          const bool lens = view.HasLens();
+          const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
+                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
+          // Only texture lookups read the cone (and only when filtering): without them it is never computed.
+          const RayCone cone = textured && settings.textureFiltering
+                                   ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
+                                   : RayCone{};
+          if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
+        }
   }
   counts->Add(tracer.GetCounts());
 }
@@ -887,20 +890,23 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   chamberCaches_->BeginRender(lights, sceneVersion_);
   const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
 
-  // One pass per sample index, so a time limit stops between whole passes and every pixel has
-  // the same samples.
-  for (int pass = 0; pass < settings.samplesPerPixel; ++pass) {
+  // Without a time limit every pixel takes all its samples at once (RenderTiles); with one, one pass per sample
+  // index, so that the limit stops between whole passes and every pixel has the same samples. Either way a pixel's
+  // samples are added in sample order: the two give the same image bit for bit.
+  const bool limited = settings.timeLimitSeconds > 0;
+  const int samplesPerTask = limited ? 1 : settings.samplesPerPixel;
+  for (int pass = 0; pass < settings.samplesPerPixel; pass += samplesPerTask) {
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts, chamberCaches_.get(),
-                    &sampleKeys);
+        RenderTiles(range, s, samplesPerTask, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
+                    chamberCaches_.get(), &sampleKeys);
       });
     });
-    ++stats.passes;
-    stats.samples += std::int64_t(width) * height;
+    stats.passes += samplesPerTask;
+    stats.samples += std::int64_t(width) * height * samplesPerTask;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (settings.timeLimitSeconds > 0 && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+    if (limited && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
       stats.timeLimitReached = true;
       break;
     }
