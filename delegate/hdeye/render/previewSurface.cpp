@@ -259,7 +259,7 @@ bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, Bsdf
 
   glm::dvec3 li;
   if (u0 < p.diffuse) {
-    li = ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
+    li = ToLocal(eyelib::SampleCosineHemisphere(n, t_, b_, u1, u2));  // the frame is OrthonormalBasis(n)
   } else if (coatLobe) {
     const glm::dvec3 h = SampleGgxVisibleNormal(CoatAlpha(s), lo, u1, u2);
     li = 2 * glm::dot(lo, h) * h - lo;

@@ -128,8 +128,8 @@ struct FirstHit {
   double t = 0;                ///< distance along the camera ray
   glm::dvec3 n{0}, albedo{0};  ///< the shading normal and the albedo shaded there
   int primIndex = -1;
-  FirstHit() = default;
-  explicit FirstHit(const SurfaceHit& hit) : t(hit.t), n(hit.n), albedo(hit.albedo), primIndex(hit.primIndex) {}
+  /// Field by field: assigning a temporary FirstHit stalls on its reload (store forwarding) in the path loop.
+  void Set(const SurfaceHit& hit) { t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex; }
 };
 
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
@@ -232,14 +232,15 @@ class Tracer {
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
       if (depth == 0) {
         sample.hitAny = hitGeometry;
-        if (hitGeometry) sample.first = FirstHit(hit);
+        if (hitGeometry) sample.first.Set(hit);
       }
       const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
       if (!hitGeometry) break;
-      SurfaceShading shading;
-      if (!EyeOf(*hit.context)) {
-        shading = ShadeMaterialHit(&hit, path.d, path.cone);
+      // Initialised in place (not assigned): a copy of the whole shading per vertex costs more than it seems.
+      const bool eyeHit = EyeOf(*hit.context) != nullptr;
+      SurfaceShading shading = eyeHit ? SurfaceShading{} : ShadeMaterialHit(&hit, path.d, path.cone);
+      if (!eyeHit) {
         if (!shading.present && path.cutoutCrossings++ < kMaxCutoutCrossings) {
           // A cut-out: lights behind it were not yet tested; the next segment tests them, with this ray's weights.
           path.PassCutout(hit.t, hit.p);
