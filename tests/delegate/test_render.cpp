@@ -131,6 +131,31 @@ TEST_CASE("the image is the same for any thread count, and sample ranges merge i
   }
 }
 
+TEST_CASE("a render under a time limit (one pass per sample) equals one without (each pixel's samples at once)",
+          "[render]") {
+  // Without a time limit the renderer takes every sample of a pixel before the next pixel; with one, it makes one
+  // pass over the image per sample index so that the limit stops between passes. Both add a pixel's samples in
+  // sample order, so the sums and counts are the same bit for bit (a limit far beyond the render's length never
+  // stops it).
+  Scene s;
+  FurnaceScene(s, 0.7f, 16);
+  s.scene.AddRenderBuffer("/limited", 16, 16, 4);
+  RenderSettings& settings = s.delegate.Settings();
+  settings.samplesPerPixel = 6;
+  settings.firstSample = 3;
+  settings.threads = 2;
+  const RenderStats whole = s.Render("/color");
+  settings.timeLimitSeconds = 1e6;
+  const RenderStats limited = s.Render("/limited");
+  CHECK(whole.passes == 6);
+  CHECK(limited.passes == 6);
+  CHECK(whole.samples == limited.samples);
+  CHECK(whole.rays == limited.rays);
+  CHECK_FALSE(limited.timeLimitReached);
+  CHECK(s.Buffer("/color").Sums() == s.Buffer("/limited").Sums());
+  CHECK(s.Buffer("/color").Counts() == s.Buffer("/limited").Counts());
+}
+
 TEST_CASE("a path's random numbers do not depend on whether the camera drew its lens and time", "[render][sampler]") {
   // The camera's dimensions sit at fixed indices (SampleStream): a pinhole camera, which draws none, and a lens
   // camera with a shutter, which draws three, give the path the same numbers. For both samplers.

@@ -116,10 +116,11 @@ LobeProbabilities SelectLobes(const PreviewSurface& s, const FresnelTerms& fo, d
 struct GgxTerms {
   double reflection = 0, pdf = 0;
 };
-GgxTerms GgxLobe(double alpha, double lambdaO, const glm::dvec3& wo, const glm::dvec3& wi, const glm::dvec3& h) {
+/// lambdaO, g1O, fourCosO: Lambda(wo), G1(wo) = 1 / (1 + Lambda(wo)) and 4 cos_o, which depend on wo alone.
+GgxTerms GgxLobe(double alpha, double lambdaO, double g1O, double fourCosO, const glm::dvec3& wi, const glm::dvec3& h) {
   const double d = GgxD(alpha, h);
   const double g2 = 1 / (1 + lambdaO + GgxLambda(alpha, wi));
-  return {d * g2 / (4 * wo.z * wi.z), d * (1 / (1 + lambdaO)) / (4 * wo.z)};
+  return {d * g2 / (fourCosO * wi.z), d * g1O / fourCosO};
 }
 
 // Below this cosine a direction is treated as lying in the surface: no scattering from or into it.
@@ -142,14 +143,19 @@ PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n,
   specularO_ = fo.specular, diffuseO_ = fo.diffuse;
   coatO_ = CoatFresnel(s, lo_.z), underO_ = 1 - coatO_;
   lobes_ = SelectLobes(s, fo, underO_, coatO_);
-  if (!IsMirror(s)) lambdaO_ = GgxLambda(Alpha(s), lo_);
-  if (!CoatIsMirror(s)) coatLambdaO_ = GgxLambda(CoatAlpha(s), lo_);
+  diffuseBase_ = DiffuseWeight(s) * s.albedo / kPi * (1 - diffuseO_);
+  const auto fromWo = [this](double alpha) {
+    const double lambda = GgxLambda(alpha, lo_);
+    return GgxFromWo{lambda, 1 / (1 + lambda), 4 * lo_.z};
+  };
+  if (!IsMirror(s)) ggxO_ = fromWo(Alpha(s));
+  if (!CoatIsMirror(s)) coatGgxO_ = fromWo(CoatAlpha(s));
 }
 
 void PreviewSurfaceAt::OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const {
   const PreviewSurface& s = s_;
   const LobeProbabilities& p = lobes_;
-  glm::dvec3 base = DiffuseWeight(s) * s.albedo / kPi * (1 - diffuseO_) * (1 - DiffuseFresnel(s, li.z));
+  glm::dvec3 base = diffuseBase_ * (1 - DiffuseFresnel(s, li.z));
   double density = p.diffuse * li.z / kPi;
   // Both rough lobes reflect about the same half vector.
   const glm::dvec3 sum = lo_ + li;
@@ -157,13 +163,14 @@ void PreviewSurfaceAt::OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* 
   const bool halfway = len > 0;
   const glm::dvec3 h = halfway ? sum / len : glm::dvec3(0);
   if (halfway && !IsMirror(s)) {
-    const GgxTerms g = GgxLobe(Alpha(s), lambdaO_, lo_, li, h);
+    const GgxTerms g = GgxLobe(Alpha(s), ggxO_.lambda, ggxO_.g1, ggxO_.fourCos, li, h);
     if (g.reflection > 0) base += g.reflection * SpecularFresnel(s, glm::dot(lo_, h));
     if (p.specular > 0) density += p.specular * g.pdf;
   }
-  glm::dvec3 value = base * (underO_ * UnderCoat(s, li.z));
+  // Without a coat UnderCoat is 1 - 0 x (a finite Schlick term) = 1 exactly: not evaluated.
+  glm::dvec3 value = base * (underO_ * (s.clearcoat == 0 ? 1.0 : UnderCoat(s, li.z)));
   if (halfway && !CoatIsMirror(s)) {
-    const GgxTerms g = GgxLobe(CoatAlpha(s), coatLambdaO_, lo_, li, h);
+    const GgxTerms g = GgxLobe(CoatAlpha(s), coatGgxO_.lambda, coatGgxO_.g1, coatGgxO_.fourCos, li, h);
     if (s.clearcoat > 0 && g.reflection > 0) value += glm::dvec3(g.reflection * CoatFresnel(s, glm::dot(lo_, h)));
     if (p.coat > 0) density += p.coat * g.pdf;
   }
@@ -259,7 +266,7 @@ bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, Bsdf
 
   glm::dvec3 li;
   if (u0 < p.diffuse) {
-    li = ToLocal(eyelib::SampleCosineHemisphere(n, u1, u2));
+    li = ToLocal(eyelib::SampleCosineHemisphere(n, t_, b_, u1, u2));  // the frame is OrthonormalBasis(n)
   } else if (coatLobe) {
     const glm::dvec3 h = SampleGgxVisibleNormal(CoatAlpha(s), lo, u1, u2);
     li = 2 * glm::dot(lo, h) * h - lo;

@@ -103,13 +103,17 @@ class PreviewSurfaceAt {
   void OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* pdf) const;
 
   const PreviewSurface& s_;
-  glm::dvec3 n_, t_, b_;                  ///< the shading frame (z along n)
-  glm::dvec3 wo_, lo_;                    ///< wo in world space and in the frame
-  bool above_ = false;                    ///< wo is above the surface (lo_.z > the smallest cosine scattered from)
-  glm::dvec3 specularO_{0};               ///< the specular lobe's Fresnel at cos_o
-  double diffuseO_ = 0;                   ///< what the specular lobe takes from the diffuse at cos_o
-  double coatO_ = 0, underO_ = 1;         ///< the clearcoat's reflectance at cos_o, and 1 minus it
-  double lambdaO_ = 0, coatLambdaO_ = 0;  ///< GGX Smith Lambda(wo) of the rough specular and clearcoat lobes
+  glm::dvec3 n_, t_, b_;           ///< the shading frame (z along n)
+  glm::dvec3 wo_, lo_;             ///< wo in world space and in the frame
+  bool above_ = false;             ///< wo is above the surface (lo_.z > the smallest cosine scattered from)
+  glm::dvec3 specularO_{0};        ///< the specular lobe's Fresnel at cos_o
+  double diffuseO_ = 0;            ///< what the specular lobe takes from the diffuse at cos_o
+  double coatO_ = 0, underO_ = 1;  ///< the clearcoat's reflectance at cos_o, and 1 minus it
+  glm::dvec3 diffuseBase_{0};      ///< the diffuse lobe's f before its cos_i Fresnel factor
+  /// The rough specular and clearcoat lobes' terms of wo alone (GGX Lambda, G1, 4 cos_o).
+  struct GgxFromWo {
+    double lambda = 0, g1 = 1, fourCos = 0;
+  } ggxO_, coatGgxO_;
   Lobes lobes_;
 };
 

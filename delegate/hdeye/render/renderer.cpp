@@ -123,13 +123,15 @@ EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometr
           eye.limbalArc};
 }
 
-/// What the data AOVs show of the first surface a camera path met (a copy of the whole hit would cost more).
+/// What the data AOVs show of the first surface a camera path met (a copy of the whole hit would cost more). Left
+/// unset until Set: it is read only when the path met a surface, and zeroing it with the rest of PathSample cost
+/// a 144-byte clear (rep stos) per camera path.
 struct FirstHit {
-  double t = 0;                ///< distance along the camera ray
-  glm::dvec3 n{0}, albedo{0};  ///< the shading normal and the albedo shaded there
-  int primIndex = -1;
-  FirstHit() = default;
-  explicit FirstHit(const SurfaceHit& hit) : t(hit.t), n(hit.n), albedo(hit.albedo), primIndex(hit.primIndex) {}
+  double t;              ///< distance along the camera ray
+  glm::dvec3 n, albedo;  ///< the shading normal and the albedo shaded there
+  int primIndex;
+  /// Field by field: assigning a temporary FirstHit stalls on its reload (store forwarding) in the path loop.
+  void Set(const SurfaceHit& hit) { t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex; }
 };
 
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
@@ -139,7 +141,7 @@ struct PathSample {
   glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
   glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
   bool hitAny = false;      ///< the camera ray met geometry
-  FirstHit first{};         ///< that first hit (its albedo the one shaded); meaningful when hitAny
+  FirstHit first;           ///< that first hit (its albedo the one shaded); set (and read) only when hitAny
 };
 
 /// What a path carries from one vertex to the next.
@@ -232,14 +234,15 @@ class Tracer {
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
       if (depth == 0) {
         sample.hitAny = hitGeometry;
-        if (hitGeometry) sample.first = FirstHit(hit);
+        if (hitGeometry) sample.first.Set(hit);
       }
       const bool hideDomes = depth == 0 && !settings_.domeLightCameraVisibility;  // usdrecord's default look
       sample.L += LightsMet(path, hitGeometry ? hit.t : kInf, hideDomes);
       if (!hitGeometry) break;
-      SurfaceShading shading;
-      if (!EyeOf(*hit.context)) {
-        shading = ShadeMaterialHit(&hit, path.d, path.cone);
+      // Initialised in place (not assigned): a copy of the whole shading per vertex costs more than it seems.
+      const bool eyeHit = EyeOf(*hit.context) != nullptr;
+      SurfaceShading shading = eyeHit ? SurfaceShading{} : ShadeMaterialHit(&hit, path.d, path.cone);
+      if (!eyeHit) {
         if (!shading.present && path.cutoutCrossings++ < kMaxCutoutCrossings) {
           // A cut-out: lights behind it were not yet tested; the next segment tests them, with this ray's weights.
           path.PassCutout(hit.t, hit.p);
@@ -838,10 +841,13 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
 
-/// Sample index s of every pixel in a range of tiles, each pixel from its own random stream.
-void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, const CameraView& camera,
-                 const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts, bool textured,
-                 const AovBuffers& aovs, SharedCounts* counts, ChamberLightCaches* chamberCaches) {
+/// Samples [firstSample, firstSample + samples) of every pixel in a range of tiles, each (pixel, sample) from its own
+/// random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
+/// per sample): its buffer entries stay in cache, where a pass over the whole image would fetch them again each time.
+void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, RTCScene scene,
+                 const CameraView& camera, const std::vector<RenderLight>& lights, const RenderSettings& settings,
+                 bool cutouts, bool textured, const AovBuffers& aovs, SharedCounts* counts,
+                 ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height;
@@ -850,22 +856,23 @@ void RenderTiles(const tbb::blocked_range<int>& range, int s, RTCScene scene, co
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
-      for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-        SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s));
-        double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
-        if (s != 0) rng.PixelJitter(&jx, &jy);
-        const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
-        const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
-        const CameraView& view = moved ? *moved : camera;
-        const bool lens = view.HasLens();
-        const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect, lens ? rng.FromTop(0) : 0.5,
-                                              lens ? rng.FromTop(1) : 0.5);
-        // Only texture lookups read the cone (and only when filtering): without them it is never computed.
-        const RayCone cone = textured && settings.textureFiltering
-                                 ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
-                                 : RayCone{};
-        if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
-      }
+      for (int x = x0; x < std::min(width, x0 + kTile); ++x)
+        for (int s = firstSample; s < firstSample + samples; ++s) {
+          SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
+          double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
+          if (s != 0) rng.PixelJitter(&jx, &jy);
+          const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
+          const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
+          const CameraView& view = moved ? *moved : camera;
+          const bool lens = view.HasLens();
+          const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
+                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
+          // Only texture lookups read the cone (and only when filtering): without them it is never computed.
+          const RayCone cone = textured && settings.textureFiltering
+                                   ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
+                                   : RayCone{};
+          if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
+        }
   }
   counts->Add(tracer.GetCounts());
 }
@@ -884,21 +891,25 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
   chamberCaches_->BeginRender(lights, sceneVersion_);
+  const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
 
-  // One pass per sample index, so a time limit stops between whole passes and every pixel has
-  // the same samples.
-  for (int pass = 0; pass < settings.samplesPerPixel; ++pass) {
+  // Without a time limit every pixel takes all its samples at once (RenderTiles); with one, one pass per sample
+  // index, so that the limit stops between whole passes and every pixel has the same samples. Either way a pixel's
+  // samples are added in sample order: the two give the same image bit for bit.
+  const bool limited = settings.timeLimitSeconds > 0;
+  const int samplesPerTask = limited ? 1 : settings.samplesPerPixel;
+  for (int pass = 0; pass < settings.samplesPerPixel; pass += samplesPerTask) {
     const int s = settings.firstSample + pass;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
-                    chamberCaches_.get());
+        RenderTiles(range, s, samplesPerTask, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
+                    chamberCaches_.get(), &sampleKeys);
       });
     });
-    ++stats.passes;
-    stats.samples += std::int64_t(width) * height;
+    stats.passes += samplesPerTask;
+    stats.samples += std::int64_t(width) * height * samplesPerTask;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (settings.timeLimitSeconds > 0 && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+    if (limited && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
       stats.timeLimitReached = true;
       break;
     }

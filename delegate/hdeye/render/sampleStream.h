@@ -29,10 +29,20 @@ class SampleStream {
   /// Path dimensions drawn from Sobol points; later ones come from the hash.
   static constexpr std::uint64_t kLowDiscrepancyDimensions = 256;
 
+  /// The ZSobol pairs a render's key table covers (KeyTable): every low-discrepancy one.
+  static constexpr std::uint64_t kTablePairs = (kFirstPathDimension + kLowDiscrepancyDimensions + 1) / 2;
+  /// The pair keys of a render's seed, computed once per render instead of once per pair drawn.
+  static eyelib::ZSobolKeyTable KeyTable(std::uint64_t seed) { return eyelib::ZSobolKeyTable(seed, kTablePairs); }
+
+  /// keys: KeyTable(seed), or null (each pair's keys are then computed where drawn; the numbers are the same).
   SampleStream(SamplerKind kind, std::uint64_t seed, std::uint32_t x, std::uint32_t y, std::uint32_t width,
-               std::uint64_t sample)
+               std::uint64_t sample, const eyelib::ZSobolKeyTable* keys = nullptr)
       : kind_(kind), seed_(seed), x_(x), y_(y), pixel_(std::uint64_t(y) * width + x), sample_(sample) {
-    if (kind_ == SamplerKind::ZSobol) dim_ = kFirstPathDimension;
+    if (kind_ != SamplerKind::ZSobol) return;
+    dim_ = kFirstPathDimension;
+    keys_ = keys && keys->Seed() == seed ? keys : nullptr;
+    beyond_ = eyelib::ZSobolBeyond(x, y, sample);
+    reversedIndex_ = eyelib::ZSobolReversedIndex(x, y, sample);
   }
 
   /// The next path dimension.
@@ -78,16 +88,24 @@ class SampleStream {
   static constexpr std::uint64_t kCameraSalt = 0x6a09e667f3bcc909ull;  // camera dimensions past the named ones
   static constexpr std::uint64_t kHashSalt = 0xbb67ae8584caa73bull;    // path dimensions past the budget
 
-  /// ZSobol dimension d (the pair's second coordinate kept from its first's evaluation).
+  /// ZSobol dimension d. A pair's shared part (its permuted index) and first coordinate are kept from its first
+  /// draw; the second coordinate is computed only if drawn (a lone Next() uses half a pair).
   double Dimension(std::uint64_t d) {
     if (d >= kFirstPathDimension + kLowDiscrepancyDimensions)
       return eyelib::UniformAt(seed_ ^ kHashSalt, pixel_, sample_ * kDimsPerSample + d % kDimsPerSample);
     const std::uint64_t pair = d >> 1;
     if (pair != cachedPair_) {
-      cached_ = eyelib::ZSobolPoint(seed_, x_, y_, sample_, pair);
+      const eyelib::ZSobolPairKeys* found = keys_ ? keys_->Find(pair, beyond_) : nullptr;
+      const eyelib::ZSobolPairKeys keys = found ? *found : eyelib::ZSobolKeysOf(seed_, pair, beyond_);
+      permuted_ = eyelib::ZSobolPermuted(reversedIndex_, keys);
+      u_ = eyelib::ZSobolU(permuted_, keys.u);
+      vKey_ = keys.v;
+      vReady_ = false;
       cachedPair_ = pair;
     }
-    return d & 1 ? cached_.v : cached_.u;
+    if (!(d & 1)) return u_;
+    if (!vReady_) v_ = eyelib::ZSobolV(permuted_, vKey_), vReady_ = true;
+    return v_;
   }
 
   SamplerKind kind_;
@@ -95,8 +113,13 @@ class SampleStream {
   std::uint32_t x_, y_;
   std::uint64_t pixel_, sample_;
   std::uint64_t dim_ = 0;
+  const eyelib::ZSobolKeyTable* keys_ = nullptr;
+  std::uint64_t beyond_ = 0, reversedIndex_ = 0;
   std::uint64_t cachedPair_ = ~std::uint64_t(0);
-  eyelib::ZSobolPair cached_{0, 0};
+  std::uint64_t permuted_ = 0;  ///< the cached pair's permuted index
+  eyelib::NestedHashKey vKey_;  ///< its second coordinate's scramble
+  double u_ = 0, v_ = 0;
+  bool vReady_ = false;
 };
 
 }  // namespace hdeye

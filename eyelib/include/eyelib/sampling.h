@@ -31,11 +31,16 @@ template <class T> inline T UniformConePdf(T cosMax) { return 1 / (T(2 * paper::
 template <class T> inline T OneMinusCosFromSin2(T sin2) { return sin2 / (1 + std::sqrt(std::max(T(0), 1 - sin2))); }
 
 /// A cosine-weighted direction in the hemisphere around unit n; pdf = cos / pi.
-template <class T> inline Vec3<T> SampleCosineHemisphere(const Vec3<T>& n, T u1, T u2) {
+/// t, b: OrthonormalBasis(n), for a caller that has it already (the same direction as the overload below).
+template <class T>
+inline Vec3<T> SampleCosineHemisphere(const Vec3<T>& n, const Vec3<T>& t, const Vec3<T>& b, T u1, T u2) {
   const T r = std::sqrt(u1), phi = T(2 * paper::kPi) * u2;
+  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(T(0), 1 - u1)) * n);
+}
+template <class T> inline Vec3<T> SampleCosineHemisphere(const Vec3<T>& n, T u1, T u2) {
   Vec3<T> t, b;
   OrthonormalBasis(n, &t, &b);
-  return glm::normalize(r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(T(0), 1 - u1)) * n);
+  return SampleCosineHemisphere(n, t, b, u1, u2);
 }
 
 }  // namespace eyelib
