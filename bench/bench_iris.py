@@ -4,7 +4,7 @@ Renders the scene with the real command line (`python -m eyerender.eyerecord`, t
 seeds), compares every render with the scene's reference through its own compare.py (relative RMSE per iris pixel,
 glint excluded; with two seeds the noise and the bias floor sqrt(mean(e1 e2)), the error both seeds share), and prints
 a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, and
-the floor at the longest budget. --markdown and --plot write the table and the figure docs/iris_benchmark.md shows.
+the floor at the longest budget, as a markdown table. --plot writes the figure docs/iris_benchmark.md shows.
 
 Usage: python3 bench/bench_iris.py [--budgets 2.5,10] [--floor-spp N] [--build LABEL=PYTHON ...]
                                    [--lever "LABEL=EYERECORD FLAGS" ...] [--scene-dir DIR]
@@ -235,6 +235,7 @@ def plot(rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     fig, ax = plt.subplots(figsize=(6, 4))
     for label in dict.fromkeys(r["label"] for r in rows):
         timed = [r for r in rows if r["label"] == label and not r.get("fixed_spp")] or \
@@ -254,6 +255,10 @@ def plot(rows, path):
                 ax.loglog([r["seconds"]], [100 * resolved], "v", color=line.get_color(), markersize=9,
                           label=f"{label}: floor at {r['fixed_spp']:.0f} spp below this")
     ax.set_xlabel("render time, s (2 threads)")
+    # Seconds as plain numbers at the budgets (log-scale minor labels overlap on a short axis).
+    seconds = sorted({r["seconds"] for r in rows if not r.get("fixed_spp")})
+    ax.set_xticks(seconds, [f"{t:g}" for t in seconds])
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.set_ylabel("% of the reference (iris pixels)")
     ax.set_ylim(bottom=0.05)
     ax.set_title("Scene B iris: error against time")
