@@ -114,7 +114,8 @@ from pxr import Usd
 from eyerender.plan import make_overrides
 from eyerender.render_session import RenderSession
 session = RenderSession(Usd.Stage.Open(sys.argv[1]), width=int(sys.argv[2]), camera="/World/main_cam",
-                        settings={"threads": 2, "seed": 9}, plan_overrides=make_overrides(chamber_events=2))
+                        settings={"threads": 2, "seed": 9, "chamber_estimator": "path"},
+                        plan_overrides=make_overrides(chamber_events=2))
 session.render(spp=int(sys.argv[3]))
 np.save(sys.argv[4], session.image("color")[..., :3].mean(-1))
 """
@@ -181,7 +182,10 @@ def measure_grazing(scene_dir, degrees, budgets, builds, reference_spp, keep_dir
                 glint = glint | np.roll(np.roll(ref > 20 * median, dy, 0), dx, 1)
         sel = iris & ~glint & (ref > 0)
         shadow = sel & (first < 0.01 * median)
-        ref_noise = {name: float(np.sqrt(np.mean(((refs[0][m] - refs[1][m]) / (2 * ref[m])) ** 2)))
+        def rms(x):  # nan for an empty selection (a key that leaves no iris pixel in shadow), without a warning
+            return float(np.sqrt(np.mean(x ** 2))) if x.size else float("nan")
+
+        ref_noise = {name: rms((refs[0][m] - refs[1][m]) / (2 * ref[m]))
                      for name, m in (("shadow", shadow), ("iris", sel))}
         print(f"  grazing: {int(shadow.sum())} shadowed of {int(sel.sum())} iris pixels; reference noise "
               f"{100 * ref_noise['shadow']:.2f} % (shadow) / {100 * ref_noise['iris']:.2f} % (iris)", file=sys.stderr)
@@ -195,8 +199,7 @@ def measure_grazing(scene_dir, degrees, budgets, builds, reference_spp, keep_dir
             for k, (label, *_) in enumerate(builds):
                 errors = {}
                 for name, m in (("shadow", shadow), ("iris", sel)):
-                    errors[name] = [float(np.sqrt(np.mean(((done[k, seed][0][m] - ref[m]) / ref[m]) ** 2)))
-                                    for seed in (1, 2)]
+                    errors[name] = [rms((done[k, seed][0][m] - ref[m]) / ref[m]) for seed in (1, 2)]
                 rows.append({"label": label, "seconds": seconds, "shadow": errors["shadow"], "iris": errors["iris"],
                              "spp": 0.5 * (done[k, 1][1] + done[k, 2][1]), "shadow_pixels": int(shadow.sum()),
                              "ref_noise_shadow": ref_noise["shadow"], "ref_noise_iris": ref_noise["iris"]})
@@ -209,7 +212,8 @@ def grazing_table(rows, degrees):
              "| rel RMSE, iris (seed 1 / 2) | spp |", "|---|---|---|---|---|"]
     for r in rows:
         shadow, iris = r["shadow"], r["iris"]
-        lines.append(f"| {r['label']} | {r['seconds']:g} s | {100 * shadow[0]:.2f} % / {100 * shadow[1]:.2f} % "
+        shadowed = f"{100 * shadow[0]:.2f} % / {100 * shadow[1]:.2f} %" if r["shadow_pixels"] else "(no shadow)"
+        lines.append(f"| {r['label']} | {r['seconds']:g} s | {shadowed} "
                      f"| {100 * iris[0]:.2f} % / {100 * iris[1]:.2f} % | {r['spp']:.0f} |")
     if rows:
         lines.append(f"\n{rows[0]['shadow_pixels']} shadowed pixels; the reference's own noise "
