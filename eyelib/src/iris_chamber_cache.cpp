@@ -116,17 +116,15 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
     if (i < int(albedo.size()) && valid(albedo[i])) nodeAlbedo[i] = glm::clamp(albedo[i], Vec3d(0), Vec3d(1));
   }
   chamber_.assign(nodes, Vec3d(0));
-  // Where each of a ring's landings interpolates the grid, once: node (ring, s) reads it turned by s sectors. The
-  // transport is then the same kernel for every node of a ring, turned: kernel[i][j][d] is what node (j, d + s)
-  // sends to node (i, s) per unit of light leaving it.
-  const std::vector<IrisChamberTransport::Landing>& landings = transport.Landings();
+  // Node (ring, s) reads its ring's landings turned by s sectors, so the transport is one kernel per ring, turned:
+  // kernel[i][j][d] is what node (j, d + s) sends to node (i, s) per unit of light leaving it (each landing's
+  // Fresnel weight spread over the four nodes it interpolates).
   const int rings = grid_.rings, sectors = grid_.sectors;
-  std::vector<Stencil> stencil(landings.size());
   std::vector<double> kernel(std::size_t(rings) * nodes, 0.0);
   for (int i = 0; i < rings; ++i) {
     double* k = &kernel[std::size_t(i) * nodes];
     for (const auto* l = transport.RingLandingsBegin(i); l != transport.RingLandingsEnd(i); ++l) {
-      const Stencil st = stencil[l - landings.data()] = StencilAt(Vec3d(l->x, l->y, 0));
+      const Stencil st = StencilAt(Vec3d(l->x, l->y, 0));
       const int r1 = std::min(rings - 1, st.ring + 1), s1 = (st.sector + 1) % sectors;
       const double fr = st.fr, fs = st.fs;
       k[st.ring * sectors + st.sector] += l->weight * (1 - fr) * (1 - fs);
@@ -175,16 +173,14 @@ IrisChamberCache::Stencil IrisChamberCache::StencilAt(const Vec3d& x) const {
   return {r0, ((int(sf) % sectors) + sectors) % sectors, float(rc - r0), float(ss - sf)};
 }
 
-Vec3d IrisChamberCache::Apply(const Stencil& s, const std::vector<Vec3d>& values, int turn) const {
-  const int sectors = grid_.sectors, r1 = std::min(grid_.rings - 1, s.ring + 1);
-  const int s0 = (s.sector + turn) % sectors, s1 = (s0 + 1) % sectors;
-  const auto at = [&](int r, int q) { return values[std::size_t(r) * sectors + q]; };
-  const double fr = s.fr, fs = s.fs;
-  return (1 - fr) * ((1 - fs) * at(s.ring, s0) + fs * at(s.ring, s1)) + fr * ((1 - fs) * at(r1, s0) + fs * at(r1, s1));
-}
-
 Vec3d IrisChamberCache::Interpolate(const std::vector<Vec3d>& values, const Vec3d& x) const {
-  return values.empty() ? Vec3d(0) : Apply(StencilAt(x), values);
+  if (values.empty()) return Vec3d(0);
+  const Stencil st = StencilAt(x);
+  const int sectors = grid_.sectors, r1 = std::min(grid_.rings - 1, st.ring + 1), s1 = (st.sector + 1) % sectors;
+  const auto at = [&](int r, int q) { return values[std::size_t(r) * sectors + q]; };
+  const double fr = st.fr, fs = st.fs;
+  return (1 - fr) * ((1 - fs) * at(st.ring, st.sector) + fs * at(st.ring, s1)) +
+         fr * ((1 - fs) * at(r1, st.sector) + fs * at(r1, s1));
 }
 
 }  // namespace eyelib

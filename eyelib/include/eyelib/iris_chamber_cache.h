@@ -120,8 +120,6 @@ class IrisChamberCache {
     float fr, fs;
   };
   Stencil StencilAt(const Vec3d& x) const;
-  /// The stencil's interpolation of `values`, turned by `turn` sectors (>= 0).
-  Vec3d Apply(const Stencil& stencil, const std::vector<Vec3d>& values, int turn = 0) const;
   Vec3d Interpolate(const std::vector<Vec3d>& values, const Vec3d& x) const;
 
   IrisPolarGrid grid_;
