@@ -49,7 +49,7 @@ struct RenderSettings {
   bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
   /// Eyes with MNEE: how the iris gathers chamber light. The cache by default: on scene B its bias floor is 0.17 %
-  /// and its noise at equal samples a seventh of the control variate's (docs/iris_benchmark.md).
+  /// and its noise at equal samples a sixth of the control variate's (docs/iris_benchmark.md).
   ChamberEstimator chamberEstimator = ChamberEstimator::Cache;
   /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
   /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
