@@ -13,6 +13,7 @@ python3 bench/plot_mnee.py "$build/mnee_benchmark"
 "${PYTHON:-python3}" bench/bench_farm.py
 "${PYTHON:-python3}" bench/bench_skinning.py  # table in docs/usd_support.md
 "${PYTHON:-python3}" bench/bench_motion.py  # table in docs/motion_blur.md
+"${PYTHON:-python3}" bench/bench_eye_crowd.py  # sweep chamber-cache in docs/render_plan.md
 # Scene B lives outside the repository (an independent reference): measured where it is present.
 if [[ -f "${EYERENDER_SCENE_B:-/work/shared/bench/sceneB}/sceneB.usda" ]]; then
   "${PYTHON:-python3}" bench/bench_iris.py

@@ -81,7 +81,8 @@ def _eye_json(eye):
     walk = eye.sss == ScleraModel.RANDOM_WALK
     applied = _object((("mnee", _bool(eye.mnee)), ("mneeLights", mnee_lights),
                        ("allSolutions", _bool(eye.mnee_all_solutions)), ("maxChamberEvents", str(eye.chamber_events)),
-                       ("scleraScattering", _bool(walk)), ("limbalArc", _bool(eye.limbal_arc)),
+                       ("chamberCacheRings", str(eye.chamber_cache_rings)), ("scleraScattering", _bool(walk)),
+                       ("limbalArc", _bool(eye.limbal_arc)),
                        ("refineLevel", str(eye.refine_level))))
     return _object((("prim", json.dumps(eye.prim)), ("geometry", json.dumps(eye.geometry)),
                     ("pixels", _num(eye.pixels, 6)), ("inView", _bool(eye.in_view)),
@@ -89,7 +90,8 @@ def _eye_json(eye):
                     ("limbusPixels", _num(eye.limbus_pixels)), ("blurPixels", _num(eye.blur_pixels)),
                     ("resolvedPixels", _num(eye.resolved_pixels, 6)), ("mnee", _bool(eye.mnee)),
                     ("mneeAllSolutions", _bool(eye.mnee_all_solutions)), ("chamberEvents", str(eye.chamber_events)),
-                    ("sss", json.dumps(to_string(eye.sss))), ("limbalArc", _bool(eye.limbal_arc)),
+                    ("chamberCacheRings", str(eye.chamber_cache_rings)), ("sss", json.dumps(to_string(eye.sss))),
+                    ("limbalArc", _bool(eye.limbal_arc)),
                     ("refineLevel", str(eye.refine_level)),
                     ("precision", '"double"'),  # the renderer's only eye arithmetic
                     ("pixelFootprintMm", _num(eye.pixel_footprint_mm)),

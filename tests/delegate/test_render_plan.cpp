@@ -133,6 +133,26 @@ TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), a
   CHECK_THROWS_AS(s.Plan(64, flag), std::invalid_argument);
 }
 
+TEST_CASE("the chamber cache's grid grows with the eye on screen: 12 rings small, the default 32 from 80 px",
+          "[plan]") {
+  Scene s(40);
+  s.SphereLight("/key", 2, 60);
+  int previous = 0;
+  for (int width : {16, 32, 48, 64, 128, 2000}) {
+    const EyePlan e = OnlyEye(s.Plan(width));
+    INFO(width << " px wide image: " << e.resolvedPixels << " px eye, " << e.why.at("chamberCacheRings"));
+    CHECK(e.chamberCacheRings % 4 == 0);
+    CHECK(e.chamberCacheRings >= 12);
+    CHECK(e.chamberCacheRings <= 32);
+    CHECK(e.chamberCacheRings >= previous);
+    CHECK(e.RenderOptions({"/key"}).chamberCacheRings == e.chamberCacheRings);
+    if (e.resolvedPixels < 30) CHECK(e.chamberCacheRings == 12);
+    if (e.resolvedPixels >= 80) CHECK(e.chamberCacheRings == 32);
+    previous = e.chamberCacheRings;
+  }
+  CHECK(previous == 32);
+}
+
 TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size measured, and one path below", "[plan]") {
   // 89 deg: one path's equal-time efficiency 1.22x all-solutions' at 100 px, 0.94x at 200 px.
   Scene s(40);

@@ -112,8 +112,10 @@ def test_a_dome_and_a_key_are_applied_per_light_and_the_json_says_so():
     assert {light["light"]: light["strategy"] for light in eye["lights"]} == {"/World/dome": "bsdf",
                                                                              "/World/key1": "mnee"}
     assert eye["applied"] == {"mnee": True, "mneeLights": ["/World/key1"], "allSolutions": False,
-                              "maxChamberEvents": 64, "scleraScattering": False, "limbalArc": eye["limbalArc"],
+                              "maxChamberEvents": 64, "chamberCacheRings": eye["chamberCacheRings"],
+                              "scleraScattering": False, "limbalArc": eye["limbalArc"],
                               "refineLevel": eye["refineLevel"]}
+    assert eye["chamberCacheRings"] in (12, 16, 20, 24, 28, 32)
 
 
 def test_session_renders_each_eye_with_its_plan_and_clears_it_without_one():

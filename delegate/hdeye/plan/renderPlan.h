@@ -54,6 +54,13 @@ struct PlanRules {
   /// Chamber events followed per path (EyeRenderOptions::maxChamberEvents) for every eye: the full walk (sweep
   /// chamber).
   int chamberEvents = 64;
+  /// The chamber-light cache's grid (EyeRenderOptions::chamberCacheRings): a ring per chamberCachePixelsPerRing
+  /// pixels of the iris circle's resolved diameter (2.5: about a ring per pixel of the iris annulus on screen),
+  /// rounded up to a multiple of 4, between chamberCacheMinRings and chamberCacheMaxRings (the default grid, from
+  /// 80 px). A build costs MNEE at 3 rings^2 nodes (sweep chamber-cache).
+  double chamberCachePixelsPerRing = 2.5;
+  int chamberCacheMinRings = 12;
+  int chamberCacheMaxRings = 32;
   /// Pixels: eye meshes whose iris circle is at least this wide walk their sclera (random-walk SSS); smaller
   /// ones get a Lambertian sclera (sweep sclera).
   double sssMinPixels = 2.5;
@@ -149,6 +156,7 @@ struct EyePlan {
   /// Chamber events followed per path (the walk's bound inside the anterior chamber): applied as
   /// EyeRenderOptions::maxChamberEvents.
   int chamberEvents = 64;
+  int chamberCacheRings = 32;  ///< rings of the chamber-light cache's grid (EyeRenderOptions::chamberCacheRings)
   ScleraModel sss = ScleraModel::Diffuse;
   bool limbalArc = false;  ///< the teleportation cylinder in the sclera walk
   int refineLevel = -1;    ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)

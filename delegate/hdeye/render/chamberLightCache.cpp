@@ -39,20 +39,30 @@ constexpr std::uint64_t kCacheSeed = 0x63686d6272636163ull;
 
 }  // namespace
 
+eyelib::IrisPolarGrid ChamberCacheGrid(int rings) {
+  eyelib::IrisPolarGrid grid;
+  grid.rings = std::max(1, rings), grid.sectors = 3 * grid.rings;
+  return grid;
+}
+
 eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const eyelib::IrisChamberTransport& transport,
-                                                const EyeLighting& lighting, int directSamples) {
+                                                PerThreadLighting lighting, int directSamples) {
   const int nodes = transport.Nodes(), samples = std::max(1, directSamples);
+  const eyelib::IrisPolarGrid& grid = transport.Grid();
   std::vector<glm::dvec3> direct(nodes, glm::dvec3(0));
-  for (int i = 0; i < nodes; ++i) {
-    std::uint64_t dim = 0;
-    const auto random = [&] { return eyelib::UniformAt(kCacheSeed, std::uint64_t(i), dim++); };
-    glm::dvec3 sum(0);
-    for (int k = 0; k < samples; ++k) sum += IrisIrradianceMnee(eye, transport.Node(i), lighting, random);
-    direct[i] = sum / double(samples);
-  }
+  tbb::parallel_for(0, grid.rings, [&](int ring) {
+    lighting([&](const EyeLighting& here) {
+      for (int i = ring * grid.sectors; i < (ring + 1) * grid.sectors; ++i) {
+        std::uint64_t dim = 0;
+        const auto random = [&] { return eyelib::UniformAt(kCacheSeed, std::uint64_t(i), dim++); };
+        glm::dvec3 sum(0);
+        for (int k = 0; k < samples; ++k) sum += IrisIrradianceMnee(eye, transport.Node(i), here, random);
+        direct[i] = sum / double(samples);
+      }
+    });
+  });
   // Each node's albedo: the mean over its cell (4 x 4 points), so a textured iris's fine detail averages out
   // instead of aliasing into the chamber light.
-  const eyelib::IrisPolarGrid& grid = transport.Grid();
   const double dr = (transport.OuterRadius() - transport.InnerRadius()) / grid.rings, dphi = transport.SectorAngle();
   constexpr int kAlbedoSide = 4;
   std::vector<glm::dvec3> albedo(nodes, glm::dvec3(0));
@@ -85,11 +95,13 @@ void ChamberLightCaches::BeginRender(const std::vector<RenderLight>& lights, std
 }
 
 std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const void* owner, const EyeGeometry& eye,
-                                                                        const EyeLighting& lighting) {
+                                                                        const EyeLighting& lighting, int rings,
+                                                                        PerThreadLighting perThread) {
   const eyelib::ChamberParams& chamber = eye.chamber.Params();
+  const eyelib::IrisPolarGrid grid = rings > 0 ? ChamberCacheGrid(rings) : resolution_.grid;
   KeyHash geometry;
   geometry.Add(int(chamber.model)).Add(chamber.irisDepth).Add(chamber.pupilDiameter).Add(chamber.corneaIor);
-  geometry.Add(lighting.maxChamberEvents);
+  geometry.Add(lighting.maxChamberEvents).Add(grid.rings).Add(grid.sectors).Add(grid.directionsPerSide);
   const std::uint64_t geometryKey = geometry.Value();
   KeyHash key = geometry;
   for (int c = 0; c < 4; ++c)
@@ -114,7 +126,6 @@ std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const vo
     }
     cache = entry.cache;
   }
-  const eyelib::IrisPolarGrid& grid = resolution_.grid;
   tbb::collaborative_call_once(cache->once, [&] {
     tbb::collaborative_call_once(transport->once, [&] {
       // The geometry's chamber paths per ring, in parallel (each ring's its own), then stored in ring order.
@@ -124,9 +135,8 @@ std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const vo
       });
       transport->value = std::make_shared<const eyelib::IrisChamberTransport>(eye.chamber, grid, rings);
     });
-    // MNEE at the nodes runs on this thread: its shadow rays are the calling tracer's.
     cache->value = std::make_shared<const eyelib::IrisChamberCache>(
-        BuildChamberLightCache(eye, *transport->value, lighting, resolution_.directSamples));
+        BuildChamberLightCache(eye, *transport->value, perThread, resolution_.directSamples));
   });
   return cache->value;
 }

@@ -9,6 +9,7 @@
 #include "hdeye/render/renderLight.h"
 #include "hdeye/render/renderSettings.h"
 
+#include <eyelib/function_ref.h>
 #include <eyelib/iris_chamber_cache.h>
 #include <tbb/collaborative_call_once.h>
 
@@ -24,15 +25,26 @@ struct EyeLighting;
 
 /// The resolution of the cache and of the first-order irradiance it is built from.
 struct ChamberCacheResolution {
+  /// The grid of an eye without a planned ring count (EyeRenderOptions::chamberCacheRings 0); a planned eye gets
+  /// ChamberCacheGrid(rings).
   eyelib::IrisPolarGrid grid;
   int directSamples = 8;  ///< MNEE estimates averaged per node (a light point each)
 };
 
+/// The cache grid of `rings` rings: three sectors per ring (the default grid's aspect) and the default directions.
+eyelib::IrisPolarGrid ChamberCacheGrid(int rings);
+
+/// Calls `body` with the eye's lighting whose shadow test the calling thread may use. The cache's MNEE runs on
+/// every thread that joins its build, and a shadow ray needs its thread's own renderer state (counters, texture
+/// handles): so the lighting is asked for per thread, and the callable must be safe to call from several at once.
+using PerThreadLighting = eyelib::FunctionRef<void(eyelib::FunctionRef<void(const EyeLighting&)> body)>;
+
 /// Builds an eye's cache: MNEE's first-order irradiance at the transport's nodes (directSamples estimates each, from
-/// a fixed random stream per node), the iris albedo where each chamber path lands, then the fixed point. World-unit
-/// irradiance, as IrisIrradianceMnee's. Zero where no light reaches the iris.
+/// a fixed random stream per node, in parallel over rings: the result does not depend on the thread count), the
+/// iris albedo where each chamber path lands, then the fixed point. World-unit irradiance, as IrisIrradianceMnee's.
+/// Zero where no light reaches the iris.
 eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const eyelib::IrisChamberTransport& transport,
-                                                const EyeLighting& lighting, int directSamples);
+                                                PerThreadLighting lighting, int directSamples);
 
 /// The caches of a renderer's eyes, across its Render calls.
 class ChamberLightCaches {
@@ -41,10 +53,13 @@ class ChamberLightCaches {
   /// A render starts: its lights and scene version (RenderPass's committed Embree scene) are part of every key.
   void BeginRender(const std::vector<RenderLight>& lights, std::uint64_t sceneVersion);
   /// The cache of the eye that `owner` (its GeometryContext) holds, under `lighting` (its lights, receiver,
-  /// switches); built here if missing or stale. Thread-safe: the render's threads that need a cache being built join
-  /// its build (tbb::collaborative_call_once) instead of waiting idle; the result does not depend on how many do.
+  /// switches), on a grid of `rings` rings (ChamberCacheGrid; 0: the resolution's grid); built here if missing or
+  /// stale, its MNEE shadow rays traced through `perThread`. Thread-safe: the render's threads that need a cache
+  /// being built join its build (tbb::collaborative_call_once) instead of waiting idle; the result does not depend
+  /// on how many do.
   std::shared_ptr<const eyelib::IrisChamberCache> Get(const void* owner, const EyeGeometry& eye,
-                                                      const EyeLighting& lighting);
+                                                      const EyeLighting& lighting, int rings,
+                                                      PerThreadLighting perThread);
   int Builds() const { return builds_; }
 
  private:
@@ -61,7 +76,7 @@ class ChamberLightCaches {
   std::mutex mutex_;  ///< guards the maps and keys, never held during a build
   std::uint64_t renderKey_ = 0;
   std::map<const void*, Entry> entries_;
-  /// Transports by chamber geometry (model, depth, pupil, index, walk bound): they depend on nothing else.
+  /// Transports by chamber geometry (model, depth, pupil, index, walk bound) and grid: they depend on nothing else.
   std::map<std::uint64_t, std::shared_ptr<Slot<eyelib::IrisChamberTransport>>> transports_;
   int builds_ = 0;
 };

@@ -520,17 +520,33 @@ class Tracer {
     LastChamberCache& last = lastChamberCache_;
     if (last.cache && last.ctx == &ctx && last.receiver == lighting.receiver && last.frame == still.canonicalToWorld)
       return last.cache;
+    const int rings = ctx.eyeOptions.planned ? ctx.eyeOptions.chamberCacheRings : 0;
+    // The build's shadow rays, on whichever thread joins it: a tracer of that thread's own, at this path's time.
+    std::atomic<std::int64_t> buildRays{0};
+    const auto perThread = [&](eyelib::FunctionRef<void(const EyeLighting&)> body) {
+      Tracer here(scene_, sourceLights_, settings_, cutouts_, shutter_);
+      here.SetTime(time_);
+      const auto transmittance = [&here](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
+        return here.Transmittance(here.lights_[k], o, d, t);
+      };
+      EyeLighting own = lighting;
+      own.lights = &here.lights_;
+      own.transmittance = transmittance;
+      body(own);
+      buildRays += here.counts_.rays;
+    };
     std::shared_ptr<const eyelib::IrisChamberCache> cache;
     if (!shutter_.IsOpen()) {
-      cache = chamberCaches_->Get(&ctx, eye, lighting);
+      cache = chamberCaches_->Get(&ctx, eye, lighting, rings, perThread);
     } else {
       const double pathTime = time_;
       SetTime(shutter_.open);
       const std::optional<EyeGeometry> atOpen =
           still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
-      cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting);
+      cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting, rings, perThread);
       SetTime(pathTime);
     }
+    counts_.rays += buildRays;
     last = {&ctx, lighting.receiver, still.canonicalToWorld, cache};
     return cache;
   }
