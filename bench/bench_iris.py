@@ -8,7 +8,7 @@ the floor at the longest budget, as a markdown table. --plot writes the figure d
 
 Usage: python3 bench/bench_iris.py [--budgets 2.5,10] [--floor-spp N] [--build LABEL=PYTHON ...]
                                    [--lever "LABEL=EYERECORD FLAGS" ...] [--scene-dir DIR]
-                                   [--estimators path,cache,controlVariate] [--grazing DEGREES]
+                                   [--estimators path,cache,controlVariate] [--grazing DEGREES] [--key-noise A,B]
                                    [--csv FILE] [--plot FILE] [--from-csv A.csv,B.csv]
 --lever measures this build with extra eyerecord flags (the sampler, splitting), for example
     --lever "independent=--sampler independent" --lever "zsobol=--sampler zsobol"
@@ -26,6 +26,9 @@ pixels wide, where chamber light is all the light the shadowed part of the iris 
 estimator at --grazing-reference-spp (two seeds), the shadow is where a first-order render (the chamber walk cut after
 the iris bounce's exit) is below 1 % of the iris median, and the table gives each estimator's relative RMSE there and
 over the iris (about 3 min at the defaults, on top of the scene B rows).
+--key-noise A,B measures, per build and budget, the noise of one render over the iris (two seeds) at scene B's full
+size with the key moved to each angle: the issue's hidden scenes, at 50 and 75 degrees, have no reference here, so
+this is their noise alone (their bias: the --grazing rows).
 """
 import argparse
 import csv
@@ -176,11 +179,7 @@ def measure_grazing(scene_dir, degrees, budgets, builds, reference_spp, keep_dir
         full = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
         iris = full.reshape(GRAZING_WIDTH, 2, GRAZING_WIDTH, 2).all(axis=(1, 3))
         median = np.median(ref[iris])
-        glint = ref > 20 * median
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                glint = glint | np.roll(np.roll(ref > 20 * median, dy, 0), dx, 1)
-        sel = iris & ~glint & (ref > 0)
+        sel = iris_selection(ref, iris)
         shadow = sel & (first < 0.01 * median)
         def rms(x):  # nan for an empty selection (a key that leaves no iris pixel in shadow), without a warning
             return float(np.sqrt(np.mean(x ** 2))) if x.size else float("nan")
@@ -205,6 +204,55 @@ def measure_grazing(scene_dir, degrees, budgets, builds, reference_spp, keep_dir
                              "ref_noise_shadow": ref_noise["shadow"], "ref_noise_iris": ref_noise["iris"]})
                 print(f"  grazing {label}: {seconds:g} s done", file=sys.stderr)
     return rows
+
+
+def iris_selection(ref, iris):
+    """The iris pixels compare.py would score in an image without a reference of its own: `iris` minus the glint
+    (pixels over 20 x the iris median and their neighbours) and unlit pixels."""
+    import numpy as np
+    median = np.median(ref[iris])
+    bright = ref > 20 * median
+    glint = bright.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            glint |= np.roll(np.roll(bright, dy, 0), dx, 1)
+    return iris & ~glint & (ref > 0)
+
+
+def measure_key_noise(scene_dir, angles, budgets, builds, keep_dir=None):
+    """Per key angle, build and budget: the noise of one render over the iris at scene B's full size with its key
+    moved (write_grazing_scene), from two seeds, rms((a - b) / (sqrt 2 (a + b) / 2)). No reference, so no bias: the
+    grazing rows bound that."""
+    import numpy as np
+    rows = []
+    iris = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
+    with tempfile.TemporaryDirectory() as scratch:
+        tmp = keep_dir or scratch
+        for degrees in angles:
+            scene = write_grazing_scene(scene_dir, degrees, tmp)
+            for seconds in budgets:
+                for k, (label, python, *extra) in enumerate(builds):
+                    images, spp = [], []
+                    for seed in (1, 2):
+                        out = os.path.join(tmp, f"key{degrees:g}_build{k}_{seconds:g}s_seed{seed}.exr")
+                        n, _ = render(python, tmp, seconds, seed, out, 0, *extra, scene=scene)
+                        images.append(load_exr(out)), spp.append(n)
+                    a, b = images
+                    mean = 0.5 * (a + b)
+                    sel = iris_selection(mean, iris)
+                    noise = float(np.sqrt(np.mean(((a[sel] - b[sel]) / (math.sqrt(2) * mean[sel])) ** 2)))
+                    rows.append({"label": label, "degrees": degrees, "seconds": seconds, "noise": noise,
+                                 "spp": 0.5 * (spp[0] + spp[1]), "pixels": int(sel.sum())})
+                    print(f"  key {degrees:g} deg, {label}: {seconds:g} s done", file=sys.stderr)
+    return rows
+
+
+def key_noise_table(rows):
+    lines = ["| code | key off the gaze | budget | noise of one render over the iris | spp |", "|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['label']} | {r['degrees']:g} deg | {r['seconds']:g} s | {100 * r['noise']:.2f} % "
+                     f"| {r['spp']:.0f} |")
+    return "\n".join(lines)
 
 
 def grazing_table(rows, degrees):
@@ -291,6 +339,8 @@ def main():
                     help="also measure scene B with its key this many degrees off the gaze (0: not)")
     ap.add_argument("--grazing-reference-spp", type=int, default=512,
                     help="samples per pixel of the grazing variant's path reference, each of two seeds")
+    ap.add_argument("--key-noise", help="comma-separated key angles (degrees off the gaze): also measure the noise "
+                    "of one render over the iris at scene B's 256 px with its key moved there, per build and budget")
     ap.add_argument("--csv", help="write the rows to this CSV")
     ap.add_argument("--keep-dir", help="keep the renders in this folder (default: a temporary one)")
     ap.add_argument("--from-csv", help="comma-separated CSVs to read instead of rendering")
@@ -327,7 +377,13 @@ def main():
         if args.grazing:
             grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
                                       args.keep_dir)
+        if args.key_noise:
+            key_noise = measure_key_noise(args.scene_dir, [float(a) for a in args.key_noise.split(",") if a],
+                                          budgets, builds, args.keep_dir)
     print(table(rows))
+    if not args.from_csv and args.key_noise:
+        print()
+        print(key_noise_table(key_noise))
     if not args.from_csv and args.grazing:
         print()
         print(grazing_table(grazing, args.grazing))
