@@ -1,9 +1,11 @@
 // The anterior chamber: iris plane, pupil, limbus blend and parameter validation.
 #include "eyelib/anterior_chamber.h"
+#include "eyelib/random.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 using namespace eyelib;
 using V = Vec3<double>;
@@ -57,4 +59,68 @@ TEST_CASE("out-of-range chamber parameters are reported by name") {
   CHECK_THAT(message([](ChamberParams& p) { p.corneaIor = 0.9; }), Catch::Contains("corneaIor"));
   CHECK_THAT(message([](ChamberParams& p) { p.irisDepth = std::nan(""); }), Catch::Contains("irisDepth"));
   CHECK_THAT(message([](ChamberParams& p) { p.pupilDiameter = 20; }), Catch::Contains("pupilDiameter"));
+}
+
+namespace {
+
+/// What NextSurfaceFromInside must return, from the general intersection alone: the nearer of the iris plane and
+/// the cap's first crossing, counted only if it is an exit.
+ChamberSurfaceHit<double> NextSurfaceByFullSearch(const AnteriorChamber<double>& chamber, const V& p, const V& d) {
+  ChamberSurfaceHit<double> hit;
+  const double tPlane = d.z < 0 ? (chamber.IrisZ() - p.z) / d.z : INFINITY;
+  auto cap = chamber.Surface().Intersect({p, d});
+  if (cap && cap->fromOutside) cap.reset();
+  if (tPlane < (cap ? cap->t : INFINITY)) {
+    hit.point = p + tPlane * d;
+    hit.point.z = chamber.IrisZ();
+    hit.kind = std::hypot(hit.point.x, hit.point.y) < chamber.PupilRadius() ? ChamberSurfaceHit<double>::Pupil
+                                                                            : ChamberSurfaceHit<double>::Iris;
+  } else if (cap) {
+    hit.kind = ChamberSurfaceHit<double>::Cornea;
+    hit.point = cap->point, hit.normal = cap->normal;
+  }
+  return hit;
+}
+
+}  // namespace
+
+TEST_CASE("the next surface from inside the chamber is the full two-piece search's, without its extra intersections") {
+  // NextSurfaceFromInside skips the cap for rays that land on the iris disk and the second piece once the first
+  // gives the exit (the chamber is convex). Rays from points inside, from the iris plane up and from cap points
+  // (reflections, heading in), in every direction, for both cornea models.
+  for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
+    ChamberParams params;
+    params.model = model;
+    const AnteriorChamber<double> chamber(params);
+    const auto& surface = chamber.Surface();
+    int counts[4] = {}, mismatches = 0;
+    double worst = 0;
+    for (int i = 0; i < 200000; ++i) {
+      const double r = chamber.IrisRadius() * std::sqrt(UniformAt(3, i, 0)), phi = 2 * paper::kPi * UniformAt(3, i, 1);
+      const double x = r * std::cos(phi), y = r * std::sin(phi), top = surface.Sag(r);
+      V p;
+      switch (i % 3) {
+        case 0: p = {x, y, chamber.IrisZ() + UniformAt(3, i, 2) * (top - chamber.IrisZ())}; break;  // inside
+        case 1: p = {x, y, chamber.IrisZ()}; break;                                                 // on the iris
+        default: p = {x, y, top}; break;                                                            // on the cap
+      }
+      const double z = 2 * UniformAt(3, i, 3) - 1, a = 2 * paper::kPi * UniformAt(3, i, 4),
+                   s = std::sqrt(std::max(0.0, 1 - z * z));
+      V d(s * std::cos(a), s * std::sin(a), z);
+      if (i % 3 == 1 && d.z < 0) d.z = -d.z;                                // off the iris plane, up
+      if (i % 3 == 2 && glm::dot(d, surface.Normal(p.x, p.y)) > 0) d = -d;  // off the cap, in
+      const ChamberSurfaceHit<double> fast = chamber.NextSurfaceFromInside(p, d),
+                                      full = NextSurfaceByFullSearch(chamber, p, d);
+      ++counts[full.kind];
+      const double gap = glm::length(fast.point - full.point);
+      if (fast.kind != full.kind || !(gap <= 1e-12)) ++mismatches;
+      if (fast.kind == full.kind) worst = std::max(worst, gap);
+    }
+    std::printf("%s: iris %d, pupil %d, cornea %d, lost %d of 200000 rays; %d differ, worst point gap %.1e mm\n",
+                model == CorneaModel::EllipsoidCone ? "ellipsoid-cone" : "paraboloid", counts[0], counts[1], counts[2],
+                counts[3], mismatches, worst);
+    CHECK(mismatches == 0);
+    CHECK(counts[0] > 10000);
+    CHECK(counts[2] > 10000);
+  }
 }

@@ -76,15 +76,19 @@ template <class T> class AnteriorChamber {
   ChamberSurfaceHit<T> NextSurfaceFromInside(const Vec3<T>& p, const Vec3<T>& d) const {
     ChamberSurfaceHit<T> hit;
     const T tPlane = d.z < 0 ? (irisZ_ - p.z) / d.z : std::numeric_limits<T>::infinity();
-    auto cap = surface_.Intersect({p, d});
-    if (cap && cap->fromOutside) cap.reset();
-    if (tPlane < (cap ? cap->t : std::numeric_limits<T>::infinity())) {
+    auto onPlane = [&] {  // the plane point into `hit`; its radius
       hit.point = p + tPlane * d;
       hit.point.z = irisZ_;
-      hit.kind = std::hypot(hit.point.x, hit.point.y) < pupilRadius_ ? ChamberSurfaceHit<T>::Pupil
-                                                                     : ChamberSurfaceHit<T>::Iris;
-      return hit;
-    }
+      const T r = std::hypot(hit.point.x, hit.point.y);
+      hit.kind = r < pupilRadius_ ? ChamberSurfaceHit<T>::Pupil : ChamberSurfaceHit<T>::Iris;
+      return r;
+    };
+    // The chamber is convex: a ray from inside that reaches the iris plane inside the disk (with a margin for
+    // rounding at its edge) has not left through the cornea before, so the cap is not intersected.
+    if (tPlane < std::numeric_limits<T>::infinity() && onPlane() <= irisRadius_ * (1 - T(1e-6))) return hit;
+    const auto cap = surface_.ExitFromInside({p, d});
+    if (tPlane < (cap ? cap->t : std::numeric_limits<T>::infinity())) return hit;  // the plane point, set above
+    hit = ChamberSurfaceHit<T>{};
     if (!cap) return hit;
     hit.kind = ChamberSurfaceHit<T>::Cornea;
     hit.point = cap->point;

@@ -175,6 +175,22 @@ template <class T> class AnteriorSurface {
   /// non-finite or zero direction or origin miss. A ray starting on the surface does not hit its own
   /// origin.
   std::optional<SurfaceHit<T>> Intersect(const Ray<T>& ray, T tMax = std::numeric_limits<T>::infinity()) const {
+    return FirstCrossing(ray, tMax, false);
+  }
+
+  /// Where a ray from inside the region under the cap (or from a point of the cap, heading in) leaves it through
+  /// the cap: Intersect's first crossing when it is an exit, else nothing. The region is convex (the sag is concave,
+  /// its kink at the junction too), so the exit is the ray's only crossing: once one piece gives it, the other
+  /// piece is not tried.
+  std::optional<SurfaceHit<T>> ExitFromInside(const Ray<T>& ray) const {
+    auto hit = FirstCrossing(ray, std::numeric_limits<T>::infinity(), true);
+    if (hit && hit->fromOutside) hit.reset();
+    return hit;
+  }
+
+ private:
+  /// Intersect's search; `fromInside`: the origin is inside (ExitFromInside), so an exit ends it.
+  std::optional<SurfaceHit<T>> FirstCrossing(const Ray<T>& ray, T tMax, bool fromInside) const {
     // Bring |dir| near 1 by a power of two when it is far from it: exact, so the ray is not
     // perturbed the way dividing by its length would (at 1 km, one rounding of the direction moves
     // the hit by 0.06 mm in float).
@@ -211,12 +227,11 @@ template <class T> class AnteriorSurface {
     }
     consider(SurfacePiece::Ellipsoid);
     // The cap bounds a convex region, which a ray enters at most once: an entering hit on the
-    // ellipsoid is the first crossing, and the cone need not be tried.
-    if (!best || !best->fromOutside) consider(SurfacePiece::Cone);
+    // ellipsoid is the first crossing, and the cone need not be tried; nor, for a ray from inside, after an exit.
+    if (!best || (best->fromOutside == fromInside)) consider(SurfacePiece::Cone);
     return best;
   }
 
- private:
   static double EllipsoidSag(double r) {
     using namespace paper;
     return -r * r / (kEllipsoidZ1 / 2 + std::sqrt(kEllipsoidZ1 * kEllipsoidZ1 / 4 - kEllipsoidZ2 * r * r));
