@@ -253,12 +253,14 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     if (sol.status == MneeStatus::Converged) result.solutions.push_back(sol), result.transfer = sol.transfer;
     return result;
   }
-  const MneeStatus first = trySeed(seed.x, seed.y);
+  const Vec2<double> start = seeds.start ? *seeds.start : seed;
+  const MneeStatus first = trySeed(start.x, start.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
   // One solution wanted: stop at the first, but if the straight line failed (it often misses the
   // cap for light from below the rim plane), walk the meridian seeds until one converges.
   const bool stopAtFirst = !seeds.allSolutions;
-  if (stopAtFirst && (first == MneeStatus::Converged || !seeds.fallback)) return result;
+  const bool retry = seeds.fallback && (!seeds.start || seeds.retryStart);
+  if (stopAtFirst && (first == MneeStatus::Converged || !retry)) return result;
   const double rim = chamber.Surface().RimRadius();
   // The light's azimuth as seen from x: the refraction plane of the paths to find.
   const Vec3d toLight = light.distant ? light.direction : light.position - x;

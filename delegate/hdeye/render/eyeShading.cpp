@@ -138,9 +138,10 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
   // own cornea point over the apex's cosine diverges at the light's rim for iris points off the axis
   // (eyelib::ApproximateEntryPoint). The estimate is unbiased for any origin.
   const bool hasCentre = !light.delta && light.type != LightType::Distant && light.type != LightType::Dome;
-  const glm::dvec3 origin = eye.ToWorld(
+  const glm::dvec3 entry =
       hasCentre ? eyelib::ApproximateEntryPoint(eye.chamber, x, {false, eye.ToCanonical(light.position), {}})
-                : glm::dvec3(0));
+                : glm::dvec3(0);
+  const glm::dvec3 origin = eye.ToWorld(entry);
   const LightSample ls = SampleLight(light, origin, u1, u2);
   if (!(ls.pdf > 0)) return glm::dvec3(0);
   eyelib::LightEnd end;
@@ -174,8 +175,15 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
   }
   eyelib::MneeOptions options;
   options.scleraOccludes = false;  // visibility is the renderer's: shadow rays below
-  const eyelib::MneeResult paths =
-      eyelib::FindRefractionPaths(eye.chamber, x, end, eyelib::SeedStrategy{lighting.allSolutions}, options);
+  eyelib::SeedStrategy seeds;
+  seeds.allSolutions = lighting.allSolutions;
+  if (hasCentre) {
+    seeds.start = eyelib::Vec2<double>(entry.x, entry.y);  // Newton's start: near every point's path
+    // A small sphere or disk (under about 3 degrees) gains nothing from retrying a failed start elsewhere.
+    const bool round = light.type == LightType::Sphere || light.type == LightType::Disk;
+    seeds.retryStart = !(round && light.radius < 0.05 * glm::length(light.position - origin));
+  }
+  const eyelib::MneeResult paths = eyelib::FindRefractionPaths(eye.chamber, x, end, seeds, options);
   glm::dvec3 E(0);
   for (const eyelib::MneeSolution& s : paths.solutions) {
     const glm::dvec3 p = eye.ToWorld(s.p), n = eye.DirToWorld(s.normal);
