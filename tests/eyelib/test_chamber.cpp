@@ -124,3 +124,31 @@ TEST_CASE("the next surface from inside the chamber is the full two-piece search
     CHECK(counts[2] > 10000);
   }
 }
+
+TEST_CASE("a ray that heads away from the cap's tangent plane above it meets neither the cap nor the iris disk") {
+  // AnteriorSurface::HeadsAway: exact for a convex region; checked against the intersections themselves for rays
+  // from points above the cap (on it, as offset shadow rays start, and up to 2 mm above) in every direction.
+  for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
+    ChamberParams params;
+    params.model = model;
+    const AnteriorChamber<double> chamber(params);
+    const auto& surface = chamber.Surface();
+    int away = 0, wrong = 0;
+    for (int i = 0; i < 200000; ++i) {
+      const double r = surface.RimRadius() * std::sqrt(UniformAt(9, i, 0)), phi = 2 * paper::kPi * UniformAt(9, i, 1);
+      const double lift = i % 2 ? 1e-9 : 2 * UniformAt(9, i, 2);
+      const V o(r * std::cos(phi), r * std::sin(phi), surface.Sag(r) + lift);
+      const double z = 2 * UniformAt(9, i, 3) - 1, a = 2 * paper::kPi * UniformAt(9, i, 4),
+                   s = std::sqrt(std::max(0.0, 1 - z * z));
+      const V d(s * std::cos(a), s * std::sin(a), z);
+      if (!surface.HeadsAway(o, d)) continue;
+      ++away;
+      const auto cap = surface.Intersect({o, d});
+      if ((cap && cap->fromOutside) || chamber.IntersectIris({o, d})) ++wrong;
+    }
+    std::printf("%s: %d of 200000 rays head away; %d of them meet the cap from outside or the iris disk\n",
+                model == CorneaModel::EllipsoidCone ? "ellipsoid-cone" : "paraboloid", away, wrong);
+    CHECK(away > 50000);
+    CHECK(wrong == 0);
+  }
+}

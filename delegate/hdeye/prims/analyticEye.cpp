@@ -19,6 +19,7 @@ bool IntersectEye(const EyeGeometry& eye, const glm::dmat4& worldToCanonical, co
                   double tNear, double tFar, double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
   // Map without normalising the direction, so the ray parameter t is the world ray's.
   const glm::dvec3 oc(worldToCanonical * glm::dvec4(o, 1)), dc(worldToCanonical * glm::dvec4(d, 0));
+  if (eye.chamber.Surface().HeadsAway(oc, dc)) return false;  // leaving the eye: its shadow rays, its exits
   bool hit = false;
   glm::dvec3 nc;
   if (const auto h = eye.chamber.Surface().Intersect({oc, dc}, tFar); h && h->t > tNear && h->fromOutside) {

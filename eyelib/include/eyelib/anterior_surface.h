@@ -178,6 +178,17 @@ template <class T> class AnteriorSurface {
     return FirstCrossing(ray, tMax, false);
   }
 
+  /// Whether the ray provably meets nothing of the region under the cap (the cap, or a disk closing it below):
+  /// its origin lies above the cap, within the rim, and it heads away from the cap's tangent plane at the origin's
+  /// radius, a plane the whole convex region lies under. A cheap test for rays leaving the eye (a shadow ray or
+  /// a path from its cornea); false says nothing.
+  bool HeadsAway(const Vec3<T>& origin, const Vec3<T>& dir) const {
+    const T r = std::sqrt(origin.x * origin.x + origin.y * origin.y);
+    if (!(r <= rim_) || !(origin.z > Sag(r))) return false;
+    const T g = SlopeOverRadius(r);  // the tangent plane's normal is (-g x, -g y, 1)
+    return -g * (origin.x * dir.x + origin.y * dir.y) + dir.z >= 0;
+  }
+
   /// Where a ray from inside the region under the cap (or from a point of the cap, heading in) leaves it through
   /// the cap: Intersect's first crossing when it is an exit, else nothing. The region is convex (the sag is concave,
   /// its kink at the junction too), so the exit is the ray's only crossing: once one piece gives it, the other
