@@ -1,5 +1,7 @@
 #include "hdeye/render/cameraView.h"
 
+#include "hdeye/render/fastTrig.h"
+
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -10,9 +12,13 @@ glm::dvec2 ConcentricDisk(double u1, double u2) {
   constexpr double kQuarterPi = 0.78539816339744830962;
   const double a = 2 * u1 - 1, b = 2 * u2 - 1;
   if (a == 0 && b == 0) return {0, 0};
+  // Shirley and Chiu's angle phi = pi/4 (b/a), or pi/2 - pi/4 (a/b): its reduced part x lies in [-pi/4, pi/4], and
+  // the second case's cos and sin are sin x and cos x.
   const bool wide = std::abs(a) > std::abs(b);
-  const double r = wide ? a : b, phi = wide ? kQuarterPi * (b / a) : 2 * kQuarterPi - kQuarterPi * (a / b);
-  return {r * std::cos(phi), r * std::sin(phi)};
+  const double r = wide ? a : b, x = kQuarterPi * (wide ? b / a : a / b);
+  double s, c;
+  SinCosReduced(x, &s, &c);
+  return wide ? glm::dvec2(r * c, r * s) : glm::dvec2(r * s, r * c);
 }
 
 WorldRay CameraView::GenerateRay(double u, double v, double imageAspect, double lensU, double lensV) const {

@@ -1,5 +1,7 @@
 #include "hdeye/render/previewSurface.h"
 
+#include "hdeye/render/sampleDirections.h"
+
 #include <eyelib/eye_constants.h>
 #include <eyelib/optics.h>
 #include <eyelib/sampling.h>
@@ -74,9 +76,11 @@ glm::dvec3 SampleGgxVisibleNormal(double alpha, const glm::dvec3& wo, double u1,
   const double lensq = vh.x * vh.x + vh.y * vh.y;
   const glm::dvec3 t1 = lensq > 0 ? glm::dvec3(-vh.y, vh.x, 0) / std::sqrt(lensq) : glm::dvec3(1, 0, 0);
   const glm::dvec3 t2 = glm::cross(vh, t1);
-  const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  const double p1 = r * std::cos(phi), s = 0.5 * (1 + vh.z);
-  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * std::sin(phi);
+  const double r = std::sqrt(u1);
+  double sinPhi, cosPhi;
+  SinCos2Pi(u2, &sinPhi, &cosPhi);
+  const double p1 = r * cosPhi, s = 0.5 * (1 + vh.z);
+  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * sinPhi;
   const glm::dvec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
   const glm::dvec3 ne(alpha * nh.x, alpha * nh.y, std::max(0.0, nh.z));
   const double len = glm::length(ne);
@@ -135,7 +139,7 @@ double ThinSheetReflectance(double cosTheta, double ior) {
 
 PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo)
     : s_(s), n_(n), wo_(wo) {
-  eyelib::OrthonormalBasis(n_, &t_, &b_);
+  FrameAround(n_, &t_, &b_);
   lo_ = ToLocal(wo);
   above_ = lo_.z > kMinCos;
   if (!above_) return;
@@ -266,7 +270,7 @@ bool PreviewSurfaceAt::Sample(bool inside, double u0, double u1, double u2, Bsdf
 
   glm::dvec3 li;
   if (u0 < p.diffuse) {
-    li = ToLocal(eyelib::SampleCosineHemisphere(n, t_, b_, u1, u2));  // the frame is OrthonormalBasis(n)
+    li = CosineHemisphereLocal(u1, u2);  // drawn in the local frame: no trip through world space
   } else if (coatLobe) {
     const glm::dvec3 h = SampleGgxVisibleNormal(CoatAlpha(s), lo, u1, u2);
     li = 2 * glm::dot(lo, h) * h - lo;

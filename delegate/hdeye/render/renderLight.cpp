@@ -1,6 +1,7 @@
 #include "hdeye/render/renderLight.h"
 
 #include "hdeye/render/blackbody.h"
+#include "hdeye/render/sampleDirections.h"
 
 #include <eyelib/sampling.h>
 
@@ -16,7 +17,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using eyelib::OneMinusCosFromSin2;
-using eyelib::SampleUniformCone;
 using eyelib::UniformConePdf;
 
 // sin^2 of a sphere's angular radius below which it is sampled as its centre (1e-5 rad: the point limit's
@@ -316,7 +316,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         s.pointLimit = true;
         return s;
       }
-      s.dir = SampleUniformCone(toC / d, 1 - cone, u1, u2);
+      s.dir = SampleConeAbout(toC / d, cone, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
@@ -328,7 +328,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         s.dir = l.direction, s.distance = kInf, s.radiance = l.radiance, s.pdf = 1, s.delta = true;
         return s;
       }
-      s.dir = SampleUniformCone(l.direction, l.cosHalfAngle, u1, u2);
+      s.dir = SampleConeAbout(l.direction, 1 - l.cosHalfAngle, u1, u2);
       s.distance = kInf;
       s.radiance = l.radiance;
       s.pdf = UniformConePdf(l.cosHalfAngle);
@@ -347,8 +347,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         return s;
       }
       // Uniform sphere (a constant dome gains nothing from importance sampling).
-      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
-      s.dir = {r * std::cos(phi), r * std::sin(phi), z};
+      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z));
+      double sinPhi, cosPhi;
+      SinCos2Pi(u2, &sinPhi, &cosPhi);
+      s.dir = {r * cosPhi, r * sinPhi, z};
       s.distance = kInf;
       s.radiance = l.radiance;
       s.pdf = 1 / (4 * kPi);
@@ -396,8 +398,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
         radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
       } else {
-        const double r = l.radius * std::sqrt(u1), phi = 2 * kPi * u2;
-        q = l.position + r * (std::cos(phi) * l.axisU + std::sin(phi) * l.axisV);
+        const double r = l.radius * std::sqrt(u1);
+        double sinPhi, cosPhi;
+        SinCos2Pi(u2, &sinPhi, &cosPhi);
+        q = l.position + r * (cosPhi * l.axisU + sinPhi * l.axisV);
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
