@@ -13,8 +13,8 @@ namespace hdeye {
 inline void SinCosReduced(double a, double* s, double* c) {
   const double a2 = a * a;
   *s = a * (1 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 - a2 * (1.0 / 39916800))))));
-  *c = 1 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 +
-                                                                                   a2 * (1.0 / 479001600))))));
+  *c = 1 + a2 * (-0.5 + a2 * (1.0 / 24 +
+                              a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 * (1.0 / 479001600))))));
 }
 
 /// *s = sin(2 pi u), *c = cos(2 pi u) for u in [0, 1] (any u in [0, 2^50) works: the reduction is to the nearest
