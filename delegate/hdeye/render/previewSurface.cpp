@@ -22,16 +22,21 @@ bool Finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 
 /// Exact dielectric Fresnel reflectance from outside (cos clamped to [0, 1]) for index ior over air (invIor2 =
 /// 1 / ior^2); about 0 for ior = 1. eyelib::FresnelDielectric's formula with the divisions shared: its two amplitude
-/// ratios a / c and b / d squared and summed over one division, (a^2 d^2 + b^2 c^2) / (c^2 d^2), and 1 / ior^2 once
+/// ratios a / e and b / d squared and summed over one division, (a^2 d^2 + b^2 e^2) / (e^2 d^2), and 1 / ior^2 once
 /// per shading point (every denominator is positive: cosT > 0 whenever sin2T < 1).
-double FresnelCoat(double cosTheta, double ior, double invIor2) {
-  const double c = std::clamp(cosTheta, 0.0, 1.0);
-  const double sin2T = (1 - c * c) * invIor2;
+/// c in [0, 1] with its square c2 given (a caller that has c2 before c, as a square root of it, then need not wait
+/// for the root to start the transmitted cosine's).
+double FresnelCoatCos2(double c, double c2, double ior, double invIor2) {
+  const double sin2T = (1 - c2) * invIor2;
   if (sin2T >= 1) return 1;
   const double cosT = std::sqrt(1 - sin2T);
-  const double a = ior * c - cosT, cc = ior * c + cosT, b = c - ior * cosT, d = c + ior * cosT;
-  const double a2 = a * a, c2 = cc * cc, b2 = b * b, d2 = d * d;
-  return (a2 * d2 + b2 * c2) / (2 * c2 * d2);
+  const double a = ior * c - cosT, e = ior * c + cosT, b = c - ior * cosT, d = c + ior * cosT;
+  const double a2 = a * a, e2 = e * e, b2 = b * b, d2 = d * d;
+  return (a2 * d2 + b2 * e2) / (2 * e2 * d2);
+}
+double FresnelCoat(double cosTheta, double ior, double invIor2) {
+  const double c = std::clamp(cosTheta, 0.0, 1.0);
+  return FresnelCoatCos2(c, c * c, ior, invIor2);
 }
 
 /// Schlick's Fresnel from its normal-incidence reflectance f0 (white at grazing incidence).
@@ -42,9 +47,10 @@ glm::dvec3 Schlick(const glm::dvec3& f0, double c) {
 
 /// The specular reflectance at a microfacet seen at cosine c: the spec's F0/F90 interpolation by metallic,
 /// or Schlick of specularColor in the specular workflow.
-glm::dvec3 SpecularFresnel(const PreviewSurface& s, double c, double invIor2) {
+/// c in [0, 1], c2 = c^2.
+glm::dvec3 SpecularFresnel(const PreviewSurface& s, double c, double c2, double invIor2) {
   if (s.specularWorkflow) return Schlick(s.specularColor, c);
-  return glm::mix(glm::dvec3(FresnelCoat(c, s.ior, invIor2)), s.albedo, s.metallic);
+  return glm::mix(glm::dvec3(FresnelCoatCos2(c, c2, s.ior, invIor2)), s.albedo, s.metallic);
 }
 
 /// What the specular lobe takes from the diffuse at cosine c (scalar, so the product stays reciprocal).
@@ -133,14 +139,15 @@ GgxFromWo GgxOf(double alpha, double cosO, const glm::dvec3& lo) {
   const double lambda = GgxLambda(alpha, lo), a2 = alpha * alpha;
   return {a2, lambda, 1 / (1 + lambda), a2 / (4 * kPi * cosO)};
 }
-/// D = a2 / (pi q^2) with q = cos_h^2 (a2 - 1) + 1 >= min(1, a2) > 0, and (1 + Lambda(wi)) cos_i =
-/// (cos_i + sqrt(cos_i^2 + a2 sin_i^2)) / 2 (Lambda's tan^2 over cos_i's square cancels the reflection's 1 / cos_i):
-/// the two terms are then one division, with no division inside Lambda(wi).
-GgxTerms GgxLobe(const GgxFromWo& o, const glm::dvec3& wi, const glm::dvec3& h) {
-  if (!(h.z > 0)) return {};
-  const double q = h.z * h.z * (o.a2 - 1) + 1, ci2 = wi.z * wi.z;
-  const double g2Den = wi.z * (0.5 + o.lambda) + 0.5 * std::sqrt(std::max(0.0, ci2 + o.a2 * (1 - ci2)));
-  const double r = o.dOverFourCos / (q * q * g2Den);  // D / (4 cos_o) times 1 / ((1 + Lambda(wo) + Lambda(wi)) cos_i)
+/// The half vector is not formed: with x = 1 + wo.wi = |wo + wi|^2 / 2 and sz = cos_o + cos_i (> 0, both above),
+/// cos_h^2 = sz^2 / (2 x), so D = a2 / (pi q^2) with q = cos_h^2 (a2 - 1) + 1 = m / (2 x), m = sz^2 (a2 - 1) + 2 x
+/// (q >= min(1, a2) > 0). And (1 + Lambda(wi)) cos_i = (cos_i + sqrt(cos_i^2 + a2 sin_i^2)) / 2 (Lambda's tan^2 over
+/// cos_i's square cancels the reflection's 1 / cos_i). The two terms are then one division and one square root.
+GgxTerms GgxLobe(const GgxFromWo& o, double cosI, double x, double sz) {
+  const double m = sz * sz * (o.a2 - 1) + 2 * x, ci2 = cosI * cosI;
+  const double g2Den = cosI * (0.5 + o.lambda) + 0.5 * std::sqrt(std::max(0.0, ci2 + o.a2 * (1 - ci2)));
+  // D / (4 cos_o) times 1 / ((1 + Lambda(wo) + Lambda(wi)) cos_i), 1 / q^2 = 4 x^2 / m^2.
+  const double r = o.dOverFourCos * (4 * x * x) / (m * m * g2Den);
   return {r, r * g2Den * o.g1};
 }
 
@@ -153,6 +160,11 @@ double ThinSheetReflectance(double cosTheta, double ior) {
   const double r = eyelib::FresnelDielectric(std::clamp(cosTheta, 0.0, 1.0), ior);
   return r < 1 ? 2 * r / (1 + r) : 1.0;
 }
+
+inline glm::dvec3 PreviewSurfaceAt::ToLocal(const glm::dvec3& v) const {
+  return {glm::dot(v, t_), glm::dot(v, b_), glm::dot(v, n_)};
+}
+inline glm::dvec3 PreviewSurfaceAt::ToWorld(const glm::dvec3& v) const { return v.x * t_ + v.y * b_ + v.z * n_; }
 
 PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo)
     : s_(s), n_(n), wo_(wo) {
@@ -175,30 +187,25 @@ void PreviewSurfaceAt::OpaqueTerms(const glm::dvec3& li, glm::dvec3* f, double* 
   const LobeProbabilities& p = lobes_;
   glm::dvec3 base = diffuseBase_ * (1 - DiffuseFresnel(s, li.z, invIor2_));
   double density = p.diffuse * li.z * kInvPi;
-  // Both rough lobes reflect about the same half vector.
-  const glm::dvec3 sum = lo_ + li;
-  const double len2 = glm::dot(sum, sum);
-  const bool halfway = len2 > 0;
-  const glm::dvec3 h = halfway ? sum * (1 / std::sqrt(len2)) : glm::dvec3(0);
+  // Both rough lobes reflect about the same half vector h = (lo + li) / |lo + li|, not formed (GgxLobe): its
+  // cosine with wo, the Fresnel terms', is sqrt(x / 2), x = 1 + lo.li (its square known before the root).
+  const double x = 1 + glm::dot(lo_, li), sz = lo_.z + li.z;
+  const bool halfway = x > 0;  // lo and li not opposite (then no half vector)
+  const double cosH2 = std::min(1.0, 0.5 * x), cosH = std::sqrt(std::max(0.0, cosH2));
   if (halfway && !IsMirror(s)) {
-    const GgxTerms g = GgxLobe(ggxO_, li, h);
-    if (g.reflection > 0) base += g.reflection * SpecularFresnel(s, glm::dot(lo_, h), invIor2_);
+    const GgxTerms g = GgxLobe(ggxO_, li.z, x, sz);
+    if (g.reflection > 0) base += g.reflection * SpecularFresnel(s, cosH, cosH2, invIor2_);
     if (p.specular > 0) density += p.specular * g.pdf;
   }
   // Without a coat UnderCoat is 1 - 0 x (a finite Schlick term) = 1 exactly: not evaluated.
   glm::dvec3 value = base * (underO_ * (s.clearcoat == 0 ? 1.0 : UnderCoat(s, li.z)));
   if (halfway && !CoatIsMirror(s)) {
-    const GgxTerms g = GgxLobe(coatGgxO_, li, h);
-    if (s.clearcoat > 0 && g.reflection > 0) value += glm::dvec3(g.reflection * CoatFresnel(s, glm::dot(lo_, h)));
+    const GgxTerms g = GgxLobe(coatGgxO_, li.z, x, sz);
+    if (s.clearcoat > 0 && g.reflection > 0) value += glm::dvec3(g.reflection * CoatFresnel(s, cosH));
     if (p.coat > 0) density += p.coat * g.pdf;
   }
   *f = value, *pdf = density;
 }
-
-glm::dvec3 PreviewSurfaceAt::ToLocal(const glm::dvec3& v) const {
-  return {glm::dot(v, t_), glm::dot(v, b_), glm::dot(v, n_)};
-}
-glm::dvec3 PreviewSurfaceAt::ToWorld(const glm::dvec3& v) const { return v.x * t_ + v.y * b_ + v.z * n_; }
 
 bool PreviewSurfaceAt::HasSmoothLobe() const {
   if (!above_) return false;
