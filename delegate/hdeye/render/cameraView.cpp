@@ -24,25 +24,28 @@ glm::dvec2 ConcentricDisk(double u1, double u2) {
 WorldRay CameraView::GenerateRay(double u, double v, double imageAspect, double lensU, double lensV) const {
   const double halfW = params.horizontalAperture / 2, halfH = halfW / imageAspect;
   const double fx = (2 * u - 1) * halfW, fy = (1 - 2 * v) * halfH;
+  // Normalisations as a reciprocal square root times the vector; the pinhole's camera direction is not normalised
+  // before the transform (the world one is), only its axis cosine taken.
   glm::dvec3 o(0), d;
+  double invCosAxis = 1;  // clipping distances are along the view axis: the ray parameter of a unit direction
   if (params.orthographic) {
     o = {fx, fy, 0};
     d = {0, 0, -1};
   } else {
-    d = glm::normalize(glm::dvec3(fx, fy, -params.focalLength));
+    d = glm::dvec3(fx, fy, -params.focalLength);
+    const double len = std::sqrt(glm::dot(d, d));
+    invCosAxis = len / params.focalLength;
+    if (HasLens() && params.focusDistance > 0) {
+      const glm::dvec3 focus = d * (params.focusDistance / params.focalLength);  // on the plane z = -focusDistance
+      const glm::dvec2 lens = ConcentricDisk(lensU, lensV) * (LensApertureDiameter(params) / 2);
+      o = {lens.x, lens.y, 0};
+      d = focus - o;
+      invCosAxis = std::sqrt(glm::dot(d, d)) / -d.z;
+    }
   }
-  // Clipping distances are along the view axis; convert to the ray parameter of a unit direction.
-  double cosAxis = params.orthographic ? 1.0 : -d.z;
-  if (HasLens() && params.focusDistance > 0) {
-    const glm::dvec3 focus = d * (params.focusDistance / cosAxis);  // on the plane z = -focusDistance
-    const glm::dvec2 lens = ConcentricDisk(lensU, lensV) * (LensApertureDiameter(params) / 2);
-    o = {lens.x, lens.y, 0};
-    d = glm::normalize(focus - o);
-    cosAxis = -d.z;
-  }
-  const glm::dvec3 wo(transform * glm::dvec4(o, 1)), wd(transform * glm::dvec4(d, 0));
-  const double len = glm::length(wd);
-  return {wo, wd / len, params.nearClip / cosAxis, params.farClip / cosAxis};
+  const glm::dvec3 wo = o.x == 0 && o.y == 0 ? glm::dvec3(transform[3]) : glm::dvec3(transform * glm::dvec4(o, 1));
+  const glm::dvec3 wd = glm::dmat3(transform) * d;
+  return {wo, wd * (1 / std::sqrt(glm::dot(wd, wd))), params.nearClip * invCosAxis, params.farClip * invCosAxis};
 }
 
 }  // namespace hdeye

@@ -16,7 +16,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-using eyelib::OneMinusCosFromSin2;
 using eyelib::UniformConePdf;
 
 // sin^2 of a sphere's angular radius below which it is sampled as its centre (1e-5 rad: the point limit's
@@ -305,18 +304,23 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         return s;
       }
       if (!(d > l.radius)) return s;  // inside the light: not sampled
-      const double sin2 = (l.radius / d) * (l.radius / d), cone = OneMinusCosFromSin2(sin2);
+      // The cone's 1 - cos = sin^2 / (1 + cos) (OneMinusCosFromSin2) and its pdf 1 / (2 pi (1 - cos)) as two
+      // divisions side by side, after the one reciprocal of d that also makes the unit direction.
+      const double invD = 1 / d, sinT = l.radius * invD, sin2 = sinT * sinT;
+      const double onePlusCos = 1 + std::sqrt(std::max(0.0, 1 - sin2));
+      const double cone = sin2 / onePlusCos, pdf = onePlusCos / (2 * kPi * sin2);
       // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
-      if (!(cone > 0) || !std::isfinite(1 / cone)) return s;
-      s.pdf = 1 / (2 * kPi * cone);
+      if (!(cone > 0) || !std::isfinite(pdf)) return s;
+      s.pdf = pdf;
+      const glm::dvec3 w = toC * invD;
       if (sin2 < kPointLimitSin2) {
-        s.dir = toC / d;
+        s.dir = w;
         s.distance = d;
         s.radiance = l.radiance * EmissionShaping(l, -s.dir);
         s.pointLimit = true;
         return s;
       }
-      s.dir = SampleConeAbout(toC / d, cone, u1, u2);
+      s.dir = SampleConeAbout(w, cone, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
@@ -429,7 +433,9 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       const double t = b - std::sqrt(disc);
       if (!(t > 0) || t >= maxDistance) return false;
       *radiance = l.radiance * EmissionShaping(l, -dir);
-      *pdf = 1 / (2 * kPi * OneMinusCosFromSin2(l.radius * l.radius / d2));
+      // 1 / (2 pi (1 - cos)) = (1 + cos) / (2 pi sin^2) = (d2 + d sqrt(d2 - r^2)) / (2 pi r^2): one division.
+      const double r2 = l.radius * l.radius;
+      *pdf = (d2 + std::sqrt(d2) * std::sqrt(d2 - r2)) / (2 * kPi * r2);
       *distance = t;
       return true;
     }
