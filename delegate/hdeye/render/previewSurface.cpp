@@ -80,21 +80,20 @@ double GgxLambda(double alpha, const glm::dvec3& w) {
   return 0.5 * (std::sqrt(1 + alpha * alpha * tan2) - 1);
 }
 
-/// A microfacet normal from the distribution of normals visible from wo (Heitz 2018, "Sampling the
-/// GGX distribution of visible normals"); its reflection pdf is D(h) G1(wo) / (4 cos_o).
+/// A microfacet normal from the distribution of normals visible from wo, D(h) G1(wo) max(0, wo.h) / cos_o, so its
+/// reflection pdf is D(h) G1(wo) / (4 cos_o). Dupuy and Benyoub 2023 ("Sound and complete visible normal sampling
+/// with spherical caps"): in the configuration where GGX is a hemisphere (wo stretched by alpha), the visible normal
+/// is wo plus a direction uniform on the spherical cap z > -wo.z; no tangent frame (Heitz 2018's needs one, and a
+/// square root and division more).
 glm::dvec3 SampleGgxVisibleNormal(double alpha, const glm::dvec3& wo, double u1, double u2) {
   // Normalisations as one reciprocal square root times the vector (wo.z > 0, so the first is never of zero).
   const glm::dvec3 v(alpha * wo.x, alpha * wo.y, wo.z);
   const glm::dvec3 vh = v * (1 / std::sqrt(glm::dot(v, v)));
-  const double lensq = vh.x * vh.x + vh.y * vh.y;
-  const glm::dvec3 t1 = lensq > 0 ? glm::dvec3(-vh.y, vh.x, 0) * (1 / std::sqrt(lensq)) : glm::dvec3(1, 0, 0);
-  const glm::dvec3 t2 = glm::cross(vh, t1);
-  const double r = std::sqrt(u1);
+  const double z = (1 - u1) * (1 + vh.z) - vh.z;  // uniform in [-vh.z, 1]
+  const double sinT = std::sqrt(std::clamp(1 - z * z, 0.0, 1.0));
   double sinPhi, cosPhi;
   SinCos2Pi(u2, &sinPhi, &cosPhi);
-  const double p1 = r * cosPhi, s = 0.5 * (1 + vh.z);
-  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * sinPhi;
-  const glm::dvec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
+  const glm::dvec3 nh = glm::dvec3(sinT * cosPhi, sinT * sinPhi, z) + vh;  // nh.z >= 0
   const glm::dvec3 ne(alpha * nh.x, alpha * nh.y, std::max(0.0, nh.z));
   const double len2 = glm::dot(ne, ne);
   return len2 > 0 ? ne * (1 / std::sqrt(len2)) : glm::dvec3(0, 0, 1);
