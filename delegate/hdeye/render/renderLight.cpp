@@ -287,6 +287,8 @@ glm::dvec3 EmittedRadiance(const RenderLight& l, const glm::dvec3& y, const glm:
 }
 
 LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {
+  // Every exit returns `s` itself (cleared where nothing is sampled), so it is built in the caller's slot: a
+  // `return LightSample{}` among them made it a stack copy, read back with loads straddling its stores.
   LightSample s;
   switch (l.type) {
     case LightType::Sphere: {
@@ -298,7 +300,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         s.dir = toC / d;
         s.distance = d;
         s.radiance = l.radiance * EmissionShaping(l, -s.dir) / (d * d);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // too near
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // too near
+          s = LightSample{};
+          return s;
+        }
         s.pdf = 1;
         s.delta = true;
         return s;
@@ -344,7 +349,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
         const glm::dvec3 local = LatLongToDirection(uv);
         s.pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
-        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return LightSample{};
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) {
+          s = LightSample{};
+          return s;
+        }
         s.dir = glm::normalize(l.domeToWorld * local);
         s.distance = kInf;
         s.radiance = DomeRadiance(l, uv);
@@ -379,17 +387,26 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
-      if (!(s.distance > 0) || !std::isfinite(s.distance)) return LightSample{};
+      if (!(s.distance > 0) || !std::isfinite(s.distance)) {
+        s = LightSample{};
+        return s;
+      }
       s.dir = toQ / s.distance;
       if (l.delta) {  // a line: one point of it stands for its whole length (EmittedRadiance)
         s.radiance = EmittedRadiance(l, q, -s.dir) / (s.distance * s.distance);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // on the line
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // on the line
+          s = LightSample{};
+          return s;
+        }
         s.pdf = 1;
         s.delta = true;
         return s;
       }
       s.pdf = AreaToSolidAngle(pdfArea, s.distance, glm::dot(-s.dir, normal));
-      if (!std::isfinite(s.pdf)) return LightSample{};
+      if (!std::isfinite(s.pdf)) {
+        s = LightSample{};
+        return s;
+      }
       if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
       return s;
     }
@@ -412,7 +429,10 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       if (!(s.distance > 0) || !std::isfinite(s.distance)) return s;
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
-      if (!std::isfinite(s.pdf)) return LightSample{};  // too small to sample from here: it overflows
+      if (!std::isfinite(s.pdf)) {  // too small to sample from here: it overflows
+        s = LightSample{};
+        return s;
+      }
       if (s.pdf > 0) s.radiance = radiance * EmissionShaping(l, -s.dir);
       return s;
     }
