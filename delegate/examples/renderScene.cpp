@@ -4,7 +4,7 @@
 // light, framed on the iris; --ball renders a subdivided ball on a floor instead.
 //
 //   hdeye_render_scene OUTPUT_PREFIX [--ball] [--light-angle DEG] [--exposure STOPS] [--spp N] [--size WxH]
-//                      [--threads N]
+//                      [--threads N] [--seed N]
 //
 // Writes OUTPUT_PREFIX.exr and OUTPUT_PREFIX.png atomically; exits 1 with a one-line message on error.
 #include "hdeye/hd/renderIndex.h"
@@ -31,6 +31,7 @@ struct Options {
   double lightAngle = 60;  ///< degrees off the eye's gaze
   float exposure = 0;      ///< stops, for the PNG preview only
   int spp = 64, width = 320, height = 240, threads = 0;
+  unsigned seed = 0;  ///< the sampler's (two seeds give two independent images, for noise estimates)
 };
 
 Options Parse(int argc, char** argv) {
@@ -51,6 +52,8 @@ Options Parse(int argc, char** argv) {
       o.exposure = std::stof(next());
     else if (a == "--threads")
       o.threads = std::stoi(next());
+    else if (a == "--seed")
+      o.seed = unsigned(std::stoul(next()));
     else if (a == "--size") {
       const std::string s = next();
       const auto x = s.find('x');
@@ -64,7 +67,7 @@ Options Parse(int argc, char** argv) {
   if (o.prefix.empty())
     throw std::runtime_error(
         "usage: hdeye_render_scene OUTPUT_PREFIX [--ball] [--light-angle DEG] [--exposure STOPS] [--spp N] [--size "
-        "WxH] [--threads N]");
+        "WxH] [--threads N] [--seed N]");
   if (o.spp < 1 || o.width < 1 || o.height < 1) throw std::runtime_error("--spp and --size must be positive");
   return o;
 }
@@ -120,6 +123,7 @@ int main(int argc, char** argv) {
     AddBuffers(scene, o);
     delegate.Settings().samplesPerPixel = o.spp;
     delegate.Settings().threads = o.threads;
+    delegate.Settings().seed = o.seed;
     RenderPass pass(&index);
     const RenderStats stats = pass.Execute(sampleScenes::kCamera, {{"color", "/Render/color"},
                                                                    {"albedo", "/Render/albedo"},

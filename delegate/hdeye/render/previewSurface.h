@@ -110,11 +110,18 @@ class PreviewSurfaceAt {
   double diffuseO_ = 0;            ///< what the specular lobe takes from the diffuse at cos_o
   double coatO_ = 0, underO_ = 1;  ///< the clearcoat's reflectance at cos_o, and 1 minus it
   glm::dvec3 diffuseBase_{0};      ///< the diffuse lobe's f before its cos_i Fresnel factor
-  /// The rough specular and clearcoat lobes' terms of wo alone (GGX Lambda, G1, 4 cos_o).
-  struct GgxFromWo {
-    double lambda = 0, g1 = 1, fourCos = 0;
-  } ggxO_, coatGgxO_;
+  double invIor2_ = 1;             ///< 1 / ior^2, for the Fresnel terms
   Lobes lobes_;
+
+ public:
+  /// A rough lobe's terms of wo alone: alpha^2, GGX Lambda(wo), G1(wo) and alpha^2 / (4 pi cos_o) (D's constant
+  /// over the reflection's 4 cos_o).
+  struct GgxFromWo {
+    double a2 = 0, lambda = 0, g1 = 1, dOverFourCos = 0;
+  };
+
+ private:
+  GgxFromWo ggxO_, coatGgxO_;  ///< the rough specular and clearcoat lobes'
 };
 
 /// The non-delta part of f(wo, wi) (1/sr): diffuse plus rough specular, times opacity. Zero for wi

@@ -1,6 +1,7 @@
 #include "hdeye/render/renderLight.h"
 
 #include "hdeye/render/blackbody.h"
+#include "hdeye/render/sampleDirections.h"
 
 #include <eyelib/sampling.h>
 
@@ -15,8 +16,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-using eyelib::OneMinusCosFromSin2;
-using eyelib::SampleUniformCone;
 using eyelib::UniformConePdf;
 
 // sin^2 of a sphere's angular radius below which it is sampled as its centre (1e-5 rad: the point limit's
@@ -288,6 +287,8 @@ glm::dvec3 EmittedRadiance(const RenderLight& l, const glm::dvec3& y, const glm:
 }
 
 LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {
+  // Every exit returns `s` itself (cleared where nothing is sampled), so it is built in the caller's slot: a
+  // `return LightSample{}` among them made it a stack copy, read back with loads straddling its stores.
   LightSample s;
   switch (l.type) {
     case LightType::Sphere: {
@@ -299,24 +300,32 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         s.dir = toC / d;
         s.distance = d;
         s.radiance = l.radiance * EmissionShaping(l, -s.dir) / (d * d);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // too near
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // too near
+          s = LightSample{};
+          return s;
+        }
         s.pdf = 1;
         s.delta = true;
         return s;
       }
       if (!(d > l.radius)) return s;  // inside the light: not sampled
-      const double sin2 = (l.radius / d) * (l.radius / d), cone = OneMinusCosFromSin2(sin2);
+      // The cone's 1 - cos = sin^2 / (1 + cos) (OneMinusCosFromSin2) and its pdf 1 / (2 pi (1 - cos)) as two
+      // divisions side by side, after the one reciprocal of d that also makes the unit direction.
+      const double invD = 1 / d, sinT = l.radius * invD, sin2 = sinT * sinT;
+      const double onePlusCos = 1 + std::sqrt(std::max(0.0, 1 - sin2));
+      const double cone = sin2 / onePlusCos, pdf = onePlusCos / (2 * kPi * sin2);
       // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
-      if (!(cone > 0) || !std::isfinite(1 / cone)) return s;
-      s.pdf = 1 / (2 * kPi * cone);
+      if (!(cone > 0) || !std::isfinite(pdf)) return s;
+      s.pdf = pdf;
+      const glm::dvec3 w = toC * invD;
       if (sin2 < kPointLimitSin2) {
-        s.dir = toC / d;
+        s.dir = w;
         s.distance = d;
         s.radiance = l.radiance * EmissionShaping(l, -s.dir);
         s.pointLimit = true;
         return s;
       }
-      s.dir = SampleUniformCone(toC / d, 1 - cone, u1, u2);
+      s.dir = SampleConeAbout(w, cone, u1, u2);
       // Distance to the sphere along dir (the near root).
       const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
       s.distance = b - std::sqrt(std::max(0.0, b * b - c));
@@ -328,7 +337,7 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         s.dir = l.direction, s.distance = kInf, s.radiance = l.radiance, s.pdf = 1, s.delta = true;
         return s;
       }
-      s.dir = SampleUniformCone(l.direction, l.cosHalfAngle, u1, u2);
+      s.dir = SampleConeAbout(l.direction, 1 - l.cosHalfAngle, u1, u2);
       s.distance = kInf;
       s.radiance = l.radiance;
       s.pdf = UniformConePdf(l.cosHalfAngle);
@@ -340,15 +349,20 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
         const glm::dvec3 local = LatLongToDirection(uv);
         s.pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
-        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) return LightSample{};
+        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) {
+          s = LightSample{};
+          return s;
+        }
         s.dir = glm::normalize(l.domeToWorld * local);
         s.distance = kInf;
         s.radiance = DomeRadiance(l, uv);
         return s;
       }
       // Uniform sphere (a constant dome gains nothing from importance sampling).
-      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
-      s.dir = {r * std::cos(phi), r * std::sin(phi), z};
+      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z));
+      double sinPhi, cosPhi;
+      SinCos2Pi(u2, &sinPhi, &cosPhi);
+      s.dir = {r * cosPhi, r * sinPhi, z};
       s.distance = kInf;
       s.radiance = l.radiance;
       s.pdf = 1 / (4 * kPi);
@@ -373,17 +387,26 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
-      if (!(s.distance > 0) || !std::isfinite(s.distance)) return LightSample{};
+      if (!(s.distance > 0) || !std::isfinite(s.distance)) {
+        s = LightSample{};
+        return s;
+      }
       s.dir = toQ / s.distance;
       if (l.delta) {  // a line: one point of it stands for its whole length (EmittedRadiance)
         s.radiance = EmittedRadiance(l, q, -s.dir) / (s.distance * s.distance);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) return LightSample{};  // on the line
+        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // on the line
+          s = LightSample{};
+          return s;
+        }
         s.pdf = 1;
         s.delta = true;
         return s;
       }
       s.pdf = AreaToSolidAngle(pdfArea, s.distance, glm::dot(-s.dir, normal));
-      if (!std::isfinite(s.pdf)) return LightSample{};
+      if (!std::isfinite(s.pdf)) {
+        s = LightSample{};
+        return s;
+      }
       if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
       return s;
     }
@@ -396,15 +419,20 @@ LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, do
         q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
         radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
       } else {
-        const double r = l.radius * std::sqrt(u1), phi = 2 * kPi * u2;
-        q = l.position + r * (std::cos(phi) * l.axisU + std::sin(phi) * l.axisV);
+        const double r = l.radius * std::sqrt(u1);
+        double sinPhi, cosPhi;
+        SinCos2Pi(u2, &sinPhi, &cosPhi);
+        q = l.position + r * (cosPhi * l.axisU + sinPhi * l.axisV);
       }
       const glm::dvec3 toQ = q - p;
       s.distance = glm::length(toQ);
       if (!(s.distance > 0) || !std::isfinite(s.distance)) return s;
       s.dir = toQ / s.distance;
       s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
-      if (!std::isfinite(s.pdf)) return LightSample{};  // too small to sample from here: it overflows
+      if (!std::isfinite(s.pdf)) {  // too small to sample from here: it overflows
+        s = LightSample{};
+        return s;
+      }
       if (s.pdf > 0) s.radiance = radiance * EmissionShaping(l, -s.dir);
       return s;
     }
@@ -425,7 +453,9 @@ bool IntersectLight(const RenderLight& l, const glm::dvec3& p, const glm::dvec3&
       const double t = b - std::sqrt(disc);
       if (!(t > 0) || t >= maxDistance) return false;
       *radiance = l.radiance * EmissionShaping(l, -dir);
-      *pdf = 1 / (2 * kPi * OneMinusCosFromSin2(l.radius * l.radius / d2));
+      // 1 / (2 pi (1 - cos)) = (1 + cos) / (2 pi sin^2) = (d2 + d sqrt(d2 - r^2)) / (2 pi r^2): one division.
+      const double r2 = l.radius * l.radius;
+      *pdf = (d2 + std::sqrt(d2) * std::sqrt(d2 - r2)) / (2 * kPi * r2);
       *distance = t;
       return true;
     }

@@ -317,8 +317,10 @@ class Tracer {
     hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
-    glm::dvec3 n = glm::normalize(hit->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-    if (glm::dot(n, d) > 0) n = -n;
+    const glm::dvec3 ng = hit->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    // Normalised by one reciprocal square root, its sign (towards the ray's origin) folded into the same factor.
+    const double scale = 1 / std::sqrt(glm::dot(ng, ng));
+    const glm::dvec3 n = ng * (glm::dot(ng, d) > 0 ? -scale : scale);
     hit->ng = n;
     hit->u = rh.hit.u, hit->v = rh.hit.v;
     hit->part = rh.hit.primID;
@@ -349,9 +351,7 @@ class Tracer {
       local = VertexNormalAt(ctx, &(*ctx.triangleVertices)[firstCorner], bu, bv, hit->rayTime);
     }
     const WorldNormal shading(hit->normalToWorld, local);
-    hit->n = !shading.Valid()                   ? hit->ng
-             : glm::dot(shading.v, hit->ng) < 0 ? -shading.v / shading.length
-                                                : shading.v / shading.length;
+    hit->n = !shading.Valid() ? hit->ng : shading.v * ((glm::dot(shading.v, hit->ng) < 0 ? -1 : 1) / shading.length);
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
     hit->material = &MaterialAt(ctx, hit->part);
@@ -866,7 +866,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
                  ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
-  const double aspect = double(width) / height;
+  const double aspect = double(width) / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
   const Shutter shutter = camera.GetShutter();
   Tracer tracer(scene, lights, settings, cutouts, shutter, chamberCaches);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
@@ -881,7 +881,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
           const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
           const CameraView& view = moved ? *moved : camera;
           const bool lens = view.HasLens();
-          const WorldRay ray = view.GenerateRay((x + jx) / width, (y + jy) / height, aspect,
+          const WorldRay ray = view.GenerateRay((x + jx) * invWidth, (y + jy) * invHeight, aspect,
                                                 lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
           // Only texture lookups read the cone (and only when filtering): without them it is never computed.
           const RayCone cone = textured && settings.textureFiltering

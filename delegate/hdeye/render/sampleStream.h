@@ -90,22 +90,34 @@ class SampleStream {
 
   /// ZSobol dimension d. A pair's shared part (its permuted index) and first coordinate are kept from its first
   /// draw; the second coordinate is computed only if drawn (a lone Next() uses half a pair).
+  /// The rare cases (past the low-discrepancy budget, or a pair the key table lacks) are out of line, so the common
+  /// one keeps a small stack frame and the table's keys are read in place rather than copied.
   double Dimension(std::uint64_t d) {
-    if (d >= kFirstPathDimension + kLowDiscrepancyDimensions)
-      return eyelib::UniformAt(seed_ ^ kHashSalt, pixel_, sample_ * kDimsPerSample + d % kDimsPerSample);
+    if (d >= kFirstPathDimension + kLowDiscrepancyDimensions) return HashedDimension(d);
     const std::uint64_t pair = d >> 1;
     if (pair != cachedPair_) {
       const eyelib::ZSobolPairKeys* found = keys_ ? keys_->Find(pair, beyond_) : nullptr;
-      const eyelib::ZSobolPairKeys keys = found ? *found : eyelib::ZSobolKeysOf(seed_, pair, beyond_);
-      permuted_ = eyelib::ZSobolPermuted(reversedIndex_, keys);
-      u_ = eyelib::ZSobolU(permuted_, keys.u);
-      vKey_ = keys.v;
-      vReady_ = false;
-      cachedPair_ = pair;
+      if (found)
+        StartPair(pair, *found);
+      else
+        StartPairComputingKeys(pair);
     }
     if (!(d & 1)) return u_;
     if (!vReady_) v_ = eyelib::ZSobolV(permuted_, vKey_), vReady_ = true;
     return v_;
+  }
+  void StartPair(std::uint64_t pair, const eyelib::ZSobolPairKeys& keys) {
+    permuted_ = eyelib::ZSobolPermuted(reversedIndex_, keys);
+    u_ = eyelib::ZSobolU(permuted_, keys.u);
+    vKey_ = keys.v;
+    vReady_ = false;
+    cachedPair_ = pair;
+  }
+  [[gnu::noinline]] void StartPairComputingKeys(std::uint64_t pair) {
+    StartPair(pair, eyelib::ZSobolKeysOf(seed_, pair, beyond_));
+  }
+  [[gnu::noinline]] double HashedDimension(std::uint64_t d) const {
+    return eyelib::UniformAt(seed_ ^ kHashSalt, pixel_, sample_ * kDimsPerSample + d % kDimsPerSample);
   }
 
   SamplerKind kind_;
