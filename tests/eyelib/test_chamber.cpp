@@ -82,6 +82,21 @@ ChamberSurfaceHit<double> NextSurfaceByFullSearch(const AnteriorChamber<double>&
   return hit;
 }
 
+/// A direction uniform on the sphere, from UniformAt(seed, i, 3) and (seed, i, 4).
+V UniformDirection(std::uint64_t seed, int i) {
+  const double z = 2 * UniformAt(seed, i, 3) - 1, a = 2 * paper::kPi * UniformAt(seed, i, 4),
+               s = std::sqrt(std::max(0.0, 1 - z * z));
+  return {s * std::cos(a), s * std::sin(a), z};
+}
+
+AnteriorChamber<double> ChamberOf(CorneaModel model) {
+  ChamberParams params;
+  params.model = model;
+  return AnteriorChamber<double>(params);
+}
+
+const char* NameOf(CorneaModel model) { return model == CorneaModel::EllipsoidCone ? "ellipsoid-cone" : "paraboloid"; }
+
 }  // namespace
 
 TEST_CASE("the next surface from inside the chamber is the full two-piece search's, without its extra intersections") {
@@ -89,9 +104,7 @@ TEST_CASE("the next surface from inside the chamber is the full two-piece search
   // gives the exit (the chamber is convex). Rays from points inside, from the iris plane up and from cap points
   // (reflections, heading in), in every direction, for both cornea models.
   for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
-    ChamberParams params;
-    params.model = model;
-    const AnteriorChamber<double> chamber(params);
+    const AnteriorChamber<double> chamber = ChamberOf(model);
     const auto& surface = chamber.Surface();
     int counts[4] = {}, mismatches = 0;
     double worst = 0;
@@ -104,9 +117,7 @@ TEST_CASE("the next surface from inside the chamber is the full two-piece search
         case 1: p = {x, y, chamber.IrisZ()}; break;                                                 // on the iris
         default: p = {x, y, top}; break;                                                            // on the cap
       }
-      const double z = 2 * UniformAt(3, i, 3) - 1, a = 2 * paper::kPi * UniformAt(3, i, 4),
-                   s = std::sqrt(std::max(0.0, 1 - z * z));
-      V d(s * std::cos(a), s * std::sin(a), z);
+      V d = UniformDirection(3, i);
       if (i % 3 == 1 && d.z < 0) d.z = -d.z;                                // off the iris plane, up
       if (i % 3 == 2 && glm::dot(d, surface.Normal(p.x, p.y)) > 0) d = -d;  // off the cap, in
       const ChamberSurfaceHit<double> fast = chamber.NextSurfaceFromInside(p, d),
@@ -117,8 +128,7 @@ TEST_CASE("the next surface from inside the chamber is the full two-piece search
       if (fast.kind == full.kind) worst = std::max(worst, gap);
     }
     std::printf("%s: iris %d, pupil %d, cornea %d, lost %d of 200000 rays; %d differ, worst point gap %.1e mm\n",
-                model == CorneaModel::EllipsoidCone ? "ellipsoid-cone" : "paraboloid", counts[0], counts[1], counts[2],
-                counts[3], mismatches, worst);
+                NameOf(model), counts[0], counts[1], counts[2], counts[3], mismatches, worst);
     CHECK(mismatches == 0);
     CHECK(counts[0] > 10000);
     CHECK(counts[2] > 10000);
@@ -129,25 +139,21 @@ TEST_CASE("a ray that heads away from the cap's tangent plane above it meets nei
   // AnteriorSurface::HeadsAway: exact for a convex region; checked against the intersections themselves for rays
   // from points above the cap (on it, as offset shadow rays start, and up to 2 mm above) in every direction.
   for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
-    ChamberParams params;
-    params.model = model;
-    const AnteriorChamber<double> chamber(params);
+    const AnteriorChamber<double> chamber = ChamberOf(model);
     const auto& surface = chamber.Surface();
     int away = 0, wrong = 0;
     for (int i = 0; i < 200000; ++i) {
       const double r = surface.RimRadius() * std::sqrt(UniformAt(9, i, 0)), phi = 2 * paper::kPi * UniformAt(9, i, 1);
       const double lift = i % 2 ? 1e-9 : 2 * UniformAt(9, i, 2);
       const V o(r * std::cos(phi), r * std::sin(phi), surface.Sag(r) + lift);
-      const double z = 2 * UniformAt(9, i, 3) - 1, a = 2 * paper::kPi * UniformAt(9, i, 4),
-                   s = std::sqrt(std::max(0.0, 1 - z * z));
-      const V d(s * std::cos(a), s * std::sin(a), z);
+      const V d = UniformDirection(9, i);
       if (!surface.HeadsAway(o, d)) continue;
       ++away;
       const auto cap = surface.Intersect({o, d});
       if ((cap && cap->fromOutside) || chamber.IntersectIris({o, d})) ++wrong;
     }
     std::printf("%s: %d of 200000 rays head away; %d of them meet the cap from outside or the iris disk\n",
-                model == CorneaModel::EllipsoidCone ? "ellipsoid-cone" : "paraboloid", away, wrong);
+                NameOf(model), away, wrong);
     CHECK(away > 50000);
     CHECK(wrong == 0);
   }
