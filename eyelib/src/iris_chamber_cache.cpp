@@ -105,7 +105,8 @@ double IrisChamberTransport::MeanReturn() const {
 }
 
 IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const std::vector<Vec3d>& direct,
-                                   const std::vector<Vec3d>& albedo, int maxBounces, double tolerance)
+                                   const std::vector<Vec3d>& albedo, ParallelFor parallelFor, int maxBounces,
+                                   double tolerance)
     : grid_(transport.Grid()), rMin_(transport.InnerRadius()), rMax_(transport.OuterRadius()) {
   const int nodes = transport.Nodes();
   const auto valid = [](const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
@@ -136,28 +137,43 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
   // Jacobi iteration of E_chamber = T[albedo (E_direct + E_chamber)]: the cosine-weighted quadrature already
   // carries the 1 / pi of the Lambertian lobe (E = pi x the mean radiance over cosine-distributed directions).
   // Each bounce scales by at most albedo x MeanReturn (about 0.1): it converges in a few bounces.
-  std::vector<Vec3d> next(nodes), leaving(nodes);
-  const auto leave = [&] {
-    for (int i = 0; i < nodes; ++i) leaving[i] = nodeAlbedo[i] * (direct_[i] + chamber_[i]);
-  };
+  // The light leaving each node and the next estimate, one array per channel: the turned kernel's sum over sectors
+  // then runs over contiguous sectors, which the compiler vectorises.
+  std::vector<double> leaving(3 * std::size_t(nodes)), next(3 * std::size_t(nodes));
   for (bounces_ = 0; bounces_ < std::max(1, maxBounces);) {
-    leave();
+    for (int i = 0; i < nodes; ++i) {
+      const Vec3d l = nodeAlbedo[i] * (direct_[i] + chamber_[i]);
+      for (int c = 0; c < 3; ++c) leaving[c * std::size_t(nodes) + i] = l[c];
+    }
+    std::fill(next.begin(), next.end(), 0.0);
+    // Node (i, s) gets sum over rings j and turns d of kernel[i][j][d] x leaving(j, d + s mod sectors).
+    const auto gather = [&](int i) {
+      for (int j = 0; j < rings; ++j) {
+        const double* kj = &kernel[std::size_t(i) * nodes + std::size_t(j) * sectors];
+        for (int d = 0; d < sectors; ++d) {
+          const double w = kj[d];
+          if (w == 0) continue;  // most turns carry nothing between two rings
+          for (int c = 0; c < 3; ++c) {
+            double* out = &next[c * std::size_t(nodes) + std::size_t(i) * sectors];
+            const double* from = &leaving[c * std::size_t(nodes) + std::size_t(j) * sectors];
+            for (int q = 0; q < sectors - d; ++q) out[q] += w * from[q + d];  // turned, without a modulo
+            for (int q = sectors - d; q < sectors; ++q) out[q] += w * from[q + d - sectors];
+          }
+        }
+      }
+    };
+    if (parallelFor) {
+      parallelFor(rings, gather);
+    } else {
+      for (int i = 0; i < rings; ++i) gather(i);
+    }
     double added = 0, total = 0;
     for (int i = 0; i < nodes; ++i) {
-      const int ring = i / sectors, sector = i % sectors;
-      const double* k = &kernel[std::size_t(ring) * nodes];
-      Vec3d e(0);
-      for (int j = 0; j < rings; ++j) {
-        const double* kj = k + j * sectors;
-        const Vec3d* from = &leaving[std::size_t(j) * sectors];
-        for (int d = 0; d < sectors - sector; ++d) e += kj[d] * from[d + sector];  // turned, without a modulo
-        for (int d = sectors - sector; d < sectors; ++d) e += kj[d] * from[d + sector - sectors];
-      }
-      next[i] = e;
+      const Vec3d e(next[i], next[std::size_t(nodes) + i], next[2 * std::size_t(nodes) + i]);
       added += glm::length(e - chamber_[i]);
       total += glm::length(e + direct_[i]);
+      chamber_[i] = e;
     }
-    chamber_.swap(next);
     ++bounces_;
     if (!(added > tolerance * total)) break;
   }

@@ -133,7 +133,7 @@ TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), a
   CHECK_THROWS_AS(s.Plan(64, flag), std::invalid_argument);
 }
 
-TEST_CASE("the chamber cache's grid grows with the eye on screen: 12 rings small, the default 32 from 80 px",
+TEST_CASE("the chamber cache's grid grows with the eye on screen: 12 rings small, the default 48 from 120 px",
           "[plan]") {
   Scene s(40);
   s.SphereLight("/key", 2, 60);
@@ -143,14 +143,14 @@ TEST_CASE("the chamber cache's grid grows with the eye on screen: 12 rings small
     INFO(width << " px wide image: " << e.resolvedPixels << " px eye, " << e.why.at("chamberCacheRings"));
     CHECK(e.chamberCacheRings % 4 == 0);
     CHECK(e.chamberCacheRings >= 12);
-    CHECK(e.chamberCacheRings <= 32);
+    CHECK(e.chamberCacheRings <= 48);
     CHECK(e.chamberCacheRings >= previous);
     CHECK(e.RenderOptions({"/key"}).chamberCacheRings == e.chamberCacheRings);
     if (e.resolvedPixels < 30) CHECK(e.chamberCacheRings == 12);
-    if (e.resolvedPixels >= 80) CHECK(e.chamberCacheRings == 32);
+    if (e.resolvedPixels >= 120) CHECK(e.chamberCacheRings == 48);
     previous = e.chamberCacheRings;
   }
-  CHECK(previous == 32);
+  CHECK(previous == 48);
 }
 
 TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size measured, and one path below", "[plan]") {

@@ -314,8 +314,9 @@ Decision<int> DecideChamberEvents(const PlanRules& rules, const PlanOverrides& o
                                    "(sweep chamber: 2 events lose 1.55% side-lit, 2.3% front-lit; 8 lose 0.02-0.03%)"};
 }
 
-/// The chamber-light cache's rings by the eye's size on screen: its build (MNEE at 3 rings^2 nodes, 0.28 s for the
-/// 32-ring grid on one thread) is paid per eye and frame, which a crowd of small eyes must not pay at full resolution.
+/// The chamber-light cache's rings by the eye's size on screen: its build (MNEE at 3 rings^2 nodes and a fixed point
+/// of rings^4 terms, 0.2-0.3 s for the 48-ring grid on two threads) is paid per eye and frame, which a crowd of small
+/// eyes must not pay at full resolution.
 Decision<int> DecideChamberCacheRings(const EyePlan& e, const PlanRules& rules) {
   const int wanted = int(std::ceil(std::max(0.0, e.resolvedPixels) / rules.chamberCachePixelsPerRing / 4)) * 4;
   const int rings = std::clamp(wanted, rules.chamberCacheMinRings, rules.chamberCacheMaxRings);
@@ -324,7 +325,7 @@ Decision<int> DecideChamberCacheRings(const EyePlan& e, const PlanRules& rules) 
                      " px iris circle, " + std::to_string(rules.chamberCacheMinRings) + " to " +
                      std::to_string(rules.chamberCacheMaxRings) +
                      " (sweep chamber-cache: worst bias at a sharp shadow edge 7 % of the chamber light at 12 rings, "
-                     "2.6 % at 24, 1.2-1.8 % at 32)"};
+                     "2.5 % at 24, about 1 % at 32 and 48; scene B's floor 0.19 % at 32, 0.12 % at 48)"};
 }
 
 /// The sclera: a random walk on eye meshes large enough on screen (sweep sclera); analytic eyes have no volume.

@@ -57,10 +57,10 @@ struct PlanRules {
   /// The chamber-light cache's grid (EyeRenderOptions::chamberCacheRings): a ring per chamberCachePixelsPerRing
   /// pixels of the iris circle's resolved diameter (2.5: about a ring per pixel of the iris annulus on screen),
   /// rounded up to a multiple of 4, between chamberCacheMinRings and chamberCacheMaxRings (the default grid, from
-  /// 80 px). A build costs MNEE at 3 rings^2 nodes (sweep chamber-cache).
+  /// 120 px). A build costs MNEE at 3 rings^2 nodes (sweep chamber-cache).
   double chamberCachePixelsPerRing = 2.5;
   int chamberCacheMinRings = 12;
-  int chamberCacheMaxRings = 32;
+  int chamberCacheMaxRings = 48;
   /// Pixels: eye meshes whose iris circle is at least this wide walk their sclera (random-walk SSS); smaller
   /// ones get a Lambertian sclera (sweep sclera).
   double sssMinPixels = 2.5;

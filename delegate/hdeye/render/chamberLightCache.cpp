@@ -76,7 +76,10 @@ eyelib::IrisChamberCache BuildChamberLightCache(const EyeGeometry& eye, const ey
       }
     albedo[i] /= double(kAlbedoSide * kAlbedoSide);
   }
-  return eyelib::IrisChamberCache(transport, direct, albedo);
+  const auto onThreads = [](int count, eyelib::FunctionRef<void(int)> body) {
+    tbb::parallel_for(0, count, [&](int i) { body(i); });
+  };
+  return eyelib::IrisChamberCache(transport, direct, albedo, onThreads);
 }
 
 void ChamberLightCaches::BeginRender(const std::vector<RenderLight>& lights, std::uint64_t sceneVersion) {

@@ -24,7 +24,7 @@ struct EyeRenderOptions {
   /// EyeEvent::walkCapReached). 64: the full walk (sweep chamber, docs/render_plan.md).
   int maxChamberEvents = 64;
   /// Rings of the eye's chamber-light cache grid (ChamberCacheGrid; three sectors per ring), when the render uses
-  /// the cache (RenderSettings::chamberEstimator). 0: the renderer's default grid (32 rings).
+  /// the cache (RenderSettings::chamberEstimator). 0: the renderer's default grid (48 rings).
   int chamberCacheRings = 0;
   bool scleraScattering = true;  ///< eye meshes: the sclera random walk (off: a Lambertian sclera)
   bool limbalArc = true;         ///< eye meshes: the walk's teleportation cylinder

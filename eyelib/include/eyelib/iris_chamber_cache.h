@@ -7,6 +7,7 @@
 // (IrisChamberCache). Units: mm, canonical eye frame; irradiance in whatever unit the caller's first-order
 // irradiance has (the cache is linear in it).
 #include "eyelib/anterior_chamber.h"
+#include "eyelib/function_ref.h"
 
 #include <cstdint>
 #include <vector>
@@ -18,9 +19,9 @@ using Vec3d = Vec3<double>;
 /// Nodes at the centres of a polar lattice over the iris annulus (pupil radius to iris radius), and the
 /// directions integrated per node.
 struct IrisPolarGrid {
-  int rings = 32;              ///< radial nodes, >= 1
-  int sectors = 96;            ///< azimuthal nodes, >= 1
-  int directionsPerSide = 48;  ///< the hemisphere per node: directionsPerSide^2 cosine-weighted strata, >= 1
+  int rings = 48;              ///< radial nodes, >= 1
+  int sectors = 144;           ///< azimuthal nodes, >= 1
+  int directionsPerSide = 96;  ///< the hemisphere per node: directionsPerSide^2 cosine-weighted strata, >= 1
 };
 
 /// A chamber path that left the iris and came back onto it after reflecting off the cornea's inside.
@@ -90,6 +91,10 @@ class IrisChamberTransport {
   std::vector<std::size_t> offsets_;  ///< rings + 1
 };
 
+/// Runs body(i) for every i in [0, count), in any order and possibly on several threads at once: the caller's thread
+/// pool (eyelib has none). Empty: one after another on this thread.
+using ParallelFor = FunctionRef<void(int count, FunctionRef<void(int)> body)>;
+
 /// RGB chamber irradiance on an IrisChamberTransport's grid, with the first-order irradiance it came from.
 class IrisChamberCache {
  public:
@@ -97,9 +102,12 @@ class IrisChamberCache {
   /// direct: first-order irradiance at each node (Nodes() values, >= 0, finite; others count as 0);
   /// albedo: the iris albedo of each node's cell, its mean over the cell (Nodes() values, in [0, 1]): a chamber path
   /// landing between nodes sees the albedo and irradiance interpolated together. The fixed point is iterated at most
-  /// maxBounces times (>= 1), stopping once a bounce adds less than `tolerance` of the total.
+  /// maxBounces times (>= 1), stopping once a bounce adds less than `tolerance` of the total (each bounce scales by
+  /// albedo x MeanReturn, about 0.1-0.3, so what is left is a fraction of that). Its rings are computed through
+  /// `parallelFor`, each ring's sum in a fixed order: the result does not depend on the threads.
   IrisChamberCache(const IrisChamberTransport& transport, const std::vector<Vec3d>& direct,
-                   const std::vector<Vec3d>& albedo, int maxBounces = 16, double tolerance = 1e-6);
+                   const std::vector<Vec3d>& albedo, ParallelFor parallelFor = {}, int maxBounces = 16,
+                   double tolerance = 1e-5);
 
   /// What the cache predicts a Lambertian iris point at x sends into the chamber, over albedo / pi: the first-order
   /// plus the chamber irradiance there.
