@@ -16,7 +16,7 @@ enum class ChamberEstimator {
   /// The chamber walk alone: MNEE at every iris vertex the walk reaches (it finds the lit iris by chance).
   Path,
   /// The eye's chamber-light cache (chamberLightCache.h) at the walk's first iris vertex; MNEE only there.
-  /// Biased by the cache's resolution (on scene B a floor of 0.17 % of the pixel).
+  /// Biased by the cache's resolution (on scene B a two-seed floor of 0.10-0.12 % of the pixel at the default grid).
   Cache,
   /// The cache as a control variate: its value at the first iris vertex, plus, at the second, the path's MNEE
   /// minus the cache's prediction of everything from there on. Unbiased up to the cache's interpolation of its
@@ -48,7 +48,7 @@ struct RenderSettings {
   /// happen to hit a light: plain path tracing, for A/B comparisons).
   bool mnee = true;
   bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
-  /// Eyes with MNEE: how the iris gathers chamber light. The cache by default: on scene B its bias floor is 0.17 %
+  /// Eyes with MNEE: how the iris gathers chamber light. The cache by default: on scene B its bias floor is 0.12 %
   /// and its noise at equal samples a sixth of the control variate's (docs/iris_benchmark.md).
   ChamberEstimator chamberEstimator = ChamberEstimator::Cache;
   /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
