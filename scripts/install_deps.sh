@@ -6,7 +6,7 @@ set -euo pipefail
 
 apt_packages=(cmake ninja-build g++ ccache pkg-config clang-format
               libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev catch2 libjpeg62-turbo-dev
-              libopenimageio-dev openimageio-tools)
+              libopenimageio-dev openimageio-tools libkissfft-dev)
 
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -3,8 +3,11 @@
 #include "eyelib/optics.h"
 #include "eyelib/sampling.h"
 
+#include <kissfft/kissfft.hh>
+
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 
 namespace eyelib {
@@ -19,6 +22,31 @@ double Azimuth(double x, double y) {
   const double phi = std::atan2(y, x);
   return phi < 0 ? phi + 2 * paper::kPi : phi;
 }
+
+using Complex = std::complex<double>;
+
+/// The discrete Fourier transform over a ring's sectors (KissFFT, any sector count). One per thread: KissFFT keeps
+/// scratch space for radices above 5.
+class SectorTransform {
+ public:
+  explicit SectorTransform(int sectors)
+      : forward_(std::size_t(sectors), false), inverse_(std::size_t(sectors), true), buffer_(std::size_t(sectors)) {}
+  /// The spectrum of `sectors` real values.
+  void Forward(const double* values, Complex* spectrum) {
+    for (std::size_t q = 0; q < buffer_.size(); ++q) buffer_[q] = values[q];
+    forward_.transform(buffer_.data(), spectrum);
+  }
+  /// The real part of the unnormalised inverse transform of a spectrum, clamped at 0: light is never negative, and
+  /// the transforms' rounding (about 1e-16 of the largest value) can make a dark node's so.
+  void InverseReal(const Complex* spectrum, double* values) {
+    inverse_.transform(spectrum, buffer_.data());
+    for (std::size_t q = 0; q < buffer_.size(); ++q) values[q] = std::max(0.0, buffer_[q].real());
+  }
+
+ private:
+  kissfft<double> forward_, inverse_;
+  std::vector<Complex> buffer_;
+};
 
 }  // namespace
 
@@ -117,12 +145,19 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
     if (i < int(albedo.size()) && valid(albedo[i])) nodeAlbedo[i] = glm::clamp(albedo[i], Vec3d(0), Vec3d(1));
   }
   chamber_.assign(nodes, Vec3d(0));
+  const int rings = grid_.rings, sectors = grid_.sectors;
+  const auto forEachRing = [&](FunctionRef<void(int)> body) {
+    if (parallelFor) {
+      parallelFor(rings, body);
+    } else {
+      for (int i = 0; i < rings; ++i) body(i);
+    }
+  };
   // Node (ring, s) reads its ring's landings turned by s sectors, so the transport is one kernel per ring, turned:
   // kernel[i][j][d] is what node (j, d + s) sends to node (i, s) per unit of light leaving it (each landing's
   // Fresnel weight spread over the four nodes it interpolates).
-  const int rings = grid_.rings, sectors = grid_.sectors;
   std::vector<double> kernel(std::size_t(rings) * nodes, 0.0);
-  for (int i = 0; i < rings; ++i) {
+  forEachRing([&](int i) {
     double* k = &kernel[std::size_t(i) * nodes];
     for (const auto* l = transport.RingLandingsBegin(i); l != transport.RingLandingsEnd(i); ++l) {
       const Stencil st = StencilAt(Vec3d(l->x, l->y, 0));
@@ -133,40 +168,54 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
       k[r1 * sectors + st.sector] += l->weight * fr * (1 - fs);
       k[r1 * sectors + s1] += l->weight * fr * fs;
     }
-  }
+  });
+  // A turned kernel is a circular correlation over sectors, so in the sectors' Fourier basis the transport is one
+  // rings x rings matrix per frequency: a bounce costs rings^2 x sectors products (and a transform per ring) instead
+  // of rings^2 x sectors^2. Correlating with K is multiplying by K's conjugate spectrum; the inverse transform's
+  // factor 1 / sectors is folded into it.
+  std::vector<Complex> kernelSpectrum(std::size_t(rings) * nodes);
+  forEachRing([&](int i) {
+    SectorTransform transform(sectors);
+    for (int j = 0; j < rings; ++j) {
+      Complex* out = &kernelSpectrum[std::size_t(i) * nodes + std::size_t(j) * sectors];
+      transform.Forward(&kernel[std::size_t(i) * nodes + std::size_t(j) * sectors], out);
+      for (int f = 0; f < sectors; ++f) out[f] = std::conj(out[f]) / double(sectors);
+    }
+  });
   // Jacobi iteration of E_chamber = T[albedo (E_direct + E_chamber)]: the cosine-weighted quadrature already
   // carries the 1 / pi of the Lambertian lobe (E = pi x the mean radiance over cosine-distributed directions).
   // Each bounce scales by at most albedo x MeanReturn (about 0.1): it converges in a few bounces.
-  // The light leaving each node and the next estimate, one array per channel: the turned kernel's sum over sectors
-  // then runs over contiguous sectors, which the compiler vectorises.
-  std::vector<double> leaving(3 * std::size_t(nodes)), next(3 * std::size_t(nodes));
+  // Per bounce: the spectrum of the light leaving each ring, channel by channel, then each ring's sum over rings of
+  // kernel x leaving, frequency by frequency, transformed back. Each ring's sums run in a fixed order, on any thread.
+  std::vector<Complex> leavingSpectrum(3 * std::size_t(nodes));
+  std::vector<double> next(3 * std::size_t(nodes));
   for (bounces_ = 0; bounces_ < std::max(1, maxBounces);) {
-    for (int i = 0; i < nodes; ++i) {
-      const Vec3d l = nodeAlbedo[i] * (direct_[i] + chamber_[i]);
-      for (int c = 0; c < 3; ++c) leaving[c * std::size_t(nodes) + i] = l[c];
-    }
-    std::fill(next.begin(), next.end(), 0.0);
-    // Node (i, s) gets sum over rings j and turns d of kernel[i][j][d] x leaving(j, d + s mod sectors).
-    const auto gather = [&](int i) {
-      for (int j = 0; j < rings; ++j) {
-        const double* kj = &kernel[std::size_t(i) * nodes + std::size_t(j) * sectors];
-        for (int d = 0; d < sectors; ++d) {
-          const double w = kj[d];
-          if (w == 0) continue;  // most turns carry nothing between two rings
-          for (int c = 0; c < 3; ++c) {
-            double* out = &next[c * std::size_t(nodes) + std::size_t(i) * sectors];
-            const double* from = &leaving[c * std::size_t(nodes) + std::size_t(j) * sectors];
-            for (int q = 0; q < sectors - d; ++q) out[q] += w * from[q + d];  // turned, without a modulo
-            for (int q = sectors - d; q < sectors; ++q) out[q] += w * from[q + d - sectors];
-          }
+    forEachRing([&](int j) {
+      SectorTransform transform(sectors);
+      std::vector<double> leaving(sectors);
+      for (int c = 0; c < 3; ++c) {
+        for (int q = 0; q < sectors; ++q) {
+          const int n = j * sectors + q;
+          leaving[q] = nodeAlbedo[n][c] * (direct_[n][c] + chamber_[n][c]);
         }
+        transform.Forward(leaving.data(), &leavingSpectrum[c * std::size_t(nodes) + std::size_t(j) * sectors]);
       }
-    };
-    if (parallelFor) {
-      parallelFor(rings, gather);
-    } else {
-      for (int i = 0; i < rings; ++i) gather(i);
-    }
+    });
+    forEachRing([&](int i) {
+      SectorTransform transform(sectors);
+      std::vector<Complex> sum(sectors);
+      for (int c = 0; c < 3; ++c) {
+        std::fill(sum.begin(), sum.end(), Complex(0));
+        for (int j = 0; j < rings; ++j) {
+          const Complex* k = &kernelSpectrum[std::size_t(i) * nodes + std::size_t(j) * sectors];
+          const Complex* l = &leavingSpectrum[c * std::size_t(nodes) + std::size_t(j) * sectors];
+          for (int f = 0; f < sectors; ++f)  // by parts: std::complex's product goes through a NaN check (__muldc3)
+            sum[f] += Complex(k[f].real() * l[f].real() - k[f].imag() * l[f].imag(),
+                              k[f].real() * l[f].imag() + k[f].imag() * l[f].real());
+        }
+        transform.InverseReal(sum.data(), &next[c * std::size_t(nodes) + std::size_t(i) * sectors]);
+      }
+    });
     double added = 0, total = 0;
     for (int i = 0; i < nodes; ++i) {
       const Vec3d e(next[i], next[std::size_t(nodes) + i], next[2 * std::size_t(nodes) + i]);

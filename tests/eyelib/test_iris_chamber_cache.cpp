@@ -173,6 +173,34 @@ TEST_CASE("sweep chamber-cache: the cache's worst bias at a sharp shadow edge by
   CHECK(worstAt[12] > worstAt[48]);
 }
 
+TEST_CASE("the cache solves its fixed point: each node's chamber light is what its ring's turned landings bring") {
+  // E_chamber(node) = sum over the landings of the node's ring, turned to the node, of weight x albedo x (E_direct +
+  // E_chamber) where the landing falls (uniform albedo: the cache's own Irradiance there). Checked node by node
+  // against the landings themselves, on grids whose sector counts take KissFFT's radix-2, -3 and generic (7) paths.
+  const AnteriorChamber<double> chamber;
+  const double albedo = 0.6;
+  for (const IrisPolarGrid grid : {IrisPolarGrid{8, 24, 8}, IrisPolarGrid{5, 21, 6}, IrisPolarGrid{3, 16, 10}}) {
+    const IrisChamberTransport t(chamber, grid);
+    std::vector<Vec3d> direct(t.Nodes());
+    for (int i = 0; i < t.Nodes(); ++i)  // lopsided, so that no symmetry hides a wrong turn
+      direct[i] = Vec3d(HalfLit(t.Node(i).x, t.Node(i).y), UniformAt(5, i, 0), t.Node(i).y > 0 ? 2.0 : 0.1);
+    const IrisChamberCache cache(t, direct, std::vector<Vec3d>(t.Nodes(), Vec3d(albedo)), {}, 200, 1e-15);
+    double worst = 0, largest = 0;
+    for (int n = 0; n < t.Nodes(); ++n) {
+      const int ring = n / grid.sectors, sector = n % grid.sectors;
+      const double turn = sector * t.SectorAngle(), c = std::cos(turn), s = std::sin(turn);
+      Vec3d expected(0);
+      for (const auto* l = t.RingLandingsBegin(ring); l != t.RingLandingsEnd(ring); ++l)
+        expected += l->weight * albedo * cache.Irradiance(Vec3d(c * l->x - s * l->y, s * l->x + c * l->y, 0));
+      const Vec3d got = cache.ChamberAtNodes()[n];
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got[k] - expected[k])), largest = std::max(largest, got[k]);
+    }
+    INFO(grid.rings << " x " << grid.sectors << ": worst difference " << worst << " of the largest " << largest);
+    CHECK(largest > 0.01);
+    CHECK(worst < 1e-12 * largest);
+  }
+}
+
 TEST_CASE("a chamber without first-order light has no chamber light, and the cache is deterministic") {
   const AnteriorChamber<double> chamber;
   const IrisChamberTransport t(chamber, IrisPolarGrid{8, 24, 8});
