@@ -193,7 +193,8 @@ TEST_CASE("the cache solves its fixed point: each node's chamber light is what i
       for (const auto* l = t.RingLandingsBegin(ring); l != t.RingLandingsEnd(ring); ++l)
         expected += l->weight * albedo * cache.Irradiance(Vec3d(c * l->x - s * l->y, s * l->x + c * l->y, 0));
       const Vec3d got = cache.ChamberAtNodes()[n];
-      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got[k] - expected[k])), largest = std::max(largest, got[k]);
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(got[k] - expected[k])), largest = std::max(largest, got[k]);
     }
     INFO(grid.rings << " x " << grid.sectors << ": worst difference " << worst << " of the largest " << largest);
     CHECK(largest > 0.01);
