@@ -29,21 +29,27 @@ TEST_CASE("SinCos2Pi and SinCosReduced agree with libm to 1e-13 over [0, 1] and 
   CHECK(worstReduced < 1e-13);
 }
 
-TEST_CASE("FrameAround is orthonormal and right-handed, and the cone and hemisphere samples are unit and inside",
-          "[sampling]") {
+TEST_CASE(
+    "eyelib's OrthonormalBasis is orthonormal and right-handed, and the cone and hemisphere samples are unit and "
+    "inside",
+    "[sampling]") {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> uniform(0, 1);
   for (int i = 0; i < 100000; ++i) {
     glm::dvec3 n = i == 0 ? glm::dvec3(0, 0, -1) : i == 1 ? glm::dvec3(0, 0, 1) : glm::dvec3(0);
     if (i > 1) n = glm::normalize(glm::dvec3(2 * uniform(rng) - 1, 2 * uniform(rng) - 1, 2 * uniform(rng) - 1));
     glm::dvec3 t, b;
-    FrameAround(n, &t, &b);
+    eyelib::OrthonormalBasis(n, &t, &b);
     REQUIRE(std::abs(glm::length(t) - 1) < 1e-12);
     REQUIRE(std::abs(glm::length(b) - 1) < 1e-12);
     REQUIRE(std::abs(glm::dot(t, n)) < 1e-12);
     REQUIRE(std::abs(glm::dot(b, n)) < 1e-12);
     REQUIRE(std::abs(glm::dot(t, b)) < 1e-12);
     REQUIRE(glm::length(glm::cross(t, b) - n) < 1e-12);
+    glm::vec3 tf, bf;  // eyelib's single-precision optics use the same frame
+    eyelib::OrthonormalBasis(glm::vec3(n), &tf, &bf);
+    REQUIRE(glm::length(glm::cross(tf, bf) - glm::vec3(n)) < 1e-6f);
+    REQUIRE(std::abs(glm::dot(tf, bf)) < 1e-6f);
     const double oneMinusCosMax = i % 3 == 0 ? 1e-12 : uniform(rng);
     const glm::dvec3 w = SampleConeAbout(n, oneMinusCosMax, uniform(rng), uniform(rng));
     REQUIRE(std::abs(glm::length(w) - 1) < 1e-12);

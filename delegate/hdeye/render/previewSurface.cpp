@@ -167,7 +167,7 @@ inline glm::dvec3 PreviewSurfaceAt::ToWorld(const glm::dvec3& v) const { return 
 
 PreviewSurfaceAt::PreviewSurfaceAt(const PreviewSurface& s, const glm::dvec3& n, const glm::dvec3& wo)
     : s_(s), n_(n), wo_(wo) {
-  FrameAround(n_, &t_, &b_);
+  eyelib::OrthonormalBasis(n_, &t_, &b_);
   lo_ = ToLocal(wo);
   above_ = lo_.z > kMinCos;
   if (!above_) return;

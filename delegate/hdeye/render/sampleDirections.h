@@ -1,7 +1,9 @@
 #pragma once
 // Direction sampling for the renderer's non-eye paths (BSDF lobes, light cones), with the fast sin/cos of fastTrig.h
-// and a frame without square roots. eyelib/sampling.h keeps libm for the eye's optics.
+// and eyelib's frame (eyelib/sampling.h keeps libm's sin/cos for the eye's optics).
 #include "hdeye/render/fastTrig.h"
+
+#include <eyelib/sampling.h>
 
 #include <glm/glm.hpp>
 
@@ -9,15 +11,6 @@
 #include <cmath>
 
 namespace hdeye {
-
-/// Two unit vectors completing unit n to a right-handed orthonormal frame (t, b, n), continuous except where
-/// n.z changes sign (Duff et al. 2017, "Building an orthonormal basis, revisited"): one division, no square root.
-inline void FrameAround(const glm::dvec3& n, glm::dvec3* t, glm::dvec3* b) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1 / (sign + n.z), c = n.x * n.y * a;
-  *t = {1 + sign * n.x * n.x * a, sign * c, -sign * n.x};
-  *b = {c, sign + n.y * n.y * a, -n.y};
-}
 
 /// A cosine-weighted direction about +z (pdf cos / pi), unit to rounding.
 inline glm::dvec3 CosineHemisphereLocal(double u1, double u2) {
@@ -36,7 +29,7 @@ inline glm::dvec3 SampleConeAbout(const glm::dvec3& w, double oneMinusCosMax, do
   double s, c;
   SinCos2Pi(u2, &s, &c);
   glm::dvec3 t, b;
-  FrameAround(w, &t, &b);
+  eyelib::OrthonormalBasis(w, &t, &b);
   return cosT * w + sinT * (c * t + s * b);
 }
 

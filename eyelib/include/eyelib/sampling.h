@@ -9,11 +9,13 @@
 
 namespace eyelib {
 
-/// Two unit vectors completing unit w to a right-handed orthonormal frame (t, b, w).
+/// Two unit vectors completing unit w to a right-handed orthonormal frame (t, b, w), continuous except where w.z
+/// changes sign (Duff et al. 2017, "Building an orthonormal basis, revisited"): one division, no square root.
 template <class T> inline void OrthonormalBasis(const Vec3<T>& w, Vec3<T>* t, Vec3<T>* b) {
-  const Vec3<T> a = std::abs(w.x) < T(0.9) ? Vec3<T>(1, 0, 0) : Vec3<T>(0, 1, 0);
-  *t = glm::normalize(glm::cross(w, a));
-  *b = glm::cross(w, *t);
+  const T sign = std::copysign(T(1), w.z);
+  const T a = -1 / (sign + w.z), c = w.x * w.y * a;
+  *t = Vec3<T>(1 + sign * w.x * w.x * a, sign * c, -sign * w.x);
+  *b = Vec3<T>(c, sign + w.y * w.y * a, -w.y);
 }
 
 /// A direction uniform in solid angle within the cone around unit w whose half-angle has cosine cosMax.
