@@ -25,8 +25,8 @@ double Azimuth(double x, double y) {
 
 using Complex = std::complex<double>;
 
-/// The discrete Fourier transform over a ring's sectors (KissFFT, any sector count). One per thread: KissFFT keeps
-/// scratch space for radices above 5.
+/// The discrete Fourier transform over a ring's sectors (KissFFT, any sector count). Not to be shared between
+/// threads: it has a buffer of its own, and KissFFT keeps scratch space for radices above 5.
 class SectorTransform {
  public:
   explicit SectorTransform(int sectors)
@@ -173,9 +173,11 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
   // rings x rings matrix per frequency: a bounce costs rings^2 x sectors products (and a transform per ring) instead
   // of rings^2 x sectors^2. Correlating with K is multiplying by K's conjugate spectrum; the inverse transform's
   // factor 1 / sectors is folded into it.
+  // A transform per ring (copies of one: its twiddles computed once), used only by that ring's body, on one thread.
+  std::vector<SectorTransform> transforms(rings, SectorTransform(sectors));
   std::vector<Complex> kernelSpectrum(std::size_t(rings) * nodes);
   forEachRing([&](int i) {
-    SectorTransform transform(sectors);
+    SectorTransform& transform = transforms[i];
     for (int j = 0; j < rings; ++j) {
       Complex* out = &kernelSpectrum[std::size_t(i) * nodes + std::size_t(j) * sectors];
       transform.Forward(&kernel[std::size_t(i) * nodes + std::size_t(j) * sectors], out);
@@ -191,7 +193,7 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
   std::vector<double> next(3 * std::size_t(nodes));
   for (bounces_ = 0; bounces_ < std::max(1, maxBounces);) {
     forEachRing([&](int j) {
-      SectorTransform transform(sectors);
+      SectorTransform& transform = transforms[j];
       std::vector<double> leaving(sectors);
       for (int c = 0; c < 3; ++c) {
         for (int q = 0; q < sectors; ++q) {
@@ -202,7 +204,7 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
       }
     });
     forEachRing([&](int i) {
-      SectorTransform transform(sectors);
+      SectorTransform& transform = transforms[i];
       std::vector<Complex> sum(sectors);
       for (int c = 0; c < 3; ++c) {
         std::fill(sum.begin(), sum.end(), Complex(0));
