@@ -19,6 +19,13 @@ inline eyelib::EyeLight PointLightAt(double degrees, double distance = 100) {
   return light;
 }
 
+/// The default seed strategy with the all-solutions search on or off.
+inline eyelib::SeedStrategy Seeds(bool allSolutions) {
+  eyelib::SeedStrategy seeds;
+  seeds.allSolutions = allSolutions;
+  return seeds;
+}
+
 /// MNEE irradiance averaged over cell (i, j) from k x k stratified iris points with `lightSamples`
 /// light samples each: the mean and its standard error (zero for point lights, which MNEE solves
 /// exactly; the quadrature error of the k x k points is not included).

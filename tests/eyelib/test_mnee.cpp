@@ -120,7 +120,7 @@ TEST_CASE("invalid input and lights behind the eye give no path and no NaN") {
   CHECK(SolveRefractionPath(chamber, x, {false, Vec3d(0, nan, 10), {}}, 0, 0).status == MneeStatus::InvalidInput);
   CHECK(SolveRefractionPath(chamber, x, PointEnd(0), nan, 0).status == MneeStatus::InvalidInput);
   CHECK(SolveRefractionPath(chamber, Vec3d(0, 0, 1), PointEnd(0), 0, 0).status == MneeStatus::InvalidInput);
-  const MneeResult behind = FindRefractionPaths(chamber, x, PointEnd(150), {true});
+  const MneeResult behind = FindRefractionPaths(chamber, x, PointEnd(150), test::Seeds(true));
   CHECK(behind.solutions.empty());
   CHECK(behind.transfer == 0);
 }

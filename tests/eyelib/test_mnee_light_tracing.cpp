@@ -110,8 +110,8 @@ TEST_CASE("MNEE irradiance agrees with light tracing for point lights, both mode
       // Near grazing: search for every path (and integrate the cells finely: the fold's 1/sqrt peak).
       const bool all = deg > 80;
       const EyeLight light = test::PointLightAt(deg);
-      const Agreement a =
-          Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000), {all}, all ? 16 : 8);
+      const Agreement a = Compare(chamber, light, Reference(chamber, light, all ? 8'000'000 : 4'000'000),
+                                  test::Seeds(all), all ? 16 : 8);
       char label[32];
       std::snprintf(label, sizeof label, "point %g deg", deg);
       PrintRow(ToString(model), label, all ? "all" : "one path", a);
@@ -147,7 +147,7 @@ TEST_CASE("MNEE irradiance agrees with light tracing for sphere, rect and distan
     // A near-parallel beam at 45 deg: at the far side's periphery the straight-line seed alone misses
     // half the light of some cells (see the last test); search for every path.
     const bool all = light.shape == LightShape::Distant;
-    const Agreement a = Compare(chamber, light, Reference(chamber, light, 8'000'000), {all}, 8, 4);
+    const Agreement a = Compare(chamber, light, Reference(chamber, light, 8'000'000), test::Seeds(all), 8, 4);
     PrintRow("ellipsoidCone", label, all ? "all" : "one path", a);
     INFO(label);
     CheckAgreement(a, true, false);
@@ -169,7 +169,7 @@ TEST_CASE(
   straightOnly.fallback = false;
   const Agreement straight = Compare(chamber, sun, lt, straightOnly, 8);
   const Agreement fallback = Compare(chamber, sun, lt, SeedStrategy{}, 8);
-  const Agreement all = Compare(chamber, sun, lt, SeedStrategy{true}, 8);
+  const Agreement all = Compare(chamber, sun, lt, test::Seeds(true), 8);
   std::printf("\n| seeds | worst z | rel RMS | bias |\n|---|---|---|---|\n");
   for (auto [name, a] :
        {std::pair{"straight line only", straight}, {"straight line + fallback", fallback}, {"all (meridian)", all}})

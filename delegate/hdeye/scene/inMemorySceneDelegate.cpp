@@ -46,7 +46,7 @@ std::size_t NearestToFrame(const std::vector<float>& times) {
 void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topology, const std::vector<Vec3f>& points,
                                     const Matrix4d& transform, const PrimId& materialId, const PrimId& instancerId) {
   CheckTransform(id, transform);
-  meshes_[id] = MeshData{topology, points, {}, materialId, instancerId};
+  meshes_[id] = MeshData{topology, points, {}, materialId, instancerId, {}};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kMesh, this, id);
   if (!instancerId.empty()) index_->GetChangeTracker().AddInstancerRprimDependency(instancerId, id);
@@ -54,13 +54,13 @@ void InMemorySceneDelegate::AddMesh(const PrimId& id, const MeshTopology& topolo
 
 void InMemorySceneDelegate::AddInstancer(const PrimId& id, const std::vector<Matrix4d>& transforms,
                                          const std::vector<Vec3f>& colors) {
-  instancers_[id] = InstancerData{transforms, colors};
+  instancers_[id] = InstancerData{transforms, colors, {}};
   index_->InsertInstancer(this, id);
 }
 
 void InMemorySceneDelegate::SetInstanceTransforms(const PrimId& id, const std::vector<Matrix4d>& transforms,
                                                   const std::vector<Vec3f>& colors) {
-  instancers_.at(id) = InstancerData{transforms, colors};
+  instancers_.at(id) = InstancerData{transforms, colors, {}};
   index_->GetChangeTracker().MarkInstancerDirty(id);
 }
 
@@ -73,7 +73,7 @@ void InMemorySceneDelegate::AddEyeMesh(const PrimId& id, const MeshTopology& top
                                        const EyeParams& eyeParams, const Matrix4d& transform,
                                        const PrimId& materialId) {
   CheckTransform(id, transform);
-  meshes_[id] = MeshData{topology, points, {}, materialId};
+  meshes_[id] = MeshData{topology, points, {}, materialId, {}, {}};
   eyes_[id] = eyeParams;
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kEyeMesh, this, id);
@@ -83,7 +83,7 @@ void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTo
                                            const std::vector<Vec3f>& points, const Matrix4d& transform,
                                            const PrimId& materialId) {
   CheckTransform(id, transform);
-  meshes_[id] = MeshData{{}, points, {}, materialId};
+  meshes_[id] = MeshData{{}, points, {}, materialId, {}, {}};
   curves_[id] = topology;
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kBasisCurves, this, id);
@@ -92,7 +92,7 @@ void InMemorySceneDelegate::AddBasisCurves(const PrimId& id, const BasisCurvesTo
 void InMemorySceneDelegate::AddPoints(const PrimId& id, const std::vector<Vec3f>& points, const Matrix4d& transform,
                                       const PrimId& materialId) {
   CheckTransform(id, transform);
-  meshes_[id] = MeshData{{}, points, {}, materialId};
+  meshes_[id] = MeshData{{}, points, {}, materialId, {}, {}};
   transforms_[id] = transform;
   index_->InsertRprim(primTypes::kPoints, this, id);
 }

@@ -3,10 +3,20 @@
 #include "hdeye/prims/renderDelegate.h"
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace hdeye::sampleScenes {
 
 namespace {
+
+/// Polygons (faceVertexCounts, faceVertexIndices) refined `refineLevel` times by Catmull-Clark, without tags.
+MeshTopology Faces(std::vector<int> counts, std::vector<int> indices, int refineLevel) {
+  MeshTopology topology;
+  topology.faceVertexCounts = std::move(counts), topology.faceVertexIndices = std::move(indices);
+  topology.refineLevel = refineLevel;
+  return topology;
+}
 
 Matrix4d Translate(const glm::dvec3& t) {
   Matrix4d m(1.0);
@@ -48,8 +58,8 @@ void AddSideLitEye(InMemorySceneDelegate& scene, double keyAngleDegrees, float k
 }
 
 void AddBallOnFloor(InMemorySceneDelegate& scene, float keyScale) {
-  const MeshTopology cube{
-      {4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3};
+  const MeshTopology cube =
+      Faces({4, 4, 4, 4, 4, 4}, {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3}, 3);
   const std::vector<Vec3f> corners = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                       {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
   MaterialParams red, grey;
@@ -58,7 +68,7 @@ void AddBallOnFloor(InMemorySceneDelegate& scene, float keyScale) {
   scene.AddMaterial("/Looks/red", red);
   scene.AddMaterial("/Looks/grey", grey);
   scene.AddMesh("/World/ball", cube, corners, Translate({0, 0, 1}), "/Looks/red");
-  scene.AddMesh("/World/floor", MeshTopology{{4}, {0, 1, 2, 3}, 0}, {{-8, -8, 0}, {8, -8, 0}, {8, 8, 0}, {-8, 8, 0}},
+  scene.AddMesh("/World/floor", Faces({4}, {0, 1, 2, 3}, 0), {{-8, -8, 0}, {8, -8, 0}, {8, 8, 0}, {-8, 8, 0}},
                 Matrix4d(1.0), "/Looks/grey");
   LightParams key;
   key.type = LightType::Sphere;
