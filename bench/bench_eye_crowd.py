@@ -4,9 +4,9 @@ Authors a stage of N instanceable references to usd_samples/assets/eye.usda (the
 grid under one sphere light, framed so the grid fills the image (the eyes shrink as N grows: 54 px across for one,
 14 px for 64 at 256 px), and renders it with the real command line (`python -m eyerender.eyerecord`, two threads,
 a fixed sample count), each case --repeats times, interleaved across builds and estimators. Prints one markdown
-table: median wall seconds of the render (eyerecord's summary line: sync, plan, chamber-light caches and samples,
-without the interpreter's start-up) per eye count, build and estimator. The chamber-light cache is built once per
-eye and frame (its MNEE at every node), so this is where its cost shows.
+table: median wall seconds of the render (eyerecord's summary line, in hundredths: sync, plan, chamber-light caches
+and samples, without the interpreter's start-up) per eye count, build and estimator. The chamber-light cache is
+built once per eye and frame (its MNEE at every node), so this is where its cost shows.
 
 Usage: python3 bench/bench_eye_crowd.py [--counts 1,4,16,64] [--spp 4] [--width 256] [--repeats 3]
                                         [--estimators cache,path] [--build LABEL=PYTHON ...]

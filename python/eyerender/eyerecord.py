@@ -228,7 +228,7 @@ def render_frames(session, frames, outputs, spp, args):
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
     blur = f", {session.scene.shutter.describe()}" if session.scene.shutter.blurred else ""
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp"
-          f"{blur}, {total_seconds:.1f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
+          f"{blur}, {total_seconds:.2f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
 
 
 def main(argv=None):
