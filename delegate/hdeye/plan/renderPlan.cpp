@@ -314,9 +314,8 @@ Decision<int> DecideChamberEvents(const PlanRules& rules, const PlanOverrides& o
                                    "(sweep chamber: 2 events lose 1.55% side-lit, 2.3% front-lit; 8 lose 0.02-0.03%)"};
 }
 
-/// The chamber-light cache's rings by the eye's size on screen: its build (MNEE at 3 rings^2 nodes and a fixed point
-/// of rings^4 terms, 0.2-0.3 s for the 48-ring grid on two threads) is paid per eye and frame, which a crowd of small
-/// eyes must not pay at full resolution.
+/// The chamber-light cache's rings by the eye's size on screen: its build (mostly MNEE at 3 rings^2 nodes) is paid per
+/// eye and frame, which a crowd of small eyes must not pay at full resolution.
 Decision<int> DecideChamberCacheRings(const EyePlan& e, const PlanRules& rules) {
   const int wanted = int(std::ceil(std::max(0.0, e.resolvedPixels) / rules.chamberCachePixelsPerRing / 4)) * 4;
   const int rings = std::clamp(wanted, rules.chamberCacheMinRings, rules.chamberCacheMaxRings);
