@@ -18,6 +18,10 @@
 //      rtcOccluded1 (it defines them and forwards to Embree's through dlsym(RTLD_NEXT)), and counts
 //      only during one extra untimed render; the timed renders and bare traces pay the same
 //      forwarding call and nothing else. The blended ceiling is the bare rays/s at that mix.
+//      2b. Minimal path tracers (minimal_path_tracer.h) on the same root scene, timed with each
+//      back-to-back render and bare pass: how near bare Embree the least code doing this scene's
+//      transport gets, with a counter hash or the renderer's ZSobol sampler, Lambert or the
+//      renderer's UsdPreviewSurface BSDF.
 //   3. Per-frame sync of an animated Catmull-Clark mesh (a jittered torus of quads) at refine levels
 //      2 and 3: the time of RenderIndex::SyncAll plus the root scene commit (exactly what
 //      RenderPass::Execute does before rendering) for a first sync (a new render index each frame), a
@@ -42,10 +46,13 @@
 #include "hdeye/hd/renderIndex.h"
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/camera.h"
+#include "hdeye/prims/light.h"
 #include "hdeye/prims/mesh.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/sampleStream.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "hdeye/scene/sampleScenes.h"
+#include "minimal_path_tracer.h"
 
 #include <eyelib/sampling.h>
 #include "hdeye/prims/subdivRefiner.h"
@@ -133,7 +140,7 @@ struct Options {
                "usage: %s [--quick] [--throughput-only] [--csv PREFIX] [--threads N]\n"
                "  --quick       smaller images, fewer rays and frames\n"
                "  --throughput-only  renderer and bare Embree throughput only (no per-frame sync)\n"
-               "  --csv PREFIX  also write PREFIX_{render,embree,sync,sync_reference}.csv\n"
+               "  --csv PREFIX  also write PREFIX_{render,embree,minimal,sync,sync_reference}.csv\n"
                "  --threads N   the \"all threads\" count (default: hardware concurrency)\n",
                argv0);
   std::exit(exitCode);
@@ -460,7 +467,36 @@ struct BareResult {
   double closestSeconds[2] = {0, 0}, shadowSeconds[2] = {0, 0};  ///< [1 thread, all threads]
   double closestCpuSeconds = 0, shadowCpuSeconds = 0;            ///< 1 thread, the thread's CPU time
   double pairedCpuRatio = 0;  ///< renderer / bare rays per CPU second, 1 thread, median over back-to-back pairs
+  /// The minimal path tracers (minimal_path_tracer.h) on the same BVH, 1 thread, timed with each pair.
+  struct Minimal {
+    bench::MinimalVariant variant;
+    bench::MinimalResult result;
+    double cpuSeconds = 0;        ///< median
+    double ofBare = 0;            ///< its rays per CPU second over bare Embree's, median over the pairs
+    double renderPerMinimal = 0;  ///< the renderer's rays per CPU second over its, median over the pairs
+  };
+  std::vector<Minimal> minimal;
 };
+
+/// The ball scene as the minimal path tracer sees it: the render's camera, image, samples and depth, the key and
+/// dome lights as the renderer converts them.
+bench::MinimalScene MinimalSceneOf(Stage& stage, const RenderCase& c, const CameraView& view,
+                                   const eyelib::ZSobolKeyTable& keys) {
+  auto light = [&](const PrimId& id) {
+    const Light* l = dynamic_cast<const Light*>(stage.index.GetSprim(id));
+    return RenderLight::FromParams(l->Params(), l->Transform());
+  };
+  const RenderLight key = light(sampleScenes::kBallKey), sky = light(sampleScenes::kBallSky);
+  bench::MinimalScene m;
+  m.sampleKeys = &keys;
+  m.scene = stage.delegate.RootScene();
+  m.camera = view;
+  m.width = c.width, m.height = c.height, m.spp = c.spp;
+  m.maxDepth = stage.delegate.Settings().maxDepth;
+  m.keyPosition = key.position, m.keyRadius = key.radius;
+  m.keyRadiance = key.radiance, m.domeRadiance = sky.radiance;
+  return m;
+}
 
 BareResult MeasureBareEmbree(Stage& stage, const RayMix& mix, const RenderCase& c, const Options& opt) {
   const RTCScene scene = stage.delegate.RootScene();
@@ -480,20 +516,38 @@ BareResult MeasureBareEmbree(Stage& stage, const RayMix& mix, const RenderCase& 
     r.closestSeconds[k] = closestTime.seconds, r.shadowSeconds[k] = shadowTime.seconds;
     if (k == 0) r.closestCpuSeconds = closestTime.cpuSeconds, r.shadowCpuSeconds = shadowTime.cpuSeconds;
   }
-  // A 1-thread render and the 1-thread bare batches back to back meet the same load on a shared machine: the
-  // ratio of their rates per pair, median over the pairs.
+  // A 1-thread render, the 1-thread bare batches and the minimal path tracers back to back meet the same load on a
+  // shared machine: the ratios of their rates per round, median over the rounds.
+  const eyelib::ZSobolKeyTable keys = SampleStream::KeyTable(0);
+  const bench::MinimalScene minimalScene = MinimalSceneOf(stage, c, view, keys);
+  const bench::MinimalVariant variants[] = {bench::MinimalVariant::Lambert, bench::MinimalVariant::ZSobol,
+                                            bench::MinimalVariant::PreviewSurface, bench::MinimalVariant::Both};
   std::vector<double> ratios;
+  std::vector<std::vector<double>> minimalCpu(std::size(variants)), ofBare(std::size(variants)),
+      renderPer(std::size(variants));
+  for (const bench::MinimalVariant v : variants) r.minimal.push_back({v, {}});
   for (int run = 0; run < opt.renderRuns; ++run) {
     double start = ThreadCpuSeconds();
     const RenderStats s = Render(stage, c.spp, 1);
-    const double renderCpu = ThreadCpuSeconds() - start;
+    const double renderRate = double(s.rays) / (ThreadCpuSeconds() - start);
     start = ThreadCpuSeconds();
     TraceClosest(scene, closest.data(), closest.size());
     TraceShadow(scene, shadow.data(), shadow.size());
-    const double bareCpu = ThreadCpuSeconds() - start;
-    ratios.push_back((double(s.rays) / renderCpu) / (double(closest.size() + shadow.size()) / bareCpu));
+    const double bareRate = double(closest.size() + shadow.size()) / (ThreadCpuSeconds() - start);
+    ratios.push_back(renderRate / bareRate);
+    for (std::size_t k = 0; k < r.minimal.size(); ++k) {
+      start = ThreadCpuSeconds();
+      r.minimal[k].result = bench::TraceMinimal(minimalScene, r.minimal[k].variant);
+      minimalCpu[k].push_back(ThreadCpuSeconds() - start);
+      const double rate = double(r.minimal[k].result.rays) / minimalCpu[k].back();
+      ofBare[k].push_back(rate / bareRate);
+      renderPer[k].push_back(renderRate / rate);
+    }
   }
   r.pairedCpuRatio = Median(ratios);
+  for (std::size_t k = 0; k < r.minimal.size(); ++k)
+    r.minimal[k].cpuSeconds = Median(minimalCpu[k]), r.minimal[k].ofBare = Median(ofBare[k]),
+    r.minimal[k].renderPerMinimal = Median(renderPer[k]);
   return r;
 }
 
@@ -780,6 +834,19 @@ Table EmbreeTable(const BareResult& bare, const RenderResult ours[2], int thread
   return t;
 }
 
+Table MinimalTable(const BareResult& bare) {
+  Table t{
+      {"minimal path tracer", "rays", "shadow rays", "Mrays/CPU-s", "of bare Embree", "renderer / it", "mean radiance"},
+      {}};
+  for (const BareResult::Minimal& m : bare.minimal)
+    t.rows.push_back(
+        {bench::MinimalVariantName(m.variant), std::to_string(m.result.rays),
+         Format("%.1f%%", 100.0 * double(m.result.shadowRays) / double(std::max<std::int64_t>(1, m.result.rays))),
+         Format("%.3f", double(m.result.rays) / m.cpuSeconds * 1e-6), Format("%.1f%%", 100 * m.ofBare),
+         Format("%.1f%%", 100 * m.renderPerMinimal), Format("%.4f", m.result.meanRadiance)});
+  return t;
+}
+
 Table SyncTable(const std::vector<SyncResult>& results) {
   Table t{{"level", "control faces", "triangles", "frame", "frames", "sync ms", "root commit ms", "total ms",
            "x first sync", "topology builds", "refinements", "stencil evals", "point uploads", "normal evals",
@@ -858,6 +925,16 @@ void Run(const Options& opt) {
       "The bare batches have the render's ray counts: %lld closest-hit rays (%lld of them camera rays) and\n"
       "%lld shadow rays. Blended = all bare rays / (intersect time + occluded time).\n\n",
       (long long)mixes[0].closestHit, (long long)mixes[0].samples, (long long)mixes[0].shadow);
+
+  std::printf("## 2b. Minimal path tracers on the same BVH (1 thread, timed with each back-to-back pair)\n\n");
+  Emit(MinimalTable(bare), opt, "minimal");
+  std::printf(
+      "The least a path tracer does for this scene's light transport (bench/minimal_path_tracer.h): the\n"
+      "render's camera, image, samples and depth, next event estimation of one of the two lights with MIS,\n"
+      "one albedo (%.2f) everywhere, flat normals; with the renderer's ZSobol sampler and UsdPreviewSurface\n"
+      "BSDF swapped in or not. \"of bare Embree\" and \"renderer / it\" are rays per CPU second, medians over\n"
+      "the pairs; what bare Embree reaches is the ceiling, what these reach is how near a path tracer gets.\n\n",
+      bench::MinimalScene{}.albedo);
 
   if (opt.throughputOnly) {
     std::printf("Load average %.2f at the end.\n", LoadAverage());

@@ -74,12 +74,12 @@ void AddBallOnFloor(InMemorySceneDelegate& scene, float keyScale) {
   key.type = LightType::Sphere;
   key.radius = kBallKeyRadius;
   key.intensity = 30 * keyScale;
-  scene.AddLight("/World/key", primTypes::kSphereLight, key, Translate(kBallKeyPosition));
+  scene.AddLight(kBallKey, primTypes::kSphereLight, key, Translate(kBallKeyPosition));
   LightParams sky;
   sky.type = LightType::Dome;
   sky.color = {0.6f, 0.7f, 0.9f};
   sky.intensity = 0.3f;
-  scene.AddLight("/World/sky", primTypes::kDomeLight, sky);
+  scene.AddLight(kBallSky, primTypes::kDomeLight, sky);
   scene.AddCamera(kCamera, CameraParams{}, LookAt({0, -7, 3}, {0, 0, 1}));
 }
 

@@ -17,6 +17,8 @@ void AddSideLitEye(InMemorySceneDelegate& scene, double keyAngleDegrees = 75, fl
 /// The ball scene's key light, for programs that aim rays at it (scene units).
 inline const glm::dvec3 kBallKeyPosition{2, -2, 4};
 inline constexpr float kBallKeyRadius = 0.5f;
+/// The ball scene's lights.
+inline const PrimId kBallKey = "/World/key", kBallSky = "/World/sky";
 
 /// A cube refined three times by Catmull-Clark (a rounded red ball) on a grey floor, the key light
 /// above (intensity 30 x keyScale), a blue-ish dome (0.3), a camera at (0, -7, 3) looking at the ball.
