@@ -580,6 +580,53 @@ TEST_CASE(
   CHECK(means[1][1] == Approx(0).margin(1e-6));                               // 120 degrees from the light
 }
 
+TEST_CASE("a normal map on an instanced mesh tilts along the instance's dp/ds, as on the same mesh drawn once",
+          "[texture][render][instancer]") {
+  ScratchDir dir;
+  // Every texel tilted 45 degrees about t, towards +s; the quad's s runs along its object x.
+  const double tilt = kPi / 4;
+  std::vector<float> p;
+  for (int k = 0; k < 8 * 8; ++k)
+    for (double c : {std::sin(tilt), 0.0, std::cos(tilt)}) p.push_back(float(0.5 * c + 0.5));
+  WriteImage(dir / "tilt.exr", 8, 8, 3, p, OIIO::TypeDesc::FLOAT);
+  // A quarter turn about z: object x (s) points along world y.
+  const Matrix4d quarter(glm::dvec4(0, 1, 0, 0), glm::dvec4(-1, 0, 0, 0), glm::dvec4(0, 0, 1, 0),
+                         glm::dvec4(0, 0, 0, 1));
+  glm::dvec3 normals[2];
+  for (int instanced = 0; instanced < 2; ++instanced) {
+    TextureScene s;
+    MaterialParams m;
+    TextureInput& normal = m.Texture(MaterialInput::Normal);
+    normal.texture = Params(dir / "tilt.exr", TextureColorSpace::Raw);
+    normal.texture.scale = {2, 2, 2, 1};
+    normal.texture.bias = {-1, -1, -1, 0};
+    s.scene.AddMaterial("/mat", m);
+    MeshTopology quad;
+    std::vector<Vec3f> points;
+    test::Quad(1, &quad, &points);
+    if (instanced) {
+      s.scene.AddInstancer("/inst", {quarter});
+      s.scene.AddMesh("/inst/quad", quad, points, Matrix4d(1.0), "/mat", "/inst");
+    } else {
+      s.scene.AddMesh("/quad", quad, points, quarter, "/mat");
+    }
+    s.scene.SetPrimvar(instanced ? "/inst/quad" : "/quad", "st",
+                       Primvar{Interpolation::Vertex, 2, {0, 0, 1, 0, 1, 1, 0, 1}});
+    AddTopCamera(s.scene, 1, 5);
+    s.scene.AddRenderBuffer("/color", 8, 8, 4);
+    s.scene.AddRenderBuffer("/normal", 8, 8, 3);
+    s.delegate.Settings().samplesPerPixel = 1;
+    s.pass.Execute("/cam", {{"color", "/color"}, {"normal", "/normal"}});
+    const RenderBuffer& b = s.Buffer("/normal");
+    normals[instanced] = glm::dvec3(b.Resolved(4, 4, 0), b.Resolved(4, 4, 1), b.Resolved(4, 4, 2));
+  }
+  const glm::dvec3 expected(0, std::sin(tilt), std::cos(tilt));
+  INFO("drawn once " << normals[0].x << " " << normals[0].y << " " << normals[0].z << ", instanced " << normals[1].x
+                     << " " << normals[1].y << " " << normals[1].z);
+  CHECK(glm::length(normals[0] - expected) < 1e-3);
+  CHECK(glm::length(normals[1] - normals[0]) < 1e-6);
+}
+
 TEST_CASE("an opacityThreshold cut-out lets camera rays and shadow rays through where opacity is below it",
           "[texture][render]") {
   ScratchDir dir;

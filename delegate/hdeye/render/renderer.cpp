@@ -353,7 +353,8 @@ class Tracer {
     const WorldNormal shading(hit->normalToWorld, local);
     hit->n = !shading.Valid() ? hit->ng : shading.v * ((glm::dot(shading.v, hit->ng) < 0 ? -1 : 1) / shading.length);
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
-    if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye) hit->stFrame = TriangleStFrameAt(ctx, firstCorner);
+    if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye)
+      hit->stFrame = TriangleStFrameAt(ctx, hit->normalToWorld, firstCorner);
     hit->material = &MaterialAt(ctx, hit->part);
     // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
     // with a bound material shows the material's.
@@ -380,10 +381,12 @@ class Tracer {
     return (1 - w) * at(i) + w * at(i + 1);
   }
 
-  /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`.
-  static StFrame TriangleStFrameAt(const GeometryContext& ctx, std::size_t firstCorner) {
+  /// dp/ds, dp/dt (world) of the mesh triangle whose corners start at `firstCorner`, placed by the hit instance's
+  /// `normalToWorld` (an instanced mesh's own context holds its prototype's transform only).
+  static StFrame TriangleStFrameAt(const GeometryContext& ctx, const glm::dmat3& normalToWorld,
+                                   std::size_t firstCorner) {
     const int* tri = &(*ctx.triangleVertices)[firstCorner];
-    const glm::dmat3 toWorld = glm::inverse(glm::transpose(ctx.normalToWorld));  // the instance's linear part
+    const glm::dmat3 toWorld = glm::inverse(glm::transpose(normalToWorld));  // the instance's linear part
     const auto& pts = *ctx.points;
     const auto& st = *ctx.st;
     return TriangleStFrame(toWorld * glm::dvec3(pts[tri[0]]), toWorld * glm::dvec3(pts[tri[1]]),
