@@ -78,7 +78,6 @@ struct SurfaceHit {
   const SurfaceMaterial* material = nullptr;  // the material of the hit's face (geomSubsets), else the prim's
   StFrame stFrame;                            // dp/ds, dp/dt of the hit triangle (world), where st and points are known
   bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
-  glm::dmat3 normalToWorld{1.0};              // the hit instance's (object-space normals to world)
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
   float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
 };
@@ -311,13 +310,15 @@ class Tracer {
     } else {
       ctx = static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(scene_, rh.hit.geomID)));
     }
-    hit->normalToWorld = instance ? instance->normalToWorld : ctx->normalToWorld;
-    if (instance && instance->motion)  // a moving instance: its normals at the ray's time, as Embree placed it
-      hit->normalToWorld = glm::transpose(glm::inverse(glm::dmat3(instance->motion->At(time_))));
+    // The hit instance's object-to-world normal matrix; a moving instance's at the ray's time, as Embree placed it.
+    glm::dmat3 moved;
+    if (instance && instance->motion) moved = glm::transpose(glm::inverse(glm::dmat3(instance->motion->At(time_))));
+    const glm::dmat3& normalToWorld =
+        instance ? (instance->motion ? moved : instance->normalToWorld) : ctx->normalToWorld;
     hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
-    const glm::dvec3 ng = hit->normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    const glm::dvec3 ng = normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     // Normalised by one reciprocal square root, its sign (towards the ray's origin) folded into the same factor.
     const double scale = 1 / std::sqrt(glm::dot(ng, ng));
     const glm::dvec3 n = ng * (glm::dot(ng, d) > 0 ? -scale : scale);
@@ -326,13 +327,14 @@ class Tracer {
     hit->part = rh.hit.primID;
     hit->context = ctx;
     hit->rayTime = rayTime_;
-    FillPrimvars(hit);
+    FillPrimvars(normalToWorld, hit);
     return true;
   }
 
   /// The hit's shading normal, st, albedo and emission from its geometry's primvars: per-vertex values
-  /// (triangleVertices) or per-corner ones (3 per triangle), weighted by the hit's barycentrics.
-  static void FillPrimvars(SurfaceHit* hit) {
+  /// (triangleVertices) or per-corner ones (3 per triangle), weighted by the hit's barycentrics; object-space normals
+  /// and st derivatives carried to world space by the hit instance's `normalToWorld`.
+  static void FillPrimvars(const glm::dmat3& normalToWorld, SurfaceHit* hit) {
     const GeometryContext& ctx = *hit->context;
     const double bu = hit->u, bv = hit->v, bw = 1 - bu - bv;
     const std::size_t firstCorner = 3 * std::size_t(hit->part);
@@ -350,11 +352,11 @@ class Tracer {
     } else if (ctx.vertexNormals && ctx.triangleVertices && !ctx.eye) {
       local = VertexNormalAt(ctx, &(*ctx.triangleVertices)[firstCorner], bu, bv, hit->rayTime);
     }
-    const WorldNormal shading(hit->normalToWorld, local);
+    const WorldNormal shading(normalToWorld, local);
     hit->n = !shading.Valid() ? hit->ng : shading.v * ((glm::dot(shading.v, hit->ng) < 0 ? -1 : 1) / shading.length);
     hit->st = ctx.st ? glm::dvec2(atCorners(*ctx.st)) : glm::dvec2(0);
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye)
-      hit->stFrame = TriangleStFrameAt(ctx, hit->normalToWorld, firstCorner);
+      hit->stFrame = TriangleStFrameAt(ctx, normalToWorld, firstCorner);
     hit->material = &MaterialAt(ctx, hit->part);
     // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
     // with a bound material shows the material's.
