@@ -48,6 +48,29 @@ glm::dvec3 MapNormal(const glm::dvec3& m, const glm::dvec3& n, const glm::dvec3&
   return glm::dot(unit, wo) > 1e-3 ? unit : n;
 }
 
+/// The textured inputs of `material` over its constants in `out` (and `opacity`, which the caller's cut-out test
+/// reads).
+void ApplyTextures(const SurfaceMaterial& material, const glm::dvec3& wo, const TextureSite& site, SurfaceShading* out,
+                   double* opacity) {
+  out->bsdf.albedo = TexturedAlbedo(material, out->bsdf.albedo, site);
+  glm::vec4 v;
+  if (LookupInput(material, MaterialInput::Roughness, site, &v)) out->bsdf.roughness = Unit(v.x);
+  if (LookupInput(material, MaterialInput::Metallic, site, &v)) out->bsdf.metallic = Unit(v.x);
+  if (LookupInput(material, MaterialInput::Opacity, site, &v)) *opacity = Unit(v.x);
+  if (LookupInput(material, MaterialInput::Ior, site, &v) && std::isfinite(v.x))
+    out->bsdf.ior = std::max(1.0, double(v.x));
+  if (LookupInput(material, MaterialInput::SpecularColor, site, &v))
+    out->bsdf.specularColor = glm::clamp(glm::dvec3(v), glm::dvec3(0), glm::dvec3(1));
+  if (LookupInput(material, MaterialInput::Clearcoat, site, &v)) out->bsdf.clearcoat = Unit(v.x);
+  if (LookupInput(material, MaterialInput::ClearcoatRoughness, site, &v)) out->bsdf.clearcoatRoughness = Unit(v.x);
+  if (LookupInput(material, MaterialInput::EmissiveColor, site, &v))
+    out->emission = glm::max(glm::dvec3(v), glm::dvec3(0));
+  if (LookupInput(material, MaterialInput::Normal, site, &v)) {
+    out->normal = MapNormal(glm::dvec3(v), out->normal, wo, site.frame);
+    out->normalMapped = true;
+  }
+}
+
 }  // namespace
 
 glm::dvec3 TexturedAlbedo(const SurfaceMaterial& material, const glm::dvec3& albedo, const TextureSite& site) {
@@ -60,33 +83,23 @@ SurfaceShading ShadeMaterial(const SurfaceMaterial& material, const glm::dvec3& 
                              const glm::dvec3& n, const TextureSite& site) {
   const MaterialParams& m = material.params;
   SurfaceShading out;
-  glm::vec4 v;
-  out.bsdf.albedo = TexturedAlbedo(material, albedo, site);
-  out.bsdf.roughness = LookupInput(material, MaterialInput::Roughness, site, &v) ? Unit(v.x) : m.roughness;
-  out.bsdf.metallic = LookupInput(material, MaterialInput::Metallic, site, &v) ? Unit(v.x) : m.metallic;
-  double opacity = LookupInput(material, MaterialInput::Opacity, site, &v) ? Unit(v.x) : m.opacity;
-  out.bsdf.ior = LookupInput(material, MaterialInput::Ior, site, &v) && std::isfinite(v.x) ? std::max(1.0, double(v.x))
-                                                                                           : double(m.ior);
+  out.bsdf.albedo = albedo;
+  out.bsdf.roughness = m.roughness;
+  out.bsdf.metallic = m.metallic;
+  double opacity = m.opacity;
+  out.bsdf.ior = m.ior;
+  out.bsdf.specularWorkflow = m.useSpecularWorkflow;
+  out.bsdf.specularColor = glm::dvec3(m.specularColor);
+  out.bsdf.clearcoat = m.clearcoat;
+  out.bsdf.clearcoatRoughness = m.clearcoatRoughness;
+  out.emission = glm::dvec3(m.emissiveColor);
+  out.normal = n;
+  if (material.textures) ApplyTextures(material, wo, site, &out, &opacity);
   if (m.opacityThreshold > 0) {
     out.present = opacity >= m.opacityThreshold;
     opacity = 1;
   }
   out.bsdf.opacity = opacity;
-  out.bsdf.specularWorkflow = m.useSpecularWorkflow;
-  out.bsdf.specularColor = glm::dvec3(m.specularColor);
-  if (LookupInput(material, MaterialInput::SpecularColor, site, &v))
-    out.bsdf.specularColor = glm::clamp(glm::dvec3(v), glm::dvec3(0), glm::dvec3(1));
-  out.bsdf.clearcoat = LookupInput(material, MaterialInput::Clearcoat, site, &v) ? Unit(v.x) : m.clearcoat;
-  out.bsdf.clearcoatRoughness =
-      LookupInput(material, MaterialInput::ClearcoatRoughness, site, &v) ? Unit(v.x) : m.clearcoatRoughness;
-  out.emission = glm::dvec3(m.emissiveColor);
-  if (LookupInput(material, MaterialInput::EmissiveColor, site, &v))
-    out.emission = glm::max(glm::dvec3(v), glm::dvec3(0));
-  out.normal = n;
-  if (LookupInput(material, MaterialInput::Normal, site, &v)) {
-    out.normal = MapNormal(glm::dvec3(v), n, wo, site.frame);
-    out.normalMapped = true;
-  }
   return out;
 }
 
