@@ -7,6 +7,9 @@ UsdUVTexture output (rgb, r, g, b or a), with its file, wrapS/wrapT, scale, bias
 fallback and sourceColorSpace; its st from a UsdPrimvarReader_float2 (the primvar its varname names), optionally
 through a UsdTransform2d (rotation, scale, translation). opacityThreshold makes opacity a cut-out mask.
 
+diffuseColor may also come from a UsdPrimvarReader_float3 of displayColor (the prim's colour, or its instancer's per
+instance, with the reader's fallback where the prim has none), as Storm renders it.
+
 What is not rendered is listed once in `ignored`: inputs fed by other nodes, displacement. occlusion is not used,
 as the specification expects of path tracers (the renderer computes occlusion itself). A material whose universal
 surface is not a UsdPreviewSurface (MaterialX, or another shader network) renders its UsdPreviewSurface output for
@@ -127,6 +130,27 @@ def read_uv_texture(attr, time):
     return texture_input, st_name, problem
 
 
+def _color_reader(attr):
+    """The UsdPrimvarReader_float3 whose output attr is, else None."""
+    reader = UsdShade.Shader(attr.GetPrim()) if _is_output(attr) else None
+    return reader if _shader_id(reader) == "UsdPrimvarReader_float3" else None
+
+
+def _read_display_color(shader, reader, time, params, ignored):
+    """diffuseColor from a UsdPrimvarReader_float3: displayColor's is rendered (the reader's fallback where the prim has
+    none); another primvar's is not (one line in `ignored`)."""
+    varname = str(_value(reader, "varname", time, ""))
+    if varname != "displayColor":
+        ignored.append(f"{shader.GetPath()}: inputs:diffuseColor reads primvar '{varname}' ({reader.GetPath()}); only "
+                       f"displayColor is read this way, so its constant is rendered")
+        return
+    fallback = tuple(float(c) for c in _value(reader, "fallback", time, (0.0, 0.0, 0.0)))
+    if len(fallback) != 3 or not all(math.isfinite(c) and c >= 0 for c in fallback):
+        raise EyeRenderError(f"{reader.GetPath()}: inputs:fallback = {fallback} must be 3 finite numbers >= 0")
+    params.diffuse_from_display_color = True
+    params.diffuse_color = fallback
+
+
 def _surface_shader(material, ignored):
     """The UsdPreviewSurface the material renders with: its universal surface, else the first render context's
     surface that is one (warned about), else None (warned about)."""
@@ -162,6 +186,10 @@ def read_material(material, time):
         if attr is None:
             continue
         if _is_output(attr):
+            reader = _color_reader(attr) if name == "diffuseColor" else None
+            if reader is not None:
+                _read_display_color(shader, reader, time, params, ignored)
+                continue
             texture = read_uv_texture(attr, time) if name in TEXTURED else None
             if texture is None:
                 ignored.append(f"{shader.GetPath()}: inputs:{name} comes from a node this renderer does not run")

@@ -131,6 +131,7 @@ void BindParams(nb::module_& m) {
           [](const MaterialParams& p, const std::string& input) { return p.Texture(MaterialInputNamed(input)); },
           nb::arg("input"), "The texture driving an input (its texture.file is '' when none does).")
       .def_rw("opacity_threshold", &MaterialParams::opacityThreshold)
+      .def_rw("diffuse_from_display_color", &MaterialParams::diffuseFromDisplayColor)
       .def_rw("use_specular_workflow", &MaterialParams::useSpecularWorkflow)
       .def_rw("clearcoat", &MaterialParams::clearcoat)
       .def_rw("clearcoat_roughness", &MaterialParams::clearcoatRoughness)

@@ -202,6 +202,41 @@ def test_preview_surface_and_texture_are_read(tmp_path):
     assert "/World/card" not in s.index.rprim_ids()
 
 
+def test_diffuse_color_from_a_display_color_reader_renders_the_prims_display_color():
+    # The usd-wg Teapot's and Pyramid's pattern: diffuseColor <- UsdPrimvarReader_float3(varname displayColor). A card
+    # with displayColor shows it; one without shows the reader's fallback; a reader of another primvar is warned
+    # about and the shader's own constant is rendered.
+    stage = base_stage()
+    cards = {}
+    for k, (name, varname, color) in enumerate([("painted", "displayColor", (0.9, 0.2, 0.1)),
+                                                ("bare", "displayColor", None),
+                                                ("other", "myColor", (0.9, 0.2, 0.1))]):
+        mesh = quad_grid_mesh(stage, f"/World/{name}", n=1, size=0.9, scheme="none")
+        mesh.AddTranslateOp().Set(Gf.Vec3d(1.1 * (k - 1), 0, 0))
+        if color:
+            mesh.CreateDisplayColorAttr([color])
+        material = UsdShade.Material.Define(stage, f"/World/Looks/{name}")
+        shader = UsdShade.Shader.Define(stage, f"/World/Looks/{name}/surface")
+        shader.CreateIdAttr("UsdPreviewSurface")
+        reader = UsdShade.Shader.Define(stage, f"/World/Looks/{name}/color")
+        reader.CreateIdAttr("UsdPrimvarReader_float3")
+        reader.CreateInput("varname", Sdf.ValueTypeNames.Token).Set(varname)
+        reader.CreateInput("fallback", Sdf.ValueTypeNames.Float3).Set((0.1, 0.5, 0.2))
+        shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+            reader.ConnectableAPI(), "result")
+        material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+        UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(material)
+        cards[name] = 24 + 16 * (k - 1)  # the card's centre column (the view is 3.4 wide at the cards, 48 px)
+    s = session(stage, width=48, height=24, aovs=("albedo",))
+    assert s.scene.warnings == ["/World/Looks/other/surface: inputs:diffuseColor reads primvar 'myColor' "
+                                "(/World/Looks/other/color); only displayColor is read this way, so its constant is "
+                                "rendered"]
+    s.render(spp=1)
+    albedo = s.image("albedo")
+    for name, expected in [("painted", (0.9, 0.2, 0.1)), ("bare", (0.1, 0.5, 0.2)), ("other", (0.18, 0.18, 0.18))]:
+        assert albedo[12, cards[name], :3] == pytest.approx(expected, abs=1e-6), name
+
+
 def test_default_camera_frames_a_stage_without_one():
     stage = Usd.Stage.CreateInMemory()
     quad_grid_mesh(stage, "/World/card", scheme="none")

@@ -131,6 +131,9 @@ struct TextureInput {
 /// surface a dielectric of index `ior` (glass), unless opacityThreshold > 0 makes opacity a cut-out mask.
 struct MaterialParams {
   glm::vec3 diffuseColor{0.18f, 0.18f, 0.18f};
+  /// diffuseColor reads the prim's displayColor (a UsdPrimvarReader of it): the instancer's per-instance colour or
+  /// the prim's displayColor where there is one, else diffuseColor (the reader's fallback).
+  bool diffuseFromDisplayColor = false;
   glm::vec3 emissiveColor{0, 0, 0};
   float roughness = 0.5f;  ///< GGX, perceptual (alpha = roughness^2), [0, 1]
   float metallic = 0;      ///< [0, 1]

@@ -358,13 +358,14 @@ class Tracer {
     if (ctx.st && ctx.points && ctx.triangleVertices && !ctx.eye)
       hit->stFrame = TriangleStFrameAt(ctx, normalToWorld, firstCorner);
     hit->material = &MaterialAt(ctx, hit->part);
-    // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's): a face
-    // with a bound material shows the material's.
-    hit->albedo = hit->material->bound ? glm::dvec3(hit->material->params.diffuseColor)
-                  : hit->instanceColor ? glm::dvec3(*hit->instanceColor)
-                  : ctx.displayColor   ? glm::dvec3(atCorners(*ctx.displayColor))
-                                       : glm::dvec3(hit->material->params.diffuseColor);
-    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(hit->material->params.emissiveColor);
+    // displayColor (the prim's, or its instancer's per instance) is the fallback surface's colour (Hydra's), and that
+    // of a material whose diffuseColor reads it; any other bound material shows its own.
+    const MaterialParams& params = hit->material->params;
+    hit->albedo = hit->material->bound && !params.diffuseFromDisplayColor ? glm::dvec3(params.diffuseColor)
+                  : hit->instanceColor                                    ? glm::dvec3(*hit->instanceColor)
+                  : ctx.displayColor                                      ? glm::dvec3(atCorners(*ctx.displayColor))
+                                                                          : glm::dvec3(params.diffuseColor);
+    hit->emission = EyeOf(ctx) ? glm::dvec3(0) : glm::dvec3(params.emissiveColor);
     hit->primIndex = ctx.primIndex;
   }
 
