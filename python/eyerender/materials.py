@@ -5,7 +5,8 @@ produces their value. diffuseColor, emissiveColor, roughness, metallic, opacity,
 useSpecularWorkflow), clearcoat, clearcoatRoughness and normal (a tangent-space normal map) may come from a
 UsdUVTexture output (rgb, r, g, b or a), with its file, wrapS/wrapT, scale, bias,
 fallback and sourceColorSpace; its st from a UsdPrimvarReader_float2 (the primvar its varname names), optionally
-through a UsdTransform2d (rotation, scale, translation). opacityThreshold makes opacity a cut-out mask.
+through a UsdTransform2d (rotation, scale, translation); without a file, its fallback (with one line in `ignored`).
+opacityThreshold makes opacity a cut-out mask.
 
 diffuseColor may also come from a UsdPrimvarReader_float3 of displayColor (the prim's colour, or its instancer's per
 instance, with the reader's fallback where the prim has none), as Storm renders it.
@@ -151,6 +152,21 @@ def _read_display_color(shader, reader, time, params, ignored):
     params.diffuse_color = fallback
 
 
+def _read_fileless_texture(shader, name, attr, time, params, ignored):
+    """An input fed by a UsdUVTexture without a file takes the texture's fallback (the specification's "value to be
+    used when no texture is connected", (0, 0, 0, 1) unless authored), through the output's channels."""
+    texture = UsdShade.Shader(attr.GetPrim())
+    fallback = tuple(float(c) for c in _value(texture, "fallback", time, (0.0, 0.0, 0.0, 1.0)))
+    if len(fallback) != 4 or not all(math.isfinite(c) for c in fallback):
+        raise EyeRenderError(f"{texture.GetPath()}: inputs:fallback = {fallback} must be 4 finite numbers")
+    channel = CHANNELS.get(UsdShade.Utils.GetBaseNameAndType(attr.GetName())[0], 0)
+    picked = fallback[:3] if channel == -1 else (fallback[channel],) * 3
+    value = picked if isinstance(DEFAULTS[name], tuple) else picked[0]
+    setattr(params, _snake(name), _checked(shader, name, value))
+    ignored.append(f"{shader.GetPath()}: inputs:{name}: its UsdUVTexture {texture.GetPath()} has no file, so its "
+                   f"fallback {tuple(round(c, 3) for c in fallback)} is rendered")
+
+
 def _surface_shader(material, ignored):
     """The UsdPreviewSurface the material renders with: its universal surface, else the first render context's
     surface that is one (warned about), else None (warned about)."""
@@ -192,7 +208,10 @@ def read_material(material, time):
                 continue
             texture = read_uv_texture(attr, time) if name in TEXTURED else None
             if texture is None:
-                ignored.append(f"{shader.GetPath()}: inputs:{name} comes from a node this renderer does not run")
+                if name in DEFAULTS and _shader_id(UsdShade.Shader(attr.GetPrim())) == "UsdUVTexture":
+                    _read_fileless_texture(shader, name, attr, time, params, ignored)
+                else:
+                    ignored.append(f"{shader.GetPath()}: inputs:{name} comes from a node this renderer does not run")
                 continue
             texture_input, texture_st, problem = texture
             if name not in COLOR_INPUTS and texture_input.channel == -1:

@@ -317,6 +317,23 @@ def test_every_texturable_preview_surface_input_is_read_with_its_channel(tmp_pat
     assert ignored == ["/World/Looks/card/surface: inputs:displacement is not rendered"]
 
 
+def test_a_uv_texture_without_a_file_renders_its_fallback_with_one_warning(tmp_path):
+    # As in usd-wg's TextureFileFormatTests/_scene.usda, whose files come from the stages that reference it; the
+    # specification's fallback is "the value to be used when no texture is connected".
+    stage, texture = card_stage(tmp_path / "s.usda", "x.png", surface_input="diffuseColor")
+    texture.GetInput("file").GetAttr().Clear()
+    texture.CreateInput("fallback", Sdf.ValueTypeNames.Float4).Set((0.2, 0.4, 0.6, 1.0))
+    surface = UsdShade.Shader(stage.GetPrimAtPath("/World/Looks/card/surface"))
+    surface.CreateInput("roughness", Sdf.ValueTypeNames.Float).ConnectToSource(texture.ConnectableAPI(), "g")
+    params, _, ignored = materials.read_material(UsdShade.Material(stage.GetPrimAtPath("/World/Looks/card")),
+                                                 Usd.TimeCode.Default())
+    assert ignored == [f"/World/Looks/card/surface: inputs:{name}: its UsdUVTexture /World/Looks/card/texture has no "
+                       f"file, so its fallback (0.2, 0.4, 0.6, 1.0) is rendered"
+                       for name in ("diffuseColor", "roughness")]
+    assert params.diffuse_color == pytest.approx((0.2, 0.4, 0.6)) and params.roughness == pytest.approx(0.4)
+    assert params.texture("diffuseColor").texture.file == ""
+
+
 def test_a_materialx_only_material_warns_and_renders_its_preview_surface_fallback(tmp_path):
     stage = Usd.Stage.CreateInMemory()
     material = UsdShade.Material.Define(stage, "/Looks/mtlx")
