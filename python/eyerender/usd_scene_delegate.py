@@ -82,6 +82,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
         self._skipped = set()    # owner prim paths skipped (a later edit may fix them: stage_notices re-adds)
         self._point_counts = {}  # mesh id -> number of points its topology was built for
+        self._element_counts = {}  # mesh id -> {interpolation: elements a primvar of it needs} (_push_primvar)
         self._changes = stage_notices.StageChangeQueue(stage)
         self.last_changes = collections.Counter()  # what the last apply_stage_changes did, by kind
         self._materials = {}     # material path -> st primvar name
@@ -226,6 +227,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     def _forget_id(self, prim_id):
         """Drops a removed delegate prim from the lists and light-linking tables that name it."""
         self._point_counts.pop(prim_id, None)
+        self._element_counts.pop(prim_id, None)
         for ids in (self.eyes, self.cameras, self.lights):
             if prim_id in ids:
                 ids.remove(prim_id)
@@ -311,14 +313,25 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def add_instanced_prim(self, prim, prim_id, transform, instancer_id, binding):
         """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
-        (or the world, with no instancer_id); `binding`: the prim whose bound material it gets."""
-        if prim.IsA(UsdGeom.Mesh):
-            self._add_mesh(prim, prim_id, transform, instancer_id, binding)
-        elif prim.IsA(UsdGeom.Gprim):
-            if not self._add_gprim(prim, prim_id, transform, instancer_id, binding):
-                return
-        else:
-            self._add_analytic_eye(prim, prim_id, transform)
+        (or the world, with no instancer_id); `binding`: the prim whose bound material it gets. One that cannot be
+        rendered is left out with one warning; the rest of the prototype still renders."""
+        updaters = len(self._updaters)
+        try:
+            with reading(prim.GetPath()):
+                if prim.IsA(UsdGeom.Mesh):
+                    self._add_mesh(prim, prim_id, transform, instancer_id, binding)
+                elif prim.IsA(UsdGeom.Gprim):
+                    if not self._add_gprim(prim, prim_id, transform, instancer_id, binding):
+                        return
+                else:
+                    self._add_analytic_eye(prim, prim_id, transform)
+        except EyeRenderError as e:
+            self.store.remove_prim(prim_id)  # whatever part of it was added
+            self._forget_id(prim_id)
+            del self._updaters[updaters:]
+            instanced = binding is not None and binding.GetPath() != prim.GetPath()
+            self._warn_once([f"{e} (skipped{f'; instanced as {binding.GetPath()}' if instanced else ''})"])
+            return
         self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
 
     def _world_of(self, prim, time=None, cache=None):
@@ -423,6 +436,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._warn_once(subdivision.warnings)
         level = self.refine_level if subdivision.refines else 0
         self._point_counts[prim_id] = len(points)
+        self._count_elements(prim_id, counts, indices, points)
         left = mesh.GetOrientationAttr().Get() == UsdGeom.Tokens.leftHanded
         material_id, st_name = self._bind_material(binding or prim)
         if eyes.is_eye(prim):
@@ -464,6 +478,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 self.store.set_topology(prim_id, c, i, p, level, left)
                 self._push_mesh_tags(prim, prim_id, mesh_topology.Subdivision(mesh, c, i, len(p), t), len(c))
                 self._point_counts[prim_id] = len(p)
+                self._count_elements(prim_id, c, i, p)
             self._track(("topology", update_topology))
         elif skinned is not None:
             if skinned.might_vary(self._xforms_vary):
@@ -637,8 +652,13 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                                  f"transform relative to the eye")
         return m
 
+    def _count_elements(self, prim_id, counts, indices, points):
+        self._element_counts[prim_id] = {"constant": 1, "uniform": len(counts), "vertex": len(points),
+                                         "varying": len(points), "faceVarying": len(indices)}
+
     def _push_primvar(self, prim, prim_id, name, source, time):
-        """Sends primvar `source` of prim to the store under `name`, indices expanded; skips unauthored ones."""
+        """Sends primvar `source` of prim to the store under `name`, indices expanded; skips unauthored ones, and with
+        one warning one whose element count does not fit the mesh (the mesh renders without it, as in Storm)."""
         if source is None:
             return
         primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(source)
@@ -656,6 +676,11 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
             self.warnings.append(f"{e}: ignored")
             return
+        needed = self._element_counts.get(prim_id, {}).get(str(interpolation))
+        if needed is not None and len(values) != needed:
+            self._warn_once([f"{prim.GetPath()}: primvars:{source}: {interpolation} needs {needed} elements, got "
+                             f"{len(values)}: ignored"])
+            return
         self.store.set_primvar(prim_id, name, str(interpolation), values)
 
     def _add_gprim(self, prim, prim_id=None, world=None, instancer_id="", binding=None):
@@ -672,6 +697,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.store.add_mesh(prim_id, counts, indices, points, _matrix(world), material_id, 0, False,
                             instancer_id=instancer_id)
         self._own_top_level(prim, prim_id)
+        self._count_elements(prim_id, counts, indices, points)
         self._push_primvar(prim, prim_id, "displayColor", "displayColor", self.time)
         if own:
             self._track_transform(prim)

@@ -79,7 +79,8 @@ void BindRender(nb::module_& m) {
           nb::rv_policy::reference_internal)
       .def(
           "warnings", [](RenderDelegate& d) { return d.GetRenderParam()->Warnings(); },
-          "Problems found at sync that did not stop the render (textures that cannot be read), one line each.")
+          "Problems found at sync that did not stop the render (textures that cannot be read, primvars dropped), one "
+          "line each.")
       .def_static("supported_rprim_types", &RenderDelegate::SupportedRprimTypes)
       .def_static("supported_sprim_types", &RenderDelegate::SupportedSprimTypes);
 

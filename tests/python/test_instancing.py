@@ -253,6 +253,23 @@ def test_skinned_mesh_in_a_native_instance_prototype_renders_unskinned_with_one_
     assert instances_drawn(s, "/World/rigs/") == {"/World/rigs/r0/__instances/skin": 2}
 
 
+def test_an_unrenderable_prim_in_a_prototype_is_left_out_with_one_warning_and_the_rest_renders():
+    # As in OpenUSD's testUsdSkelCache/populate.usda: an empty mesh inside a native instance's prototype (it ended
+    # the whole render with an error).
+    stage = crowd_stage()
+    UsdGeom.Mesh.Define(stage, "/Library/card/empty")
+    s = session(stage)
+    prototype = stage.GetPrimAtPath("/World/cards/c0").GetPrototype()
+    instanced_as = {f"/World/cards/c{k}/empty" for k in range(3)}
+    warnings = [w for w in s.scene.warnings if "empty" in w]
+    assert len(warnings) == 1, s.scene.warnings
+    head, _, instance = warnings[0].removesuffix(")").partition(" (skipped; instanced as ")
+    assert head == f"{prototype.GetPath()}/empty: mesh has no points or no faces" and instance in instanced_as
+    assert instances_drawn(s, "/World/cards/") == {"/World/cards/c0/__instances/geo": 3}
+    s.render(spp=1)
+    assert (s.image("color")[:, :, 3] > 0).any()
+
+
 def test_cornea_shell_in_a_prototype_is_left_out_of_every_instance():
     stage = crowd_stage()
     eye = UsdGeom.Xform.Define(stage, "/World/crowd/protos/group/eye")

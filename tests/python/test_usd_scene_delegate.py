@@ -237,6 +237,21 @@ def test_diffuse_color_from_a_display_color_reader_renders_the_prims_display_col
         assert albedo[12, cards[name], :3] == pytest.approx(expected, abs=1e-6), name
 
 
+def test_a_primvar_that_does_not_fit_its_mesh_is_dropped_with_one_warning():
+    # OpenUSD's testUsdImagingGLColorOpacityPrimvar has such a mesh (WarnBadUniformColorUniformOpacity); the render
+    # ended with an error.
+    stage = base_stage()
+    mesh = quad_grid_mesh(stage, "/World/card", n=2, scheme="none")
+    UsdGeom.PrimvarsAPI(mesh).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                            UsdGeom.Tokens.uniform).Set([(1, 0, 0)] * 3)  # 4 faces
+    s = session(stage, aovs=("albedo",))
+    s.render(spp=1)
+    s.render(spp=1)
+    assert s.scene.warnings == ["/World/card: primvars:displayColor: uniform needs 4 elements, got 3: ignored"]
+    albedo = s.image("albedo")
+    assert albedo[12, 16, :3] == pytest.approx((0.18, 0.18, 0.18), abs=1e-6)  # the fallback surface's grey
+
+
 def test_default_camera_frames_a_stage_without_one():
     stage = Usd.Stage.CreateInMemory()
     quad_grid_mesh(stage, "/World/card", scheme="none")

@@ -107,7 +107,7 @@ void Mesh::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBit
     UploadPoints();
   }
   // Primvars after points: "rest" is refined through the same refiner the topology just built.
-  if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncPrimvars(sceneDelegate);
+  if (topologyDirty || (bits & dirty::DirtyPrimvar)) SyncPrimvars(sceneDelegate, renderParam);
   if (topologyDirty || (bits & (dirty::DirtyTransform | dirty::DirtyVisibility | dirty::DirtyInstancer)))
     SyncInstances(sceneDelegate, renderParam, bits, topologyDirty);
   if (topologyDirty || (bits & dirty::DirtyMaterialId)) materialId_ = sceneDelegate->GetMaterialId(Id());
@@ -291,25 +291,27 @@ void Mesh::UploadPoints() {
   ++stats_.pointUploads;
 }
 
-void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate) {
+void Mesh::SyncPrimvars(SceneDelegate* sceneDelegate, RenderParam* renderParam) {
   ++stats_.primvarSyncs;
-  // Each primvar: read, checked against the topology (a bad one is an error naming the mesh and the
-  // primvar), expanded to triangle corners. Nothing is kept from a primvar that fails.
+  // Each primvar: read, checked against the topology, expanded to triangle corners. A bad one is dropped with one
+  // warning naming the mesh and the primvar, as Storm drops it: the mesh renders without it.
   auto read = [&](const std::string& name, int components) {
     Primvar primvar = sceneDelegate->GetPrimvar(Id(), name);
     if (primvar.Empty()) return Primvar{};
     try {
       ValidatePrimvar(primvar, name, components, topology_, controlPointCount_);
+      if (name == "rest" && primvar.interpolation != Interpolation::Vertex &&
+          primvar.interpolation != Interpolation::Varying)
+        throw std::runtime_error("primvar rest: must be vertex-interpolated (a position per point)");
     } catch (const std::runtime_error& e) {
-      Fail(Id(), e.what());
+      renderParam->Warn("mesh " + Id() + ": " + e.what() + " (ignored)");
+      return Primvar{};
     }
     if (refiner_ && primvar.interpolation == Interpolation::FaceVarying) ++stats_.faceVaryingRefinements;
     return primvar;
   };
   const Primvar st = read("st", 2), color = read("displayColor", 3), normals = read("normals", 3),
                 rest = read("rest", 3);
-  if (!rest.Empty() && rest.interpolation != Interpolation::Vertex && rest.interpolation != Interpolation::Varying)
-    Fail(Id(), "primvar rest: must be vertex-interpolated (a position per point)");
 
   st_ = st.Empty() ? std::vector<Vec2f>{} : ToVectors<Vec2f>(PrimvarAtCorners(st, layout_, refiner_.get()));
   displayColor_ =

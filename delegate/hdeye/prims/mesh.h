@@ -111,7 +111,7 @@ class Mesh : public Rprim {
   void SyncTopology(SceneDelegate* sceneDelegate, RenderParam* renderParam, const std::vector<Vec3f>& control);
   void SyncSubsets();
   void SyncPoints(const std::vector<Vec3f>& control);
-  void SyncPrimvars(SceneDelegate* sceneDelegate);
+  void SyncPrimvars(SceneDelegate* sceneDelegate, RenderParam* renderParam);
   /// The rendered points of every time step after the first (deformation blur), into laterSteps_.
   void SyncLaterSteps(const PointSteps& steps);
   void UploadPoints();

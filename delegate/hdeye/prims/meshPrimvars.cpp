@@ -65,9 +65,11 @@ void ValidatePrimvar(const Primvar& primvar, const std::string& name, int compon
   if (primvar.components != components)
     fail("has " + std::to_string(primvar.components) + " components per element, need " + std::to_string(components));
   const std::size_t expected = ElementCount(primvar.interpolation, topology, pointCount);
-  if (primvar.values.size() != expected * std::size_t(components))
+  if (primvar.values.size() != expected * std::size_t(components)) {
+    const std::size_t n = primvar.values.size();
     fail(std::string(ToString(primvar.interpolation)) + " needs " + std::to_string(expected) + " elements, got " +
-         std::to_string(double(primvar.values.size()) / components));
+         (n % std::size_t(components) ? std::to_string(n) + " values" : std::to_string(n / std::size_t(components))));
+  }
   for (std::size_t i = 0; i < primvar.values.size(); ++i)
     if (!std::isfinite(primvar.values[i]))
       fail("element " + std::to_string(i / std::size_t(components)) + " is not finite");
