@@ -1,5 +1,6 @@
 """UsdGeom BasisCurves and Points for the delegate (HdBasisCurves / HdPoints): curves as Embree tubes (ribbons where
-normals are authored), points as spheres; widths are diameters in the prim's space (1 where unauthored).
+normals are authored), points as spheres; widths are diameters in the prim's space (1 where unauthored). One width
+(or normal) where the interpolation wants one per vertex is a constant, as Storm reads it.
 
 Each reader returns a callable that pushes the prim's geometry at a time code, so `set_time` can re-push what is
 animated. Bad data (counts, sizes, NaN) is raised as EyeRenderError naming the prim; the scene delegate then skips
@@ -69,9 +70,12 @@ def _read_primvars(prim, schema, time, normals):
     widths = _primvar(prim, "widths", schema.GetWidthsAttr(), schema.GetWidthsInterpolation(), 1, time)
     n = _primvar(prim, "normals", schema.GetNormalsAttr(), schema.GetNormalsInterpolation(), 3, time) \
         if normals else None
-    read = [(name, primvar) for name, primvar in (("widths", widths), ("normals", n)) if primvar]
+    # One value where there should be one per vertex is a constant, as Storm reads it (widths = [w] is common).
+    read = [(name, ("constant", primvar[1]) if primvar[0] in ("vertex", "varying") and len(primvar[1]) == 1
+             else primvar) for name, primvar in (("widths", widths), ("normals", n)) if primvar]
     for name, primvar in read:
         _check_size(prim, name, primvar, expected)
+    widths = dict(read).get("widths")
     if widths and (widths[1] < 0).any():
         raise EyeRenderError(f"{prim.GetPath()}: widths holds a negative width")
     return read

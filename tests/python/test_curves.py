@@ -93,6 +93,22 @@ def test_curves_and_points_render_with_their_material():
     assert albedo[5, 5].sum() == 0  # nothing else in view
 
 
+def test_one_width_on_a_vertex_interpolated_curve_is_a_constant_width_as_in_storm():
+    # OpenUSD's basicDrawing and testUsdImagingGLCurves stages author widths = [w] with the default (vertex)
+    # interpolation on curves of many vertices; they were skipped.
+    stage = flat_stage()
+    curve = UsdGeom.BasisCurves.Define(stage, "/World/hair")
+    curve.CreateTypeAttr(UsdGeom.Tokens.linear)
+    curve.CreateCurveVertexCountsAttr([3])
+    curve.CreatePointsAttr([(-3, 0, 0), (0, 0, 0), (3, 0, 0)])
+    curve.CreateWidthsAttr([0.5])
+    assert curve.GetWidthsInterpolation() == UsdGeom.Tokens.vertex
+    s = RenderSession(stage, width=41, height=41, aovs=["depth"])
+    assert s.scene.warnings == []
+    s.render(spp=1)
+    assert s.image("depth")[20, 20, 0] == pytest.approx(10 - 0.25, abs=1e-3)  # a tube of radius 0.25
+
+
 def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warning():
     stage = flat_stage()
     curve = lash(stage)
