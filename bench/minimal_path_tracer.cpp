@@ -2,6 +2,7 @@
 
 #include "hdeye/render/fastTrig.h"
 #include "hdeye/render/previewSurface.h"
+#include "hdeye/render/sampleDirections.h"
 #include "hdeye/render/sampleStream.h"
 
 #include <eyelib/random.h>
@@ -60,14 +61,12 @@ void SetRay(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar,
   ray->mask = ~0u, ray->flags = 0, ray->time = 0;
 }
 
-/// A cosine-distributed direction about unit n.
+/// A cosine-distributed direction about unit n (the renderer's sample, in n's frame).
 glm::dvec3 CosineDirection(const glm::dvec3& n, double u1, double u2) {
   glm::dvec3 t, b;
   eyelib::OrthonormalBasis(n, &t, &b);
-  double s, c;
-  hdeye::SinCos2Pi(u2, &s, &c);
-  const double r = std::sqrt(u1);
-  return r * c * t + r * s * b + std::sqrt(std::max(0.0, 1 - u1)) * n;
+  const glm::dvec3 l = hdeye::CosineHemisphereLocal(u1, u2);
+  return l.x * t + l.y * b + l.z * n;
 }
 
 /// A Lambertian surface of one albedo.
@@ -193,16 +192,11 @@ template <class Sampler, class BsdfAt> class Tracer {
       const glm::dvec3 toC = s_.keyPosition - origin;
       const double d2 = glm::dot(toC, toC), r2 = s_.keyRadius * s_.keyRadius;
       if (!(d2 > r2)) return glm::dvec3(0);
-      const double dc = std::sqrt(d2), cosMax = std::sqrt(1 - r2 / d2);
-      const glm::dvec3 w = toC / dc;
-      glm::dvec3 t, b;
-      eyelib::OrthonormalBasis(w, &t, &b);
-      const double cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT));
-      double s, c;
-      hdeye::SinCos2Pi(u2, &s, &c);
-      dir = cosT * w + sinT * (c * t + s * b);
-      distance = dc * cosT - std::sqrt(std::max(0.0, r2 - dc * dc * sinT * sinT));  // the sphere's near side
-      pdf = 0.5 / (2 * kPi * (1 - cosMax));
+      const double dc = std::sqrt(d2), oneMinusCosMax = 1 - std::sqrt(1 - r2 / d2);
+      dir = hdeye::SampleConeAbout(toC / dc, oneMinusCosMax, u1, u2);
+      const double b = glm::dot(dir, toC);
+      distance = b - std::sqrt(std::max(0.0, b * b - (d2 - r2)));  // the sphere's near side
+      pdf = 0.5 / (2 * kPi * oneMinusCosMax);
       radiance = s_.keyRadiance;
     } else {
       const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z));
