@@ -285,7 +285,8 @@ TEST_CASE("a leftHanded mesh wound clockwise gets outward normals, polygon and s
   }
 }
 
-TEST_CASE("a bad primvar is dropped with one warning naming the mesh and the primvar, and the mesh renders without it") {
+TEST_CASE(
+    "a bad primvar is dropped with one warning naming the mesh and the primvar, and the mesh renders without it") {
   MeshTopology topology;
   std::vector<Vec3f> points;
   Strip(&topology, &points);

@@ -8,7 +8,8 @@
 
 using namespace hdeye;
 
-TEST_CASE("SinCos2Pi and SinCosReduced agree with libm to 1e-13 over [0, 1] and [-pi/4, pi/4]", "[sampling]") {
+TEST_CASE("SinCos2Pi and SinCosReduced agree with libm to 1e-13 over the unit interval and plus or minus pi/4",
+          "[sampling]") {
   constexpr double kTwoPi = 6.283185307179586477;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uniform(0, 1);

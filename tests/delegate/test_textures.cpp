@@ -371,7 +371,7 @@ TextureInput Input(const std::string& file, int channel) {
 
 TEST_CASE(
     "textured roughness, metallic, opacity, ior, diffuseColor, specularColor, clearcoat and clearcoatRoughness "
-    "take the texel of their channel; "
+    "take the texel of their channel, and "
     "UsdTransform2d scales, rotates and translates st",
     "[texture][material]") {
   ScratchDir dir;

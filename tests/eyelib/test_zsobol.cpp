@@ -58,7 +58,7 @@ TEST_CASE("every power-of-two prefix of a pixel's samples is a (0,2)-net in ever
   std::printf("zsobol: %d prefixes checked as (0,m,2)-nets\n", checked);
 }
 
-TEST_CASE("zsobol values are uniform on [0, 1) in every dimension", "[zsobol]") {
+TEST_CASE("zsobol values are uniform on the unit interval in every dimension", "[zsobol]") {
   // One sample (of a varying index) from each of 4096 pixels, 32 bins: chi-square with 31 degrees of freedom
   // (99.99 % quantile about 70). Within a pixel the samples are stratified, so they would pass trivially.
   for (std::uint64_t dim : {0ull, 1ull, 6ull, 7ull, 50ull, 201ull}) {
