@@ -14,7 +14,7 @@ what is read and how.
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme and tags and holes (mesh_topology.py),
 materialBind GeomSubsets, orientation, normals, primvars st /
 displayColor / rest (or Pref; eye meshes: else their points at eye:restTime)), BasisCurves and Points (curves.py),
-Sphere and Cube gprims (tessellated),
+implicit gprims (Sphere, Cube, Plane, Cylinder, Cone, Capsule and the _1 forms, tessellated: gprims.py),
 Camera, UsdLux sphere / distant / rect / disk / dome
 lights, UsdShade UsdPreviewSurface materials, the EyeAPI on meshes and xforms (eye meshes: eye:irisProjection's
 target resolved relative to the eye; eye:corneaShell's meshes left out, eye_rigs.py), purposes, visibility, instanceable
