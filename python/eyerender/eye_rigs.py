@@ -16,6 +16,7 @@ from pxr import Sdf, Usd, UsdGeom, UsdShade
 
 from . import eyes
 from .errors import EyeRenderError
+from .materials import bound_material
 from .validation import reading
 
 # A shell is clear glass; occlusion shells and tear lines are partly opaque (and a dark occlusion shell over the
@@ -36,7 +37,7 @@ def _meshes_under(prim):
 
 def _surface_opacity(prim):
     """The constant opacity input of prim's bound UsdPreviewSurface (1 without one, or when it is connected)."""
-    material = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0]
+    material = bound_material(prim)
     shader = material.ComputeSurfaceSource()[0] if material else None
     if not shader or shader.GetIdAttr().Get() != "UsdPreviewSurface":
         return 1.0

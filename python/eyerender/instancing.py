@@ -21,10 +21,11 @@ XXX: animated visibility of native instances and animated transforms of prims in
 import dataclasses
 
 import numpy as np
-from pxr import Usd, UsdGeom, UsdShade
+from pxr import Usd, UsdGeom
 
 from . import eyes, lights, motion
 from .errors import EyeRenderError
+from .materials import bound_material
 
 
 @dataclasses.dataclass
@@ -46,6 +47,18 @@ def _instance_colors(instancer, time, count):
         return None
     values = primvar.ComputeFlattened(time)
     return [tuple(c) for c in values] if values is not None and len(values) == count else None
+
+
+def _invisible_within(prim, root, time):
+    """Whether prim or an ancestor up to the prototype `root` is invisible at `time`. Above the root does not count,
+    as in UsdImaging: prototypes are commonly kept under an invisible scope so that they do not render in place."""
+    while True:
+        attr = UsdGeom.Imageable(prim).GetVisibilityAttr()
+        if attr and attr.Get(time) == UsdGeom.Tokens.invisible:
+            return True
+        if prim == root or not prim.GetParent() or prim.GetParent().IsPseudoRoot():
+            return False
+        prim = prim.GetParent()
 
 
 def _is_point_instancer(prim):
@@ -180,7 +193,7 @@ class Instancing:
         if UsdGeom.Imageable(prim) and UsdGeom.Imageable(prim).ComputeVisibility(d.time) == UsdGeom.Tokens.invisible:
             with d.owning(prim.GetPath(), sources=[prim.GetPath()]):  # made visible: populated as its own group
                 return
-        material = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0]
+        material = bound_material(prim)
         prototype = prim.GetPrototype()
         key = (prototype.GetPath().pathString, material.GetPath().pathString if material else "")
         group = self._native.get(key)
@@ -216,10 +229,11 @@ class Instancing:
             if _is_point_instancer(prim) or d.is_cornea_shell(proxy):
                 it.PruneChildren()
                 continue
-            if imageable and (imageable.ComputePurpose() not in d.purposes or
-                              imageable.ComputeVisibility(d.time) == UsdGeom.Tokens.invisible):
+            if imageable and _invisible_within(prim, root, d.time):
                 it.PruneChildren()
                 continue
+            if imageable and imageable.ComputePurpose() not in d.purposes:
+                continue  # not pruned: a child's own purpose overrides the one it inherits
             if prim.IsA(UsdGeom.Camera) or lights.light_type(prim):
                 d.warnings.append(f"{prim.GetPath()}: a {prim.GetTypeName()} inside an instance prototype is not "
                                   f"rendered")

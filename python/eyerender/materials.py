@@ -24,6 +24,12 @@ from ._hdeye import MaterialParams, TextureColorSpace, TextureInput, TextureWrap
 from .errors import EyeRenderError
 from .textures import TextureWarning, resolve_texture
 
+
+def bound_material(prim):
+    """The UsdShade.Material bound to prim for the "preview" purpose (a UsdPreviewSurface renderer's, as Storm
+    asks), else its all-purpose binding; an invalid Material where there is none."""
+    return UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(UsdShade.Tokens.preview)[0]
+
 # UsdPreviewSurface's defaults (its specification), for inputs with no authored value.
 DEFAULTS = {
     "diffuseColor": (0.18, 0.18, 0.18),

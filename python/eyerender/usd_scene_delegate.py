@@ -25,7 +25,7 @@ import collections
 import contextlib
 
 import numpy as np
-from pxr import Usd, UsdGeom, UsdShade, UsdSkel
+from pxr import Gf, Usd, UsdGeom, UsdSkel
 
 from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, motion, stage_notices
 from .errors import EyeRenderError
@@ -40,6 +40,9 @@ from .usd_values import varies as _varies
 from .validation import check_transform, reading
 
 PRIMVARS = ("displayColor", "normals", "rest")
+
+
+_GF_VECTORS = (Gf.Vec2f, Gf.Vec2d, Gf.Vec2h, Gf.Vec3f, Gf.Vec3d, Gf.Vec3h)
 
 
 def _array_of_points(values, what):
@@ -124,8 +127,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 continue
             imageable = UsdGeom.Imageable(prim)
             if imageable and imageable.ComputePurpose() not in self.purposes:
-                it.PruneChildren()
-                continue
+                continue  # not pruned: a child's own purpose overrides the one it inherits
             try:
                 with reading(prim.GetPath()):
                     if prim.IsInstance() and not self._instancing.flatten:
@@ -387,6 +389,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.store.set_transform(prim_id, _matrix(self._world_of(prim)))
 
     def _track_visibility(self, prim, prim_id):
+        if prim_id != prim.GetPath().pathString:  # a prototype's prim: instancing.py judged it within its prototype
+            return
         imageable = UsdGeom.Imageable(prim)
         visible = imageable.ComputeVisibility(self.time) != UsdGeom.Tokens.invisible
         if not visible:
@@ -661,7 +665,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         one warning one whose element count does not fit the mesh (the mesh renders without it, as in Storm)."""
         if source is None:
             return
-        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(source)
+        primvar = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance(source)  # constant ones are inherited
         if primvar and primvar.HasValue():
             values, interpolation = primvar.ComputeFlattened(time), primvar.GetInterpolation()
         elif name == "normals" and UsdGeom.Mesh(prim).GetNormalsAttr().HasValue():
@@ -671,6 +675,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             return
         if values is None or (hasattr(values, "__len__") and len(values) == 0):
             return
+        if isinstance(values, _GF_VECTORS):  # a color3f where color3f[] is meant: Storm reads it as one element
+            values = [values]
         try:
             values = _array(values, {"st": 2}.get(name, 3), f"{prim.GetPath()}: primvars:{source}")
         except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
@@ -752,7 +758,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _bind_material(self, prim):
         """(material id, st primvar name) of prim's bound material, adding the material on first use."""
-        material = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0]
+        material = materials.bound_material(prim)
         if not material:
             return "", "st"
         path = material.GetPath().pathString

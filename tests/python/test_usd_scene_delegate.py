@@ -183,6 +183,88 @@ def test_purposes_and_visibility():
     assert s.image("color")[:, :, 3].max() == 0  # the only geometry in view is invisible
 
 
+def test_a_childs_own_purpose_overrides_the_one_it_inherits():
+    # OpenUSD's InheritedPurpose stage: a default-purpose child of a guide scope renders, as USD computes it.
+    stage = base_stage()
+    UsdGeom.Scope.Define(stage, "/World/guides").CreatePurposeAttr(UsdGeom.Tokens.guide)
+    quad_grid_mesh(stage, "/World/guides/inherits", scheme="none")
+    quad_grid_mesh(stage, "/World/guides/own", scheme="none").CreatePurposeAttr(UsdGeom.Tokens.default_)
+    ids = session(stage).index.rprim_ids()
+    assert "/World/guides/own" in ids and "/World/guides/inherits" not in ids
+
+
+def red_material(stage, path, color):
+    material = UsdShade.Material.Define(stage, path)
+    shader = UsdShade.Shader.Define(stage, f"{path}/surface")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).Set(color)
+    material.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    return material
+
+
+def test_a_preview_purpose_binding_wins_over_the_all_purpose_one_and_stands_alone():
+    stage = base_stage()
+    both = quad_grid_mesh(stage, "/World/both", n=1, size=0.9, scheme="none")
+    both.AddTranslateOp().Set(Gf.Vec3d(-0.55, 0, 0))
+    alone = quad_grid_mesh(stage, "/World/alone", n=1, size=0.9, scheme="none")
+    alone.AddTranslateOp().Set(Gf.Vec3d(0.55, 0, 0))
+    full, preview = red_material(stage, "/World/Looks/full", (0.1, 0.1, 0.9)), \
+        red_material(stage, "/World/Looks/preview", (0.9, 0.1, 0.1))
+    binding = UsdShade.MaterialBindingAPI.Apply(both.GetPrim())
+    binding.Bind(full)
+    binding.Bind(preview, materialPurpose=UsdShade.Tokens.preview)
+    UsdShade.MaterialBindingAPI.Apply(alone.GetPrim()).Bind(preview, materialPurpose=UsdShade.Tokens.preview)
+    s = session(stage, width=48, height=24, aovs=("albedo",))
+    s.render(spp=1)
+    albedo = s.image("albedo")
+    assert albedo[12, 16, :3] == pytest.approx((0.9, 0.1, 0.1), abs=1e-6)  # both: the preview material
+    assert albedo[12, 32, :3] == pytest.approx((0.9, 0.1, 0.1), abs=1e-6)  # alone: it (was the fallback grey)
+
+
+def test_a_constant_display_color_is_inherited_from_an_ancestor_unless_the_prim_has_its_own():
+    stage = base_stage()
+    group = UsdGeom.Xform.Define(stage, "/World/group")
+    UsdGeom.PrimvarsAPI(group).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                             UsdGeom.Tokens.constant).Set([(0.8, 0.1, 0.1)])
+    inherits = quad_grid_mesh(stage, "/World/group/inherits", n=1, size=0.9, scheme="none")
+    inherits.AddTranslateOp().Set(Gf.Vec3d(-0.55, 0, 0))
+    own = quad_grid_mesh(stage, "/World/group/own", n=1, size=0.9, scheme="none")
+    own.AddTranslateOp().Set(Gf.Vec3d(0.55, 0, 0))
+    # A color3f where color3f[] is meant (OpenUSD's InstancePrimvars stage) is read as one colour, as Storm does.
+    spec = Sdf.AttributeSpec(stage.GetRootLayer().GetPrimAtPath(own.GetPath()), "primvars:displayColor",
+                             Sdf.ValueTypeNames.Color3f)
+    spec.default = Gf.Vec3f(0.1, 0.7, 0.2)
+    s = session(stage, width=48, height=24, aovs=("albedo",))
+    assert not s.scene.warnings
+    s.render(spp=1)
+    albedo = s.image("albedo")
+    assert albedo[12, 16, :3] == pytest.approx((0.8, 0.1, 0.1), abs=1e-6)
+    assert albedo[12, 32, :3] == pytest.approx((0.1, 0.7, 0.2), abs=1e-6)
+
+
+@pytest.mark.parametrize("kind", ["Mesh", "Sphere"])
+def test_point_instancer_prototypes_under_an_invisible_scope_render_through_the_instancer(kind):
+    # OpenUSD's InstancePrimvars stage keeps its prototypes under an invisible Scope, so they do not render in place.
+    stage = base_stage()
+    UsdGeom.Scope.Define(stage, "/World/Prototypes").CreateVisibilityAttr(UsdGeom.Tokens.invisible)
+    for name in ("tile", "hidden_tile"):
+        if kind == "Mesh":
+            quad_grid_mesh(stage, f"/World/Prototypes/{name}", size=0.5, scheme="none")
+        else:
+            UsdGeom.Sphere.Define(stage, f"/World/Prototypes/{name}").CreateRadiusAttr(0.25)
+    hidden = UsdGeom.Imageable(stage.GetPrimAtPath("/World/Prototypes/hidden_tile"))
+    hidden.CreateVisibilityAttr(UsdGeom.Tokens.invisible)  # a prototype's own visibility still counts
+    pi = UsdGeom.PointInstancer.Define(stage, "/World/scatter")
+    pi.CreatePrototypesRel().SetTargets(["/World/Prototypes/tile", "/World/Prototypes/hidden_tile"])
+    pi.CreatePositionsAttr([(-1, 0, 0), (1, 0, 0)])
+    pi.CreateProtoIndicesAttr([0, 1])
+    s = session(stage)
+    assert [i for i in s.index.rprim_ids() if i.startswith("/World/scatter/")] == ["/World/scatter/__prototype0/tile"]
+    s.render(spp=1)
+    alpha = s.image("color")[12, :, 3]  # the 32 px row through the instances: x = -1 at pixel 6, x = 1 at 25
+    assert alpha[6] == 1 and alpha[16] == 0 and alpha[25] == 0, alpha  # the tile's instance; nothing in place
+
+
 def test_preview_surface_and_texture_are_read(tmp_path):
     stage = base_stage()
     mesh = quad_grid_mesh(stage, "/World/card", scheme="none")
