@@ -366,18 +366,8 @@ class SkinnedPrim:
         so USD's own warnings never fire)."""
         path = self.prim.GetPath()
         skeleton = UsdSkel.Skeleton(self.skeleton)
-        joints = skeleton.GetJointsAttr().Get() or []
-        binds = skeleton.GetBindTransformsAttr().Get()
-        if not self.skel_query.HasBindPose() or binds is None or len(binds) != len(joints):
-            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has {0 if binds is None else len(binds)} "
-                                f"bindTransforms for {len(joints)} joints")
-        rests = skeleton.GetRestTransformsAttr().Get()
-        if rests is not None and len(rests) != len(joints):
-            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has {len(rests)} restTransforms for "
-                                f"{len(joints)} joints")
-        if not _finite_matrices(binds) or any(abs(b.GetDeterminant3()) < 1e-300 for b in binds):
-            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has a singular or non-finite bind "
-                                f"transform")
+        if self.query.HasJointInfluences():  # blend shapes alone need no bind pose (a Skeleton of no joints)
+            self._check_bind_pose(path, skeleton)
         order = self.query.GetJointOrder()
         missing = [name for name in (order or []) if name not in set(self.skel_query.GetJointOrder())]
         if missing:
@@ -393,7 +383,23 @@ class SkinnedPrim:
         self._check_animation()
         if self.point_based and self.query.HasBlendShapes():
             self._check_blend_shapes(path)
-        self._skinning_transforms(Usd.TimeCode.Default())
+        if self.query.HasJointInfluences():
+            self._skinning_transforms(Usd.TimeCode.Default())
+
+    def _check_bind_pose(self, path, skeleton):
+        """One bind transform per joint, finite and invertible, and one rest transform per joint if any."""
+        joints = skeleton.GetJointsAttr().Get() or []
+        binds = skeleton.GetBindTransformsAttr().Get()
+        if not self.skel_query.HasBindPose() or binds is None or len(binds) != len(joints):
+            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has {0 if binds is None else len(binds)} "
+                                f"bindTransforms for {len(joints)} joints")
+        rests = skeleton.GetRestTransformsAttr().Get()
+        if rests is not None and len(rests) != len(joints):
+            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has {len(rests)} restTransforms for "
+                                f"{len(joints)} joints")
+        if not _finite_matrices(binds) or any(abs(b.GetDeterminant3()) < 1e-300 for b in binds):
+            raise SkinningError(f"{path}: skeleton {self.skeleton.GetPath()} has a singular or non-finite bind "
+                                f"transform")
 
     def _check_animation(self):
         """The SkelAnimation's translations, rotations and scales hold one value per animated joint at every time

@@ -99,12 +99,16 @@ def two_joint_strip(method="classicLinear", bend=60.0, segments=8):
     return stage
 
 
-def blend_shape_strip():
+def blend_shape_strip(joints=True):
     """A strip with one blend shape ("lift": the last column up by 0.5 in z, an in-between at weight 0.5 lifting
-    it 0.4) driven 0 / 0.5 / 1 at frames 1 / 2 / 3, and no joint motion."""
+    it 0.4) driven 0 / 0.5 / 1 at frames 1 / 2 / 3, and no joint motion; joints=False: a Skeleton of no joints
+    and no bind pose, the mesh bound to it without joint influences (OpenUSD's blendshapes test stage)."""
     stage = base_stage()
-    skel = skeleton(stage, "/World/Rig", ["root"], [Gf.Matrix4d(1)],
+    skel = skeleton(stage, "/World/Rig", ["root"] if joints else [], [Gf.Matrix4d(1)] if joints else [],
                     blend_shapes={"names": ["lift"], "weights": {1: [0.0], 2: [0.5], 3: [1.0]}})
+    if not joints:
+        for attr in (skel.GetBindTransformsAttr(), skel.GetRestTransformsAttr()):
+            attr.Clear()
     mesh = strip_mesh(stage, "/World/Rig/Strip")
     count = len(mesh.GetPointsAttr().Get())
     shape = UsdSkel.BlendShape.Define(stage, "/World/Rig/Strip/lift")
@@ -112,7 +116,11 @@ def blend_shape_strip():
     shape.CreateOffsetsAttr([(0, 0, 0.5), (0, 0, 0.5)])
     shape.CreateInbetween("half").SetOffsets([(0, 0.0, 0.4), (0, 0.0, 0.4)])
     shape.GetInbetween("half").SetWeight(0.5)
-    api = bind(mesh.GetPrim(), skel, [0] * count, [1.0] * count, 1)
+    if joints:
+        api = bind(mesh.GetPrim(), skel, [0] * count, [1.0] * count, 1)
+    else:
+        api = UsdSkel.BindingAPI.Apply(mesh.GetPrim())
+        api.CreateSkeletonRel().SetTargets([skel.GetPath()])
     api.CreateBlendShapesAttr(["lift"])
     api.CreateBlendShapeTargetsRel().SetTargets([shape.GetPath()])
     return stage

@@ -129,8 +129,9 @@ def test_dual_quaternion_skinning_blends_rotations_not_positions():
                        [(1 + 1 - 0.4 * math.sin(full)) / 2, (0.4 + 0.4 * math.cos(full)) / 2, 0], atol=1e-6)
 
 
-def test_blend_shapes_and_inbetweens_move_points_as_usdskel_says():
-    stage = ss.blend_shape_strip()
+@pytest.mark.parametrize("joints", [True, False], ids=["with joints", "a skeleton of no joints"])
+def test_blend_shapes_and_inbetweens_move_points_as_usdskel_says(joints):
+    stage = ss.blend_shape_strip(joints)
     baked = ss.baked_copy(stage)
     scene, store = delegate(stage)
     rest = points_at(stage, "/World/Rig/Strip", 1)
