@@ -61,13 +61,19 @@ def _invisible_within(prim, root, time):
         prim = prim.GetParent()
 
 
+# The prims of a prototype: as the stage's default predicate, except that a prototype may sit under an `over` (its
+# own def is what counts, as in UsdImaging); an `over` inside it is not rendered, nor one as the root.
+_PROTOTYPE_PRIMS = Usd.TraverseInstanceProxies(Usd.PrimIsActive & Usd.PrimIsLoaded & ~Usd.PrimIsAbstract &
+                                               Usd.PrimHasDefiningSpecifier)
+
+
 def _is_point_instancer(prim):
     return prim.IsA(UsdGeom.PointInstancer)
 
 
 def _nested_instancers(root):
     """PointInstancers at or under a prototype root (not under one another: each is reached through its parent)."""
-    it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+    it = iter(Usd.PrimRange(root, _PROTOTYPE_PRIMS))
     for prim in it:
         if _is_point_instancer(prim):
             it.PruneChildren()
@@ -91,7 +97,7 @@ def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=No
     stage = prim.GetStage()
     for p, target in enumerate(prototypes):
         root = stage.GetPrimAtPath(target)
-        if not root or not root.IsValid():
+        if not root or not root.IsValid() or not root.HasDefiningSpecifier():  # an over is not a prototype
             continue
         members = [k for k, index in enumerate(proto_indices[:len(transforms)])
                    if index == p and (not mask or mask[k])]
@@ -221,7 +227,7 @@ class Instancing:
         their own) and cornea shells left out (eye_rigs.py; in a native prototype as the first instance's proxies
         are); lights and cameras are skipped with a warning."""
         d = self.delegate
-        it = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        it = iter(Usd.PrimRange(root, _PROTOTYPE_PRIMS))
         for prim in it:
             imageable = UsdGeom.Imageable(prim)
             proxy = prim if proxy_prefix is None else \

@@ -265,6 +265,23 @@ def test_point_instancer_prototypes_under_an_invisible_scope_render_through_the_
     assert alpha[6] == 1 and alpha[16] == 0 and alpha[25] == 0, alpha  # the tile's instance; nothing in place
 
 
+def test_a_point_instancer_prototype_under_an_over_renders_and_one_that_is_an_over_does_not():
+    # OpenUSD's sphereInstancer stage: the prototype's own def counts, not its parent's.
+    stage = base_stage()
+    pi = UsdGeom.PointInstancer.Define(stage, "/World/scatter")
+    UsdGeom.Sphere.Define(stage, "/World/scatter/protos/ball")
+    UsdGeom.Sphere.Define(stage, "/World/scatter/protos/ghost/ball")
+    for over in ("/World/scatter/protos", "/World/scatter/protos/ghost"):  # Define made them defs
+        stage.GetPrimAtPath(over).SetSpecifier(Sdf.SpecifierOver)
+    pi.CreatePrototypesRel().SetTargets(["/World/scatter/protos/ball", "/World/scatter/protos/ghost"])
+    pi.CreatePositionsAttr([(0, 0, 0), (1, 0, 0), (2, 0, 0)])
+    pi.CreateProtoIndicesAttr([0, 0, 1])
+    s = session(stage)
+    s.index.sync_all()
+    assert [i for i in s.index.rprim_ids() if i.startswith("/World/scatter/")] == ["/World/scatter/__prototype0/ball"]
+    assert s.index.mesh_stats("/World/scatter/__prototype0/ball")["instances_drawn"] == 2
+
+
 def test_preview_surface_and_texture_are_read(tmp_path):
     stage = base_stage()
     mesh = quad_grid_mesh(stage, "/World/card", scheme="none")
