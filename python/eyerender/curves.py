@@ -10,6 +10,7 @@ import numpy as np
 from pxr import UsdGeom
 
 from .errors import EyeRenderError
+from .usd_values import scalar_as_array
 
 INTERPOLATIONS = ("constant", "uniform", "vertex", "varying")
 
@@ -27,13 +28,14 @@ def _points(prim, time):
 def _primvar(prim, name, attr, interpolation, components, time):
     """(interpolation, values (n, components) float32) of primvars:name, else of the schema attribute; None when
     neither is authored."""
-    primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar(name)
+    primvar = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance(name)  # constant ones are inherited
     if primvar and primvar.HasValue():
         values, interpolation = primvar.ComputeFlattened(time), primvar.GetInterpolation()
     elif attr and attr.HasValue():
         values = attr.Get(time)
     else:
         return None
+    values = scalar_as_array(values)
     if values is None or len(values) == 0:
         return None
     if str(interpolation) not in INTERPOLATIONS:
@@ -64,17 +66,27 @@ def _check_size(prim, name, primvar, expected):
                              f"{expected[interpolation]}")
 
 
-def _read_primvars(prim, schema, time, normals):
-    """[(name, (interpolation, values))] of widths (and normals for curves), checked against the prim's counts."""
+def _read_primvars(prim, schema, time, normals, warn):
+    """[(name, (interpolation, values))] of widths (and normals for curves) and displayColor, checked against the
+    prim's counts: bad widths or normals raise EyeRenderError; a displayColor that does not fit is left out with
+    `warn(message)` (the prim renders grey, as a mesh does)."""
     expected = _expected_sizes(prim, time)
     widths = _primvar(prim, "widths", schema.GetWidthsAttr(), schema.GetWidthsInterpolation(), 1, time)
     n = _primvar(prim, "normals", schema.GetNormalsAttr(), schema.GetNormalsInterpolation(), 3, time) \
         if normals else None
+    color = _primvar(prim, "displayColor", None, None, 3, time)
     # One value where there should be one per vertex is a constant, as Storm reads it (widths = [w] is common).
     read = [(name, ("constant", primvar[1]) if primvar[0] in ("vertex", "varying") and len(primvar[1]) == 1
-             else primvar) for name, primvar in (("widths", widths), ("normals", n)) if primvar]
-    for name, primvar in read:
-        _check_size(prim, name, primvar, expected)
+             else primvar) for name, primvar in (("widths", widths), ("normals", n), ("displayColor", color))
+            if primvar]
+    for name, primvar in list(read):
+        try:
+            _check_size(prim, name, primvar, expected)
+        except EyeRenderError as e:
+            if name != "displayColor":
+                raise
+            warn(f"{e}: ignored")
+            read.remove((name, primvar))
     widths = dict(read).get("widths")
     if widths and (widths[1] < 0).any():
         raise EyeRenderError(f"{prim.GetPath()}: widths holds a negative width")
@@ -112,8 +124,9 @@ def _check_counts(prim, counts, point_count, curve_type, basis, wrap):
         raise EyeRenderError(f"{path}: bezier curves need 3 k{'' if periodic else ' + 1'} vertices each")
 
 
-def add_basis_curves(store, prim, prim_id, world, material_id, time):
-    """Adds a BasisCurves prim; returns the attributes whose animation needs a re-push (set_time)."""
+def add_basis_curves(store, prim, prim_id, world, material_id, time, warn):
+    """Adds a BasisCurves prim; returns the attributes whose animation needs a re-push (set_time). warn(message):
+    a primvar left out."""
     curves = UsdGeom.BasisCurves(prim)
     counts = np.asarray(curves.GetCurveVertexCountsAttr().Get(time) or [], dtype=np.int32)
     if len(counts) == 0:
@@ -125,23 +138,24 @@ def add_basis_curves(store, prim, prim_id, world, material_id, time):
             raise EyeRenderError(f"{prim.GetPath()}: {name} '{token}' is not one of {', '.join(allowed)}")
     points = _points(prim, time)
     _check_counts(prim, counts, len(points), *tokens)
-    primvars = _read_primvars(prim, curves, time, normals=True)
+    primvars = _read_primvars(prim, curves, time, normals=True, warn=warn)
     store.add_basis_curves(prim_id, counts, points, *tokens, world, material_id)
     _push(store, prim_id, primvars)
     return [curves.GetPointsAttr(), curves.GetWidthsAttr(), curves.GetNormalsAttr()]
 
 
-def add_points(store, prim, prim_id, world, material_id, time):
-    """Adds a Points prim as spheres; returns the attributes whose animation needs a re-push (set_time)."""
+def add_points(store, prim, prim_id, world, material_id, time, warn):
+    """Adds a Points prim as spheres; returns the attributes whose animation needs a re-push (set_time). warn(message):
+    a primvar left out."""
     points = UsdGeom.Points(prim)
-    primvars = _read_primvars(prim, points, time, normals=False)
+    primvars = _read_primvars(prim, points, time, normals=False, warn=warn)
     store.add_points(prim_id, _points(prim, time), world, material_id)
     _push(store, prim_id, primvars)
     return [points.GetPointsAttr(), points.GetWidthsAttr()]
 
 
-def update(store, prim, prim_id, time):
+def update(store, prim, prim_id, time, warn):
     """Re-pushes animated points and widths (and curve normals): the prim's geometry is re-built at next sync."""
     store.set_points(prim_id, _points(prim, time))
     schema = UsdGeom.BasisCurves(prim) if prim.IsA(UsdGeom.BasisCurves) else UsdGeom.Points(prim)
-    _push(store, prim_id, _read_primvars(prim, schema, time, normals=prim.IsA(UsdGeom.BasisCurves)))
+    _push(store, prim_id, _read_primvars(prim, schema, time, normals=prim.IsA(UsdGeom.BasisCurves), warn=warn))

@@ -25,7 +25,7 @@ import collections
 import contextlib
 
 import numpy as np
-from pxr import Gf, Usd, UsdGeom, UsdSkel
+from pxr import Usd, UsdGeom, UsdSkel
 
 from . import cameras, curves, eye_rigs, eyes, lights, materials, mesh_topology, motion, stage_notices
 from .errors import EyeRenderError
@@ -34,15 +34,13 @@ from .instancing import Instancing
 from .shutter import SHARP
 from .skinning import SkinningError, StageSkinning
 from .textures import TextureWarning
+from .usd_values import scalar_as_array
 from .usd_values import to_float_array as _array
 from .usd_values import to_matrix as _matrix
 from .usd_values import varies as _varies
 from .validation import check_transform, reading
 
 PRIMVARS = ("displayColor", "normals", "rest")
-
-
-_GF_VECTORS = (Gf.Vec2f, Gf.Vec2d, Gf.Vec2h, Gf.Vec3f, Gf.Vec3d, Gf.Vec3h)
 
 
 def _array_of_points(values, what):
@@ -675,8 +673,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             return
         if values is None or (hasattr(values, "__len__") and len(values) == 0):
             return
-        if isinstance(values, _GF_VECTORS):  # a color3f where color3f[] is meant: Storm reads it as one element
-            values = [values]
+        values = scalar_as_array(values)
         try:
             values = _array(values, {"st": 2}.get(name, 3), f"{prim.GetPath()}: primvars:{source}")
         except EyeRenderError as e:  # the prim renders without it (normals: smooth shading)
@@ -717,12 +714,13 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         material_id, _ = self._bind_material(prim)
         add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
         self._rprims[prim_id] = prim.GetPath()
-        animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time)
+        warn = lambda message: self._warn_once([message])  # noqa: E731
+        animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time, warn)
         self._own(prim_id)
         self._track_transform(prim)
         self._track_visibility(prim, prim_id)
         if _varies(animated):
-            self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t)))
+            self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t, warn)))
 
     # -- cameras, lights, materials, eyes ----------------------------------------------------------------------
 

@@ -1,8 +1,17 @@
 """USD values as the delegate takes them: Gf matrices as 4x4 float64 arrays, Vt arrays as checked float32 (n, k)
 arrays, and whether attributes vary in time."""
 import numpy as np
+from pxr import Gf
 
 from .errors import EyeRenderError
+
+_GF_VECTORS = (Gf.Vec2f, Gf.Vec2d, Gf.Vec2h, Gf.Vec3f, Gf.Vec3d, Gf.Vec3h)
+
+
+def scalar_as_array(values):
+    """A Gf vector where an array of them is meant (a color3f primvar for color3f[]) as one element, as Storm reads
+    it; anything else as given."""
+    return [values] if isinstance(values, _GF_VECTORS) else values
 
 
 def to_matrix(m):

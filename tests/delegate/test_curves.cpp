@@ -64,6 +64,36 @@ TEST_CASE("curve segments: counts and first vertices for every basis and wrap") 
   }
 }
 
+TEST_CASE("segment colours run between the points each segment spans, for every basis and the pinned phantoms") {
+  auto colors = [](int n) {  // point i has colour (i, 0, 0)
+    std::vector<float> c;
+    for (int i = 0; i < n; ++i) c.insert(c.end(), {float(i), 0, 0});
+    return c;
+  };
+  auto starts_and_ends = [&](const T& t, int n) {
+    const CurveSegments s = BuildCurveSegments(t, Line(n), {}, {});
+    const std::vector<Vec3f> corners = SegmentEndColors(t, s, colors(n));
+    REQUIRE(corners.size() == 3 * s.segments.size());
+    std::vector<std::pair<float, float>> out;
+    for (std::size_t k = 0; k < s.segments.size(); ++k) {
+      CHECK(corners[3 * k + 2] == corners[3 * k]);  // (start, end, start): v drops out of the lookup
+      out.push_back({corners[3 * k].x, corners[3 * k + 1].x});
+    }
+    return out;
+  };
+  using P = std::vector<std::pair<float, float>>;
+  CHECK(starts_and_ends(Topology(T::Type::Linear, T::Basis::Bezier, T::Wrap::Nonperiodic, {3}), 3) ==
+        P{{0, 1}, {1, 2}});
+  CHECK(starts_and_ends(Topology(T::Type::Linear, T::Basis::Bezier, T::Wrap::Periodic, {3}), 3) ==
+        P{{0, 1}, {1, 2}, {2, 0}});
+  CHECK(starts_and_ends(Topology(T::Type::Cubic, T::Basis::Bezier, T::Wrap::Nonperiodic, {7}), 7) == P{{0, 3}, {3, 6}});
+  CHECK(starts_and_ends(Topology(T::Type::Cubic, T::Basis::Bspline, T::Wrap::Nonperiodic, {5}), 5) ==
+        P{{1, 2}, {2, 3}});
+  // Pinned: the phantom ends stand for the end points, so the first segment starts at point 0's colour.
+  CHECK(starts_and_ends(Topology(T::Type::Cubic, T::Basis::CatmullRom, T::Wrap::Pinned, {4}), 4) ==
+        P{{0, 1}, {1, 2}, {2, 3}});
+}
+
 TEST_CASE("a pinned bspline curve passes through its end points and a periodic one closes") {
   const std::vector<Vec3f> points = Line(5);
   const CurveSegments pinned =

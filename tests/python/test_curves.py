@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
-from pxr import Gf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
 
 from eyerender import RenderSession  # noqa: E402
 from shading_stages import preview_material  # noqa: E402
@@ -131,3 +131,53 @@ def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warni
     assert "/World/bad" not in s.index.rprim_ids() and "/World/thin" not in s.index.rprim_ids()
     assert "/World/lash" in s.index.rprim_ids()
     assert np.isfinite(s.image("color")).all()
+
+
+def colour_stage():
+    """A camera at z = 8 looking down -z (its view about 3.4 wide at z = 0), and a light, in scene units."""
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.Camera.Define(stage, "/World/main_cam").AddTranslateOp().Set(Gf.Vec3d(0, 0, 8))
+    light = UsdLux.DistantLight.Define(stage, "/World/sun")
+    light.CreateIntensityAttr(2.0)
+    return stage
+
+
+def albedo_row(stage, row):
+    s = RenderSession(stage, width=48, height=24, aovs=["albedo"])
+    s.render(spp=1)
+    return s.image("albedo")[row, :, :3], s
+
+
+def test_curves_and_points_without_a_material_show_their_display_color():
+    # Storm's fallback surface: constant, per curve and per vertex (blended along each segment) for curves, per point
+    # for points (OpenUSD's BasisCurvesWithColor and Points stages rendered grey).
+    stage = colour_stage()
+    curves = UsdGeom.BasisCurves.Define(stage, "/World/curves")
+    curves.CreateTypeAttr(UsdGeom.Tokens.linear)
+    curves.CreateCurveVertexCountsAttr([2, 2])
+    curves.CreatePointsAttr([(-1.5, 0.6, 0), (1.5, 0.6, 0), (-1.5, 0.2, 0), (1.5, 0.2, 0)])
+    curves.CreateWidthsAttr([0.25])
+    colors = UsdGeom.PrimvarsAPI(curves).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                                       UsdGeom.Tokens.vertex)
+    colors.Set([(1, 0, 0), (0, 0, 1), (0, 1, 0), (0, 1, 0)])
+    points = UsdGeom.Points.Define(stage, "/World/points")
+    points.CreatePointsAttr([(-1, -0.5, 0), (1, -0.5, 0)])
+    points.CreateWidthsAttr([0.5, 0.5])
+    points.CreateDisplayColorAttr([(1, 1, 0), (0, 1, 1)])
+    points.GetDisplayColorPrimvar().SetInterpolation(UsdGeom.Tokens.vertex)
+    top, s = albedo_row(stage, 3)  # y = 0.6: red blending to blue from left to right
+    assert not s.scene.warnings
+    covered = np.flatnonzero(top.sum(axis=1) > 0)
+    left, right = top[covered[0] + 1], top[covered[-1] - 1]
+    assert left[0] > 0.85 and left[2] < 0.15 and right[2] > 0.85 and right[0] < 0.15, (left, right)
+    middle = top[24]
+    assert middle == pytest.approx((0.5, 0, 0.5), abs=0.05)
+    second, _ = albedo_row(stage, 9)  # y = 0.2: green all along
+    assert second[24] == pytest.approx((0, 1, 0), abs=1e-5)
+    bottom, _ = albedo_row(stage, 19)  # y = -0.5: the points, yellow and cyan
+    assert bottom[10] == pytest.approx((1, 1, 0), abs=1e-5) and bottom[38] == pytest.approx((0, 1, 1), abs=1e-5)
+    # A displayColor that does not fit is left out with one warning; the curves still render (grey).
+    colors.Set([(1, 0, 0)] * 3)
+    top, s = albedo_row(stage, 3)
+    assert s.scene.warnings == ["/World/curves: displayColor has 3 values, vertex needs 4: ignored"]
+    assert top[24] == pytest.approx((0.18, 0.18, 0.18), abs=1e-5)

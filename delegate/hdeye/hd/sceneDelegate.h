@@ -37,8 +37,8 @@ class SceneDelegate {
   virtual std::vector<Vec3f> GetPoints(const PrimId& id) = 0;
   virtual Matrix4d GetTransform(const PrimId& id) = 0;
   virtual bool GetVisible(const PrimId& id) = 0;
-  /// A primvar by name (meshes: "st", "normals", "displayColor", "rest"; curves: "widths", "normals"; points:
-  /// "widths"); empty when not authored.
+  /// A primvar by name (meshes: "st", "normals", "displayColor", "rest"; curves: "widths", "normals",
+  /// "displayColor"; points: "widths", "displayColor"); empty when not authored.
   virtual Primvar GetPrimvar(const PrimId& /*id*/, const std::string& /*name*/) { return {}; }
   virtual PrimId GetMaterialId(const PrimId& id) = 0;
   virtual CameraParams GetCameraParams(const PrimId& id) = 0;

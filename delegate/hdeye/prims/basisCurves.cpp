@@ -50,6 +50,15 @@ void BasisCurves::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* render
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("curves " + Id() + ": " + e.what());
   }
+  displayColor_.clear();
+  if (const Primvar color = sceneDelegate->GetPrimvar(Id(), "displayColor"); !color.Empty()) {
+    try {  // Segment colours are read before LinearToBezier, which keeps the segments but not vertexPoints.
+      displayColor_ = SegmentEndColors(topology, s, CurvePrimvarAtVertices(topology, color, 3, "displayColor"));
+    } catch (const std::runtime_error& e) {
+      renderParam->Warn("curves " + Id() + ": " + e.what() + " (ignored)");
+    }
+  }
+  ContextData().displayColor = displayColor_.empty() ? nullptr : &displayColor_;
   const bool ribbon = !s.normals.empty();
   if (ribbon && topology.type == BasisCurvesTopology::Type::Linear) LinearToBezier(&s);
   const RTCGeometry g = rtcNewGeometry(renderParam->Device(), EmbreeType(topology, ribbon));

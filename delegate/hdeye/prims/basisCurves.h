@@ -4,7 +4,8 @@
 // are round tubes (RTC_GEOMETRY_TYPE_ROUND_*); with normals, ribbons facing them
 // (RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_*; linear ribbons are taken as bezier segments with their control points at
 // the thirds, the same straight ribbon). Widths ("widths", diameters in object space) per curve, vertex or
-// varying. Shaded by the bound material at the curve's surface normal; curves cast shadows like any geometry.
+// varying. Shaded by the bound material at the curve's surface normal, or by displayColor (constant, uniform, vertex
+// or varying; blended along each segment) without one; curves cast shadows like any geometry.
 #include "hdeye/prims/instancedGeometry.h"
 
 namespace hdeye {
@@ -20,6 +21,7 @@ class BasisCurves final : public InstancedRprim {
   void SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam) override;
 
   int segmentCount_ = 0;
+  std::vector<Vec3f> displayColor_;  ///< GeometryContext::displayColor: 3 per segment (SegmentEndColors), or empty
 };
 
 }  // namespace hdeye

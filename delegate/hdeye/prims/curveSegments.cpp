@@ -128,23 +128,20 @@ CurveSegments BuildCurveSegments(const BasisCurvesTopology& t, const std::vector
   for (std::size_t c = 0; c < t.curveVertexCounts.size(); ++c) {
     const int n = t.curveVertexCounts[c];
     const unsigned first = unsigned(out.vertices.size());
-    auto push = [&](const glm::vec3& p, float radius, const Vec3f& nrm) {
-      out.vertices.push_back(glm::vec4(p, radius));
-      if (!normal.empty()) out.normals.push_back(nrm);
-    };
     auto at = [&](int j) { return glm::vec3(points[base + std::size_t(j)]); };
-    auto radius = [&](int j) { return 0.5f * width[base + std::size_t(j)]; };
-    auto nrm = [&](int j) {
-      return normal.empty() ? Vec3f(0)
-                            : Vec3f(normal[3 * (base + j)], normal[3 * (base + j) + 1], normal[3 * (base + j) + 2]);
+    auto push = [&](const glm::vec3& p, int j) {  // a vertex at p standing for the curve's point j
+      out.vertices.push_back(glm::vec4(p, 0.5f * width[base + std::size_t(j)]));
+      out.vertexPoints.push_back(unsigned(base + std::size_t(j)));
+      if (!normal.empty())
+        out.normals.push_back(Vec3f(normal[3 * (base + j)], normal[3 * (base + j) + 1], normal[3 * (base + j) + 2]));
     };
     // Pinned: a phantom point mirrored through each end makes the uniform segment start (and end) there.
-    if (Pinned(t)) push(2.0f * at(0) - at(1), radius(0), nrm(0));
-    for (int j = 0; j < n; ++j) push(at(j), radius(j), nrm(j));
-    if (Pinned(t)) push(2.0f * at(n - 1) - at(n - 2), radius(n - 1), nrm(n - 1));
+    if (Pinned(t)) push(2.0f * at(0) - at(1), 0);
+    for (int j = 0; j < n; ++j) push(at(j), j);
+    if (Pinned(t)) push(2.0f * at(n - 1) - at(n - 2), n - 1);
     if (Periodic(t)) {
       const int copies = t.type == Topology::Type::Linear || t.basis == Topology::Basis::Bezier ? 1 : 3;
-      for (int j = 0; j < copies; ++j) push(at(j), radius(j), nrm(j));
+      for (int j = 0; j < copies; ++j) push(at(j), j);
     }
     const int step = t.type == Topology::Type::Cubic && t.basis == Topology::Basis::Bezier ? 3 : 1;
     for (int s = 0; s < SegmentCount(t, n); ++s) {
@@ -152,6 +149,26 @@ CurveSegments BuildCurveSegments(const BasisCurvesTopology& t, const std::vector
       out.segmentCurves.push_back(int(c));
     }
     base += std::size_t(n);
+  }
+  return out;
+}
+
+std::vector<Vec3f> SegmentEndColors(const BasisCurvesTopology& t, const CurveSegments& s,
+                                    const std::vector<float>& pointColors) {
+  // The points a segment runs between: a linear one's two, a bezier one's end control points, and for bspline and
+  // catmullRom the middle two of its four (the curve passes through or near them).
+  const bool cubic = t.type == Topology::Type::Cubic;
+  const unsigned from = cubic && t.basis != Topology::Basis::Bezier ? 1 : 0;
+  const unsigned to = !cubic ? 1 : t.basis == Topology::Basis::Bezier ? 3 : 2;
+  auto color = [&](unsigned vertex) {
+    const std::size_t p = 3 * std::size_t(s.vertexPoints[vertex]);
+    return Vec3f(pointColors[p], pointColors[p + 1], pointColors[p + 2]);
+  };
+  std::vector<Vec3f> out;
+  out.reserve(3 * s.segments.size());
+  for (unsigned first : s.segments) {
+    const Vec3f start = color(first + from), end = color(first + to);
+    out.insert(out.end(), {start, end, start});
   }
   return out;
 }

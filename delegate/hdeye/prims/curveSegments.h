@@ -17,6 +17,8 @@ struct CurveSegments {
   std::vector<Vec3f> normals;       ///< per vertex (ribbons), or empty
   std::vector<unsigned> segments;   ///< per segment: the index of its first vertex
   std::vector<int> segmentCurves;   ///< per segment: the curve it belongs to
+  /// per vertex: the index of the curve point it stands for (a pinned curve's phantom end: that end's point)
+  std::vector<unsigned> vertexPoints;
 };
 
 /// Vertices a curve of this topology needs at least (2 linear, 4 cubic; 3 for periodic cubic curves).
@@ -33,6 +35,12 @@ int VaryingCount(const BasisCurvesTopology& topology, int n);
 /// primvar whose size does not match its interpolation, a non-finite value or a negative width.
 CurveSegments BuildCurveSegments(const BasisCurvesTopology& topology, const std::vector<Vec3f>& points,
                                  const Primvar& widths, const Primvar& normals);
+
+/// Per segment of `segments`, three colours (start, end, start) taken from `pointColors` (3 floats per curve point,
+/// as CurvePrimvarAtVertices gives) at the points the segment runs between: GeometryContext::displayColor's layout,
+/// whose barycentric lookup at a curve hit (u along the segment) is then (1 - u) start + u end.
+std::vector<Vec3f> SegmentEndColors(const BasisCurvesTopology& topology, const CurveSegments& segments,
+                                    const std::vector<float>& pointColors);
 
 /// Expands a constant, uniform, vertex or varying primvar of `components` floats to one value per point of the
 /// curves (varying values interpolated linearly along each curve's vertices); `what` names it in errors.

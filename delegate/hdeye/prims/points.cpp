@@ -27,6 +27,20 @@ void Points::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam
     }
     vertices[i] = glm::vec4(points[i], 0.5f * width);
   }
+  // displayColor, constant or per point, as 3 equal corner values per point (GeometryContext::displayColor).
+  displayColor_.clear();
+  const Primvar color = sceneDelegate->GetPrimvar(Id(), "displayColor");
+  const bool colorPerPoint = color.interpolation != Interpolation::Constant;
+  if (!color.Empty() && (color.components != 3 || color.values.size() != 3 * (colorPerPoint ? points.size() : 1))) {
+    renderParam->Warn("points " + Id() + ": displayColor needs " + std::to_string(colorPerPoint ? points.size() : 1) +
+                      " colours (ignored)");
+  } else if (!color.Empty()) {
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const float* c = &color.values[3 * (colorPerPoint ? i : 0)];
+      displayColor_.insert(displayColor_.end(), 3, Vec3f(c[0], c[1], c[2]));
+    }
+  }
+  ContextData().displayColor = displayColor_.empty() ? nullptr : &displayColor_;
   Geometry().Reset(renderParam, g, &ContextData());
 }
 
