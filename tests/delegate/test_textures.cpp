@@ -456,12 +456,12 @@ struct TextureScene : test::RenderStack {
     delegate.Settings().samplesPerPixel = spp;
     return pass.Execute("/cam", {{"color", "/color"}});
   }
-  /// Mean and variance over pixels of channel 0 in columns [x0, x1).
-  std::pair<double, double> Stats(int x0, int x1) {
+  /// Mean and variance over pixels of channel 0 in columns [x0, x1) and rows [y0, y1) (y1 < 0: every row).
+  std::pair<double, double> Stats(int x0, int x1, int y0 = 0, int y1 = -1) {
     RenderBuffer& b = Buffer("/color");
     double sum = 0, sum2 = 0;
     int n = 0;
-    for (int y = 0; y < b.Height(); ++y)
+    for (int y = y0; y < (y1 < 0 ? b.Height() : y1); ++y)
       for (int x = x0; x < x1; ++x) {
         const double v = b.Resolved(x, y, 0);
         sum += v, sum2 += v * v, ++n;
@@ -499,6 +499,34 @@ TEST_CASE("a mip-mapped checker seen from afar renders with far less pixel varia
   CHECK(mean[1] == Approx(0.5).margin(0.02));
   CHECK(variance[0] > 0.004);  // bilinear over a one-texel checker has variance 1/36; 4 samples a pixel: 1/144
   CHECK(variance[1] < variance[0] / 50);
+}
+
+TEST_CASE("a textured plane in focus is as sharp through a lens as through a pinhole", "[texture][render]") {
+  // A checker of 4 texels across a quad about 30 pixels wide, at the focus distance: each lens point sees it as
+  // the pinhole does, so the texture footprint must be the pixel's there, not the lens's aperture (OpenUSD's Mipmap
+  // stage at fStop 100 read its coarse MIP levels).
+  ScratchDir dir;
+  WriteOneTexelChecker(dir / "checker.png", 4);
+  double variance[2], mean[2];
+  for (int withLens = 0; withLens < 2; ++withLens) {
+    TextureScene s;
+    MaterialParams m;
+    m.diffuseColor = glm::vec3(0);
+    m.Texture(MaterialInput::EmissiveColor).texture = Params(dir / "checker.png", TextureColorSpace::Raw);
+    s.scene.AddMaterial("/mat", m);
+    AddTexturedQuad(s.scene, "/quad", 1, 0, 0, "/mat");
+    CameraParams camera;
+    if (withLens) camera.fStop = 2, camera.focusDistance = 5;  // a 2.5-unit aperture
+    s.scene.AddCamera("/cam", camera, test::LookDownZ(5));
+    s.scene.AddRenderBuffer("/color", 32, 32, 4);
+    REQUIRE(s.Render(8).nonFiniteSamples == 0);
+    std::tie(mean[withLens], variance[withLens]) = s.Stats(6, 26, 6, 26);
+  }
+  std::printf("checker in focus: pinhole mean %.4f variance %.5f; lens mean %.4f variance %.5f\n", mean[0], variance[0],
+              mean[1], variance[1]);
+  CHECK(variance[0] > 0.05);               // the checks resolved
+  CHECK(variance[1] > 0.9 * variance[0]);  // 0.70 when the lens offset widened the footprint
+  CHECK(mean[1] == Approx(mean[0]).margin(0.03));
 }
 
 TEST_CASE("renders with filtered textures are the same for 1 and 2 threads", "[texture][render]") {

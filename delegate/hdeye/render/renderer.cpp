@@ -854,11 +854,13 @@ struct SharedCounts {
   }
 };
 
-/// The cone of the camera ray through image point (x, y) (pixels): the ray one pixel over gives its width
-/// (orthographic) and spread (perspective), both scaled by RenderSettings::textureFootprintScale.
+/// The cone of the camera ray through image point (x, y) (pixels) from lens point (lensU, lensV): the ray one pixel
+/// over from the same lens point gives its width (orthographic) and spread (perspective), both scaled by
+/// RenderSettings::textureFootprintScale. Through one lens point the cone narrows to the pixel at the focus distance;
+/// the lens's blur comes from the lens samples, not from the footprint.
 RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, double y, int width, int height,
-                  double footprintScale) {
-  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, double(width) / height);
+                  double lensU, double lensV, double footprintScale) {
+  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, double(width) / height, lensU, lensV);
   return {footprintScale * glm::length(next.origin - ray.origin),
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
@@ -887,12 +889,13 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
           const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
           const CameraView& view = moved ? *moved : camera;
           const bool lens = view.HasLens();
-          const WorldRay ray = view.GenerateRay((x + jx) * invWidth, (y + jy) * invHeight, aspect,
-                                                lens ? rng.FromTop(0) : 0.5, lens ? rng.FromTop(1) : 0.5);
+          const double lensU = lens ? rng.FromTop(0) : 0.5, lensV = lens ? rng.FromTop(1) : 0.5;
+          const WorldRay ray = view.GenerateRay((x + jx) * invWidth, (y + jy) * invHeight, aspect, lensU, lensV);
           // Only texture lookups read the cone (and only when filtering): without them it is never computed.
-          const RayCone cone = textured && settings.textureFiltering
-                                   ? PixelCone(view, ray, x + jx, y + jy, width, height, settings.textureFootprintScale)
-                                   : RayCone{};
+          const RayCone cone =
+              textured && settings.textureFiltering
+                  ? PixelCone(view, ray, x + jx, y + jy, width, height, lensU, lensV, settings.textureFootprintScale)
+                  : RayCone{};
           if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
         }
   }
