@@ -218,7 +218,19 @@ class Instancing:
             sources = [*group.instance_paths, group.root.GetPath()]
             with d.owning(_common_ancestor(group.instance_paths), sources=sources):
                 self._add_group(group, proxy_prefix=group.first_instance.GetPath())
+                self._add_nested_point_instancers(group)
         self._native.clear()
+
+    def _add_nested_point_instancers(self, group):
+        """The PointInstancers inside a native group's prototype, each drawn at every instance of the group (as they
+        stand at the frame: their animation inside a native instance is not followed)."""
+        d = self.delegate
+        for nested in _nested_instancers(group.root):
+            relative, _ = d.xform_cache.ComputeRelativeTransform(nested, group.root)
+            prefix = f"{group.instancer_id}/{nested.GetPath().MakeRelativePath(group.root.GetPath())}"
+            for nested_group in point_instancer_groups(nested, [relative * w for w in group.worlds], d.time,
+                                                       d.xform_cache, prefix):
+                self._add_group(nested_group, proxy_prefix=None)
 
     # -- groups --------------------------------------------------------------------------------------------------
 

@@ -280,3 +280,33 @@ def test_cornea_shell_in_a_prototype_is_left_out_of_every_instance():
     assert s.scene.cornea_shells == {Sdf.Path("/World/crowd/protos/group/tri"): eye.GetPath()}
     assert "/World/crowd/__prototype1/group/tri" not in s.index.rprim_ids()
     assert "/World/crowd/__prototype1/group/ball" in s.index.rprim_ids()  # the rest of the prototype stays
+
+
+def test_a_point_instancer_inside_a_native_instance_is_drawn_at_every_instance():
+    # OpenUSD's PointInstancer pi stage: native instances of a prim holding a PointInstancer (they drew nothing).
+    stage = crowd_stage()
+    pi = UsdGeom.PointInstancer.Define(stage, "/Library/scatter/pi")
+    pi.AddTranslateOp().Set(Gf.Vec3d(0, 0.3, 0))
+    tile = UsdGeom.Mesh.Define(stage, "/Library/scatter/pi/protos/tile")
+    tile.CreatePointsAttr([(-0.1, -0.1, 0), (0.1, -0.1, 0), (0.1, 0.1, 0), (-0.1, 0.1, 0)])
+    tile.CreateFaceVertexCountsAttr([4])
+    tile.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    pi.CreatePrototypesRel().SetTargets([tile.GetPath()])
+    pi.CreatePositionsAttr([(-0.3, 0, 0), (0.3, 0, 0)])
+    pi.CreateProtoIndicesAttr([0, 0])
+    for k, x in enumerate((-1.0, 1.0)):
+        inst = UsdGeom.Xform.Define(stage, f"/World/scatters/s{k}")
+        inst.AddTranslateOp().Set(Gf.Vec3d(x, -0.9, 0.5))  # in view, in front of the crowd
+        inst.GetPrim().GetReferences().AddInternalReference("/Library/scatter")
+        inst.GetPrim().SetInstanceable(True)
+    shared, flat = session(stage), session(stage, flatten_instances=True)
+    drawn = instances_drawn(shared, "/World/scatters/")
+    assert list(drawn.values()) == [4], drawn  # one prototype rprim, 2 points x 2 native instances
+    shared.render(spp=2)
+    flat.render(spp=2)
+    assert float(np.abs(shared.image("color") - flat.image("color")).max()) == 0.0
+    assert shared.scene.warnings == []
+    stage.GetPrimAtPath("/World/scatters").SetActive(False)
+    without = session(stage)
+    without.render(spp=2)
+    assert float(np.abs(shared.image("color") - without.image("color")).max()) > 0.1  # the tiles are in view
