@@ -4,7 +4,8 @@ normals are authored), points as spheres; widths are diameters in the prim's spa
 
 Each reader returns a callable that pushes the prim's geometry at a time code, so `set_time` can re-push what is
 animated. Bad data (counts, sizes, NaN) is raised as EyeRenderError naming the prim; the scene delegate then skips
-the prim with that warning.
+the prim with that warning. Curves too short for their kind are left out with one warning (Storm draws the rest),
+and so is a displayColor that does not fit.
 """
 import numpy as np
 from pxr import UsdGeom
@@ -56,7 +57,7 @@ def _varying_count(n, curve_type, basis, wrap):
         segments = n // 3 if periodic else (n - 1) // 3
     else:
         segments = n if periodic else n - 1 if wrap == "pinned" else n - 3
-    return segments + (0 if periodic else 1)
+    return max(segments, 0) + (0 if periodic else 1)  # a curve too short to draw still takes one
 
 
 def _check_size(prim, name, primvar, expected):
@@ -111,22 +112,42 @@ def _expected_sizes(prim, time):
 
 
 def _check_counts(prim, counts, point_count, curve_type, basis, wrap):
-    """The vertex counts the delegate would reject (hdeye's curveSegments.h), found before anything is added."""
+    """The indices of the curves the delegate would reject (hdeye's curveSegments.h: too few vertices, or a bezier
+    count not 3 k (+ 1)); counts that do not add up to the points, or no curve left, raise EyeRenderError."""
     path = prim.GetPath()
     if int(counts.sum()) != point_count:
         raise EyeRenderError(f"{path}: curveVertexCounts add up to {int(counts.sum())}, there are {point_count} points")
     cubic, periodic = curve_type == "cubic", wrap == "periodic"
     minimum = 2 if not cubic else 3 if periodic else 2 if wrap == "pinned" and basis != "bezier" else 4
-    if counts.min() < minimum:
-        raise EyeRenderError(f"{path}: a curve has {int(counts.min())} vertices, {curve_type} {basis} {wrap} curves "
-                             f"need {minimum}")
-    if cubic and basis == "bezier" and ((counts % 3 != 0) if periodic else ((counts - 1) % 3 != 0)).any():
+    bad = counts < minimum
+    if cubic and basis == "bezier":
+        bad |= (counts % 3 != 0) if periodic else ((counts - 1) % 3 != 0)
+    if bad.all():
+        if (counts < minimum).any():
+            raise EyeRenderError(f"{path}: a curve has {int(counts.min())} vertices, {curve_type} {basis} {wrap} "
+                                 f"curves need {minimum}")
         raise EyeRenderError(f"{path}: bezier curves need 3 k{'' if periodic else ' + 1'} vertices each")
+    return np.flatnonzero(bad)
 
 
-def add_basis_curves(store, prim, prim_id, world, material_id, time, warn):
-    """Adds a BasisCurves prim; returns the attributes whose animation needs a re-push (set_time). warn(message):
-    a primvar left out."""
+def _without_curves(dropped, counts, tokens, points, primvars):
+    """counts, points and primvars with the curves `dropped` (indices) left out, each primvar by its interpolation."""
+    keep = np.ones(len(counts), dtype=bool)
+    keep[dropped] = False
+    varying = np.array([_varying_count(int(c), *tokens) for c in counts])
+
+    def rows(sizes):  # the elements of the kept curves, curve by curve
+        return np.repeat(keep, sizes)
+
+    per = {"uniform": keep, "vertex": rows(counts), "varying": rows(varying)}
+    kept_primvars = [(name, (interp, values if interp == "constant" else values[per[interp]]))
+                     for name, (interp, values) in primvars]
+    return counts[keep], np.ascontiguousarray(points[rows(counts)]), kept_primvars
+
+
+def _curves_data(prim, time, warn):
+    """(counts, tokens, points, primvars) of a BasisCurves prim as the delegate takes them: curves it would reject
+    left out with one warning (Storm draws the others), anything else bad raised as EyeRenderError."""
     curves = UsdGeom.BasisCurves(prim)
     counts = np.asarray(curves.GetCurveVertexCountsAttr().Get(time) or [], dtype=np.int32)
     if len(counts) == 0:
@@ -137,10 +158,23 @@ def add_basis_curves(store, prim, prim_id, world, material_id, time, warn):
         if token not in allowed:
             raise EyeRenderError(f"{prim.GetPath()}: {name} '{token}' is not one of {', '.join(allowed)}")
     points = _points(prim, time)
-    _check_counts(prim, counts, len(points), *tokens)
+    dropped = _check_counts(prim, counts, len(points), *tokens)
     primvars = _read_primvars(prim, curves, time, normals=True, warn=warn)
+    if len(dropped):
+        listed = ", ".join(str(int(i)) for i in dropped[:5]) + (", ..." if len(dropped) > 5 else "")
+        warn(f"{prim.GetPath()}: {len(dropped)} of {len(counts)} curves ({listed}) have too few vertices for "
+             f"{' '.join(tokens)} curves: left out")
+        counts, points, primvars = _without_curves(dropped, counts, tokens, points, primvars)
+    return counts, tokens, points, primvars
+
+
+def add_basis_curves(store, prim, prim_id, world, material_id, time, warn):
+    """Adds a BasisCurves prim; returns the attributes whose animation needs a re-push (set_time). warn(message):
+    a primvar or curves left out."""
+    counts, tokens, points, primvars = _curves_data(prim, time, warn)
     store.add_basis_curves(prim_id, counts, points, *tokens, world, material_id)
     _push(store, prim_id, primvars)
+    curves = UsdGeom.BasisCurves(prim)
     return [curves.GetPointsAttr(), curves.GetWidthsAttr(), curves.GetNormalsAttr()]
 
 
@@ -156,6 +190,9 @@ def add_points(store, prim, prim_id, world, material_id, time, warn):
 
 def update(store, prim, prim_id, time, warn):
     """Re-pushes animated points and widths (and curve normals): the prim's geometry is re-built at next sync."""
-    store.set_points(prim_id, _points(prim, time))
-    schema = UsdGeom.BasisCurves(prim) if prim.IsA(UsdGeom.BasisCurves) else UsdGeom.Points(prim)
-    _push(store, prim_id, _read_primvars(prim, schema, time, normals=prim.IsA(UsdGeom.BasisCurves), warn=warn))
+    if prim.IsA(UsdGeom.BasisCurves):
+        _, _, points, primvars = _curves_data(prim, time, warn)
+    else:
+        points, primvars = _points(prim, time), _read_primvars(prim, UsdGeom.Points(prim), time, False, warn)
+    store.set_points(prim_id, points)
+    _push(store, prim_id, primvars)

@@ -7,6 +7,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade  # noqa: E402
 
 from eyerender import RenderSession  # noqa: E402
+from eyerender.curves import _curves_data as curves_data  # noqa: E402
 from shading_stages import preview_material  # noqa: E402
 
 
@@ -123,13 +124,30 @@ def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warni
     thin.CreatePointsAttr([(i, 0, 0) for i in range(8)])
     thin.CreateWidthsAttr([1.0, 1.0, 1.0])
     thin.SetWidthsInterpolation(UsdGeom.Tokens.varying)  # cubic bezier: 2 per curve
+    # OpenUSD's pinnedCurves stage: one curve too short among good ones; Storm draws the good ones.
+    partly = UsdGeom.BasisCurves.Define(stage, "/World/partly")
+    partly.CreateTypeAttr(UsdGeom.Tokens.cubic)
+    partly.CreateBasisAttr(UsdGeom.Tokens.bspline)
+    partly.CreateWrapAttr(UsdGeom.Tokens.pinned)
+    partly.CreateCurveVertexCountsAttr([3, 1, 2])
+    partly.CreatePointsAttr([(0, 0, 0), (1, 1, 0), (2, 0, 0), (9, 9, 9), (0, -2, 0), (2, -2, 0)])
+    partly.CreateWidthsAttr([0.1, 0.2, 0.3, 9.0, 0.5, 0.6])
+    partly.SetWidthsInterpolation(UsdGeom.Tokens.vertex)
+    UsdGeom.PrimvarsAPI(partly).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                              UsdGeom.Tokens.uniform).Set([(1, 0, 0), (0, 1, 0), (0, 0, 1)])
     s = RenderSession(stage, width=8, height=8)
-    assert s.scene.warnings == ["/World/bad: curveVertexCounts add up to 5, there are 4 points (skipped)",
-                                "/World/thin: widths has 3 values, varying needs 4 (skipped)"]
+    assert s.scene.warnings == [
+        "/World/bad: curveVertexCounts add up to 5, there are 4 points (skipped)",
+        "/World/thin: widths has 3 values, varying needs 4 (skipped)",
+        "/World/partly: 1 of 3 curves (1) have too few vertices for cubic bspline pinned curves: left out"]
+    counts, _, points, primvars = curves_data(partly.GetPrim(), Usd.TimeCode.Default(), lambda message: None)
+    assert list(counts) == [3, 2] and len(points) == 5 and (points != 9).all()
+    assert dict(primvars)["widths"][1].ravel().tolist() == pytest.approx([0.1, 0.2, 0.3, 0.5, 0.6])
+    assert dict(primvars)["displayColor"][1].tolist() == [[1, 0, 0], [0, 0, 1]]
     s.render(spp=1, time=2)
     assert s.stats["updated"] == {"points": 1}
     assert "/World/bad" not in s.index.rprim_ids() and "/World/thin" not in s.index.rprim_ids()
-    assert "/World/lash" in s.index.rprim_ids()
+    assert "/World/lash" in s.index.rprim_ids() and "/World/partly" in s.index.rprim_ids()
     assert np.isfinite(s.image("color")).all()
 
 
