@@ -10,6 +10,8 @@ MAX_LINE = 150  # characters of USD text kept in one line (the tool name and con
 
 _TF_MESSAGE = re.compile(r"Error in '[^']*' at line \d+ in file \S+ : '(.*)'\s*$", re.S)
 _NAMESPACE = re.compile(r"pxrInternal_v\w+?__pxrReserved__::")
+_IN_PRIM = re.compile(r"In <([^>]*)>: (.*)$")  # USD's prefix naming the prim a composition error was met in
+_PRIM_PATH = re.compile(r"<[^>]*>")
 
 
 def _text(obj):
@@ -51,12 +53,22 @@ class UsdDiagnostics:
         self._delegate = UsdUtils.CoalescingDiagnosticDelegate()
 
     def take_warnings(self):
-        """The diagnostics captured since the last call, each as one line ("USD: ..."), duplicates dropped."""
-        lines = []
+        """The diagnostics captured since the last call, each as one line ("USD: ..."), duplicates dropped. The same
+        problem met in many prims ("In </a>: Could not open asset @x@ ...", one per prim that references x) is one
+        line naming the first prim and how many more."""
+        groups = {}  # the message with its prim paths blanked -> [first prim, message, count]
         for diagnostic in self._delegate.TakeUncoalescedDiagnostics():
-            line = one_line(_text(diagnostic.commentary))
-            if line:
-                lines.append(f"USD: {line}")
+            line = one_line(_text(diagnostic.commentary), limit=10_000)
+            if not line:
+                continue
+            match = _IN_PRIM.match(line)
+            prim, message = match.groups() if match else ("", line)
+            group = groups.setdefault(_PRIM_PATH.sub("<>", message), [prim, message, 0])
+            group[2] += 1
+        lines = []
+        for prim, message, count in groups.values():
+            where = "" if not prim else f"In <{prim}>: " if count == 1 else f"In <{prim}> and {count - 1} more prims: "
+            lines.append(f"USD: {one_line(where + message)}")
         return list(dict.fromkeys(lines))
 
 

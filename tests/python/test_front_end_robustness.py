@@ -353,3 +353,16 @@ def test_an_edit_that_makes_a_mesh_transform_singular_skips_it_at_the_next_frame
     scale.Set(Gf.Vec3f(1, 1, 1))  # fixed again: a resync brings it back
     session.render(spp=1)
     assert "/World/tile" in session.index.rprim_ids(), session.scene.warnings
+
+
+def test_one_missing_asset_referenced_by_many_prims_is_one_warning(tmp_path):
+    # usd-wg's intent-vfx teapotScene: one missing layer referenced by 548 prims printed 548 lines.
+    stage, path = shot(tmp_path)
+    for k in range(6):
+        stage.DefinePrim(f"/World/copy{k}").GetReferences().AddReference("./missing_asset.usda")
+    stage.Save()
+    rc, out, err = eyerecord(path, tmp_path / "out.exr", "--imageWidth", 16, "--spp", 1, "--quiet")
+    assert_no_crash(rc, out, err)
+    usd = [line for line in err if "USD:" in line]
+    assert len(usd) == 1 and "missing_asset.usda" in usd[0] and "and 5 more prims" in usd[0], err
+    assert rc == 0
