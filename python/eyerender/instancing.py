@@ -21,7 +21,7 @@ XXX: animated visibility of native instances and animated transforms of prims in
 import dataclasses
 
 import numpy as np
-from pxr import Usd, UsdGeom
+from pxr import Gf, Usd, UsdGeom
 
 from . import eyes, lights, motion
 from .errors import EyeRenderError
@@ -38,6 +38,7 @@ class InstanceGroup:
     colors: list = None
     first_instance: Usd.Prim = None  # native groups: the instance whose proxies bind the prototype's materials
     instance_paths: list = dataclasses.field(default_factory=list)  # native groups: their instance prims' paths
+    root_colors: list = dataclasses.field(default_factory=list)  # native groups: each instance root's displayColor
 
 
 def _instance_colors(instancer, time, count):
@@ -47,6 +48,18 @@ def _instance_colors(instancer, time, count):
         return None
     values = primvar.ComputeFlattened(time)
     return [tuple(c) for c in values] if values is not None and len(values) == count else None
+
+
+FALLBACK_COLOR = (0.18, 0.18, 0.18)  # what a prim without displayColor shows (MaterialParams' diffuseColor)
+
+
+def _inherited_color(prim, time):
+    """The constant displayColor prim has or inherits (its first value), else None."""
+    primvar = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance("displayColor")
+    values = primvar.ComputeFlattened(time) if primvar and primvar.HasValue() else None
+    if values is None or isinstance(values, Gf.Vec3f):
+        return None if values is None else tuple(values)
+    return tuple(values[0]) if len(values) and primvar.GetInterpolation() == UsdGeom.Tokens.constant else None
 
 
 def _invisible_within(prim, root, time):
@@ -208,6 +221,7 @@ class Instancing:
                                                       first_instance=prim)
         group.worlds.append(d.world_of(prim))
         group.instance_paths.append(prim.GetPath())
+        group.root_colors.append(_inherited_color(prim, d.time))
 
     def finish(self):
         """Adds the native groups met since the last call, each owned by its instances' nearest common ancestor:
@@ -217,9 +231,21 @@ class Instancing:
             # Its prototype is a source too: an instance added later re-populates the group it joins.
             sources = [*group.instance_paths, group.root.GetPath()]
             with d.owning(_common_ancestor(group.instance_paths), sources=sources):
+                group.colors = self._native_instance_colors(group)
                 self._add_group(group, proxy_prefix=group.first_instance.GetPath())
                 self._add_nested_point_instancers(group)
         self._native.clear()
+
+    def _native_instance_colors(self, group):
+        """Per-instance colours of a native group from its instance roots' constant displayColor (UsdImaging's
+        instance primvars, inherited by the prototype's prims), or None: no root has one, or a prototype prim has its
+        own (which it keeps)."""
+        if all(c is None for c in group.root_colors):
+            return None
+        leaves = self._leaves(group.root, group.first_instance.GetPath())
+        if any(_inherited_color(leaf, self.delegate.time) is not None for leaf in leaves):
+            return None
+        return [FALLBACK_COLOR if c is None else c for c in group.root_colors]
 
     def _add_nested_point_instancers(self, group):
         """The PointInstancers inside a native group's prototype, each drawn at every instance of the group (as they

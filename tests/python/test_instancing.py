@@ -310,3 +310,25 @@ def test_a_point_instancer_inside_a_native_instance_is_drawn_at_every_instance()
     without = session(stage)
     without.render(spp=2)
     assert float(np.abs(shared.image("color") - without.image("color")).max()) > 0.1  # the tiles are in view
+
+
+def test_a_constant_display_color_on_native_instance_roots_colours_each_instance_as_flattened():
+    # OpenUSD's InstancePrimvars stage: instance roots carry displayColor, their prototype's sphere has none.
+    stage = crowd_stage()
+    UsdGeom.Sphere.Define(stage, "/Library/bead/geo").CreateRadiusAttr(0.2)
+    for k, (x, color) in enumerate(((-1.0, (0.9, 0.1, 0.1)), (0.0, None), (1.0, (0.1, 0.2, 0.9)))):
+        inst = UsdGeom.Xform.Define(stage, f"/World/beads/b{k}")
+        inst.AddTranslateOp().Set(Gf.Vec3d(x, -0.9, 0.5))
+        inst.GetPrim().GetReferences().AddInternalReference("/Library/bead")
+        inst.GetPrim().SetInstanceable(True)
+        if color:
+            UsdGeom.PrimvarsAPI(inst).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                                    UsdGeom.Tokens.constant).Set([color])
+    shared, flat = session(stage, aovs=["albedo"]), session(stage, flatten_instances=True, aovs=["albedo"])
+    assert list(instances_drawn(shared, "/World/beads/").values()) == [3]
+    shared.render(spp=2)
+    flat.render(spp=2)
+    assert float(np.abs(shared.image("albedo") - flat.image("albedo")).max()) == 0.0
+    albedo = shared.image("albedo")[35, :, :3]  # the row through the beads; their centres at columns 15, 32, 49
+    for column, color in ((15, (0.9, 0.1, 0.1)), (32, (0.18, 0.18, 0.18)), (49, (0.1, 0.2, 0.9))):
+        assert albedo[column] == pytest.approx(color, abs=1e-6), column
