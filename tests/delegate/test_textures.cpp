@@ -451,6 +451,15 @@ void AddTopCamera(InMemorySceneDelegate& scene, double h, double z) {
   scene.AddCamera("/cam", ortho, test::LookDownZ(z));
 }
 
+/// A 2 x 2 quad at z = 0 that emits `texture` (raw values) and reflects nothing, as "/quad" with material "/mat".
+void AddEmissiveQuad(InMemorySceneDelegate& scene, const std::string& texture) {
+  MaterialParams m;
+  m.diffuseColor = glm::vec3(0);
+  m.Texture(MaterialInput::EmissiveColor).texture = Params(texture, TextureColorSpace::Raw);
+  scene.AddMaterial("/mat", m);
+  AddTexturedQuad(scene, "/quad", 1, 0, 0, "/mat");
+}
+
 struct TextureScene : test::RenderStack {
   RenderStats Render(int spp) {
     delegate.Settings().samplesPerPixel = spp;
@@ -483,11 +492,7 @@ TEST_CASE("a mip-mapped checker seen from afar renders with far less pixel varia
   double variance[2], mean[2];
   for (int filtered = 0; filtered < 2; ++filtered) {
     TextureScene s;
-    MaterialParams m;
-    m.diffuseColor = glm::vec3(0);
-    m.Texture(MaterialInput::EmissiveColor).texture = Params(dir / "checker.png", TextureColorSpace::Raw);
-    s.scene.AddMaterial("/mat", m);
-    AddTexturedQuad(s.scene, "/quad", 1, 0, 0, "/mat");
+    AddEmissiveQuad(s.scene, dir / "checker.png");
     AddTopCamera(s.scene, 1, 5);
     s.scene.AddRenderBuffer("/color", 32, 32, 4);
     s.delegate.Settings().textureFiltering = filtered == 1;
@@ -510,11 +515,7 @@ TEST_CASE("a textured plane in focus is as sharp through a lens as through a pin
   double variance[2], mean[2];
   for (int withLens = 0; withLens < 2; ++withLens) {
     TextureScene s;
-    MaterialParams m;
-    m.diffuseColor = glm::vec3(0);
-    m.Texture(MaterialInput::EmissiveColor).texture = Params(dir / "checker.png", TextureColorSpace::Raw);
-    s.scene.AddMaterial("/mat", m);
-    AddTexturedQuad(s.scene, "/quad", 1, 0, 0, "/mat");
+    AddEmissiveQuad(s.scene, dir / "checker.png");
     CameraParams camera;
     if (withLens) camera.fStop = 2, camera.focusDistance = 5;  // a 2.5-unit aperture
     s.scene.AddCamera("/cam", camera, test::LookDownZ(5));

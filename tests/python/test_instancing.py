@@ -12,6 +12,15 @@ from eyerender import RenderSession  # noqa: E402
 GRID = (40, 25)  # 1000 instances
 
 
+def square(stage, path, half):
+    """A square mesh of half-width `half` in the xy plane, centred at the origin."""
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    mesh.CreatePointsAttr([(-half, -half, 0), (half, -half, 0), (half, half, 0), (-half, half, 0)])
+    mesh.CreateFaceVertexCountsAttr([4])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    return mesh
+
+
 def crowd_stage():
     """A 1000-instance PointInstancer (prototypes: a Cube gprim, an Xform holding a mesh and a Sphere, a nested
     PointInstancer of three quads) with invisibleIds, inactive ids and per-instance displayColor, and three native
@@ -40,10 +49,7 @@ def crowd_stage():
     ball.AddTranslateOp().Set(Gf.Vec3d(0, 0, 0.05))
     del group
     inner = UsdGeom.PointInstancer.Define(stage, "/World/crowd/protos/nest")
-    quad = UsdGeom.Mesh.Define(stage, "/World/crowd/protos/nest/protos/quad")
-    quad.CreatePointsAttr([(-0.02, -0.02, 0), (0.02, -0.02, 0), (0.02, 0.02, 0), (-0.02, 0.02, 0)])
-    quad.CreateFaceVertexCountsAttr([4])
-    quad.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    quad = square(stage, "/World/crowd/protos/nest/protos/quad", 0.02)
     inner.CreatePrototypesRel().SetTargets([quad.GetPath()])
     inner.CreatePositionsAttr([(-0.05, 0, 0), (0.05, 0, 0), (0, 0.05, 0.01)])
     inner.CreateProtoIndicesAttr([0, 0, 0])
@@ -287,10 +293,7 @@ def test_a_point_instancer_inside_a_native_instance_is_drawn_at_every_instance()
     stage = crowd_stage()
     pi = UsdGeom.PointInstancer.Define(stage, "/Library/scatter/pi")
     pi.AddTranslateOp().Set(Gf.Vec3d(0, 0.3, 0))
-    tile = UsdGeom.Mesh.Define(stage, "/Library/scatter/pi/protos/tile")
-    tile.CreatePointsAttr([(-0.1, -0.1, 0), (0.1, -0.1, 0), (0.1, 0.1, 0), (-0.1, 0.1, 0)])
-    tile.CreateFaceVertexCountsAttr([4])
-    tile.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    tile = square(stage, "/Library/scatter/pi/protos/tile", 0.1)
     pi.CreatePrototypesRel().SetTargets([tile.GetPath()])
     pi.CreatePositionsAttr([(-0.3, 0, 0), (0.3, 0, 0)])
     pi.CreateProtoIndicesAttr([0, 0])
