@@ -162,8 +162,8 @@ def _curves_data(prim, time, warn):
     primvars = _read_primvars(prim, curves, time, normals=True, warn=warn)
     if len(dropped):
         listed = ", ".join(str(int(i)) for i in dropped[:5]) + (", ..." if len(dropped) > 5 else "")
-        warn(f"{prim.GetPath()}: {len(dropped)} of {len(counts)} curves ({listed}) have too few vertices for "
-             f"{' '.join(tokens)} curves: left out")
+        warn(f"{prim.GetPath()}: {len(dropped)} of {len(counts)} curves ({listed}) have a vertex count "
+             f"{' '.join(tokens)} curves cannot take: left out")
         counts, points, primvars = _without_curves(dropped, counts, tokens, points, primvars)
     return counts, tokens, points, primvars
 

@@ -21,11 +21,12 @@ XXX: animated visibility of native instances and animated transforms of prims in
 import dataclasses
 
 import numpy as np
-from pxr import Gf, Usd, UsdGeom
+from pxr import Usd, UsdGeom
 
 from . import eyes, lights, motion
 from .errors import EyeRenderError
 from .materials import bound_material
+from .usd_values import scalar_as_array
 
 
 @dataclasses.dataclass
@@ -53,13 +54,19 @@ def _instance_colors(instancer, time, count):
 FALLBACK_COLOR = (0.18, 0.18, 0.18)  # what a prim without displayColor shows (MaterialParams' diffuseColor)
 
 
-def _inherited_color(prim, time):
-    """The constant displayColor prim has or inherits (its first value), else None."""
+def _display_color(prim):
+    """The displayColor primvar prim has (any interpolation) or inherits (constant), else None."""
     primvar = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance("displayColor")
-    values = primvar.ComputeFlattened(time) if primvar and primvar.HasValue() else None
-    if values is None or isinstance(values, Gf.Vec3f):
-        return None if values is None else tuple(values)
-    return tuple(values[0]) if len(values) and primvar.GetInterpolation() == UsdGeom.Tokens.constant else None
+    return primvar if primvar and primvar.HasValue() else None
+
+
+def _constant_color(prim, time):
+    """The constant displayColor prim has or inherits (its first value), else None."""
+    primvar = _display_color(prim)
+    if primvar is None or primvar.GetInterpolation() != UsdGeom.Tokens.constant:
+        return None
+    values = scalar_as_array(primvar.ComputeFlattened(time))
+    return tuple(values[0]) if values is not None and len(values) else None
 
 
 def _invisible_within(prim, root, time):
@@ -221,7 +228,7 @@ class Instancing:
                                                       first_instance=prim)
         group.worlds.append(d.world_of(prim))
         group.instance_paths.append(prim.GetPath())
-        group.root_colors.append(_inherited_color(prim, d.time))
+        group.root_colors.append(_constant_color(prim, d.time))
 
     def finish(self):
         """Adds the native groups met since the last call, each owned by its instances' nearest common ancestor:
@@ -242,8 +249,7 @@ class Instancing:
         own (which it keeps)."""
         if all(c is None for c in group.root_colors):
             return None
-        leaves = self._leaves(group.root, group.first_instance.GetPath())
-        if any(_inherited_color(leaf, self.delegate.time) is not None for leaf in leaves):
+        if any(_display_color(leaf) is not None for leaf in self._leaves(group.root, group.first_instance.GetPath())):
             return None
         return [FALLBACK_COLOR if c is None else c for c in group.root_colors]
 

@@ -30,6 +30,7 @@ def bound_material(prim):
     asks), else its all-purpose binding; an invalid Material where there is none."""
     return UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(UsdShade.Tokens.preview)[0]
 
+
 # UsdPreviewSurface's defaults (its specification), for inputs with no authored value.
 DEFAULTS = {
     "diffuseColor": (0.18, 0.18, 0.18),

@@ -139,7 +139,7 @@ def test_animated_curve_points_are_re_pushed_and_bad_curves_skipped_with_a_warni
     assert s.scene.warnings == [
         "/World/bad: curveVertexCounts add up to 5, there are 4 points (skipped)",
         "/World/thin: widths has 3 values, varying needs 4 (skipped)",
-        "/World/partly: 1 of 3 curves (1) have too few vertices for cubic bspline pinned curves: left out"]
+        "/World/partly: 1 of 3 curves (1) have a vertex count cubic bspline pinned curves cannot take: left out"]
     counts, _, points, primvars = curves_data(partly.GetPrim(), Usd.TimeCode.Default(), lambda message: None)
     assert list(counts) == [3, 2] and len(points) == 5 and (points != 9).all()
     assert dict(primvars)["widths"][1].ravel().tolist() == pytest.approx([0.1, 0.2, 0.3, 0.5, 0.6])
