@@ -16,6 +16,10 @@ from .usd_values import scalar_as_array
 INTERPOLATIONS = ("constant", "uniform", "vertex", "varying")
 
 
+def is_curves_or_points(prim):
+    return prim.IsA(UsdGeom.BasisCurves) or prim.IsA(UsdGeom.Points)
+
+
 def _points(prim, time):
     points = UsdGeom.PointBased(prim).GetPointsAttr().Get(time)
     if points is None or len(points) == 0:

@@ -23,7 +23,7 @@ import dataclasses
 import numpy as np
 from pxr import Usd, UsdGeom
 
-from . import eyes, lights, motion
+from . import curves, eyes, lights, motion
 from .errors import EyeRenderError
 from .materials import bound_material
 from .usd_values import scalar_as_array
@@ -295,7 +295,9 @@ class Instancing:
         instance. proxy_prefix: a native group's first instance, whose proxies give the prims' materials."""
         d = self.delegate
         leaves = list(self._leaves(group.root, proxy_prefix))
-        shared = [p for p in leaves if not eyes.is_eye(p)] if not self.flatten else []
+        # Eyes, curves and points are copied per instance (the delegate instances meshes only).
+        shared = [p for p in leaves if not eyes.is_eye(p) and not curves.is_curves_or_points(p)] \
+            if not self.flatten else []
         if shared:
             d.store.add_instancer(group.instancer_id, _matrices(group.worlds), _colors(group.colors))
             d.own_prim(group.instancer_id)

@@ -251,7 +251,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._add_mesh(prim, prim.GetPath().pathString, self._world_of(prim))
             self._track_transform(prim)
             return False
-        if prim.IsA(UsdGeom.BasisCurves) or prim.IsA(UsdGeom.Points):
+        if curves.is_curves_or_points(prim):
             self._add_curves_or_points(prim)
             return False
         if prim.IsA(UsdGeom.Camera):
@@ -320,6 +320,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             with reading(prim.GetPath()):
                 if prim.IsA(UsdGeom.Mesh):
                     self._add_mesh(prim, prim_id, transform, instancer_id, binding)
+                elif curves.is_curves_or_points(prim):  # copied per instance: never under an instancer
+                    self._add_curves_or_points(prim, prim_id, transform, binding)
                 elif prim.IsA(UsdGeom.Gprim):
                     if not self._add_gprim(prim, prim_id, transform, instancer_id, binding):
                         return
@@ -707,17 +709,20 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._track_visibility(prim, prim_id)
         return True
 
-    def _add_curves_or_points(self, prim):
+    def _add_curves_or_points(self, prim, prim_id=None, world=None, binding=None):
         """BasisCurves as tubes or ribbons, Points as spheres (curves.py); bad data raises EyeRenderError (the prim
-        is skipped)."""
-        prim_id = prim.GetPath().pathString
-        material_id, _ = self._bind_material(prim)
+        is skipped). prim_id, world, binding: an instance's copy of a prototype's prim (see add_instanced_prim)."""
+        own = prim_id is None
+        prim_id = prim.GetPath().pathString if own else prim_id
+        material_id, _ = self._bind_material(binding or prim)
         add = curves.add_basis_curves if prim.IsA(UsdGeom.BasisCurves) else curves.add_points
         self._rprims[prim_id] = prim.GetPath()
         warn = lambda message: self._warn_once([message])  # noqa: E731
-        animated = add(self.store, prim, prim_id, _matrix(self._world_of(prim)), material_id, self.time, warn)
-        self._own(prim_id)
-        self._track_transform(prim)
+        world = self._world_of(prim) if world is None else world
+        animated = add(self.store, prim, prim_id, _matrix(world), material_id, self.time, warn)
+        self._own_top_level(prim, prim_id)
+        if own:
+            self._track_transform(prim)
         self._track_visibility(prim, prim_id)
         if _varies(animated):
             self._track(("points", lambda t: curves.update(self.store, prim, prim_id, t, warn)))

@@ -335,3 +335,31 @@ def test_a_constant_display_color_on_native_instance_roots_colours_each_instance
     albedo = shared.image("albedo")[35, :, :3]  # the row through the beads; their centres at columns 15, 32, 49
     for column, color in ((15, (0.9, 0.1, 0.1)), (32, (0.18, 0.18, 0.18)), (49, (0.1, 0.2, 0.9))):
         assert albedo[column] == pytest.approx(color, abs=1e-6), column
+
+
+def test_curves_and_points_in_a_prototype_are_drawn_at_every_instance():
+    # OpenUSD's moreCurves and Instancing stages: curves and points inside native prototypes were "not supported".
+    stage = crowd_stage()
+    hair = UsdGeom.BasisCurves.Define(stage, "/Library/tuft/hair")
+    hair.CreateTypeAttr(UsdGeom.Tokens.linear)
+    hair.CreateCurveVertexCountsAttr([2])
+    hair.CreatePointsAttr([(-0.3, 0, 0), (0.3, 0, 0)])
+    hair.CreateWidthsAttr([0.08])
+    dots = UsdGeom.Points.Define(stage, "/Library/tuft/dots")
+    dots.CreatePointsAttr([(0, 0.15, 0)])
+    dots.CreateWidthsAttr([0.12])
+    for k, x in enumerate((-1.0, 1.0)):
+        inst = UsdGeom.Xform.Define(stage, f"/World/tufts/t{k}")
+        inst.AddTranslateOp().Set(Gf.Vec3d(x, -0.9, 0.5))
+        inst.GetPrim().GetReferences().AddInternalReference("/Library/tuft")
+        inst.GetPrim().SetInstanceable(True)
+    shared, flat = session(stage), session(stage, flatten_instances=True)
+    assert shared.scene.warnings == []
+    assert len([i for i in shared.index.rprim_ids() if i.startswith("/World/tufts/")]) == 4  # 2 prims x 2 instances
+    shared.render(spp=2)
+    flat.render(spp=2)
+    assert float(np.abs(shared.image("color") - flat.image("color")).max()) == 0.0
+    stage.GetPrimAtPath("/World/tufts").SetActive(False)
+    without = session(stage)
+    without.render(spp=2)
+    assert float(np.abs(shared.image("color") - without.image("color")).max()) > 0.1  # in view
