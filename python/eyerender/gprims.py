@@ -4,10 +4,10 @@ The delegate shades a polygon mesh with smooth vertex normals (the average of th
 the tessellation decides the shading, as GeomUtil's mesh generators do for Storm: a hard edge (a cap's rim, a
 cube's edges) is two rings of points at one place, one for each side; a smooth surface shares its points.
 
-Sphere, Capsule and Capsule_1: latitude-longitude meshes of 48 segments and 24 rings per full turn of latitude
-(silhouettes within 0.2 % of the radius). Cylinder, Cylinder_1 and Cone: 48 segments, flat caps. Cube: 6 quads of
-their own corners (flat, as Storm's bilinear cube). Plane: one quad. Sizes are in the stage's units; `axis` (X, Y
-or Z) is the spine (the Plane's normal).
+Sphere, Capsule and Capsule_1: latitude-longitude meshes of 48 segments and 24 rings pole to pole (silhouettes
+within 1 - cos(pi / 48) = 0.21 % of the radius). Cylinder, Cylinder_1 and Cone: 48 segments, flat caps. Cube: 6
+quads of their own corners (flat, as Storm's bilinear cube). Plane: one quad. Sizes are in the stage's units;
+`axis` (X, Y or Z) is the spine (the Plane's normal).
 """
 import math
 

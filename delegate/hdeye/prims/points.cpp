@@ -6,14 +6,22 @@
 
 namespace hdeye {
 
+namespace {
+
+/// Whether a points primvar holds one value per point (any interpolation but constant), and how many it needs.
+bool PerPoint(const Primvar& p) { return p.interpolation != Interpolation::Constant; }
+std::size_t NeededValues(const Primvar& p, std::size_t points) { return PerPoint(p) ? points : 1; }
+
+}  // namespace
+
 void Points::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam) {
   auto fail = [&](const std::string& what) { throw std::runtime_error("points " + Id() + ": " + what); };
   const std::vector<Vec3f> points = sceneDelegate->GetPoints(Id());
   const Primvar widths = sceneDelegate->GetPrimvar(Id(), "widths");
   if (points.empty()) fail("no points");
-  const bool perPoint = !widths.Empty() && widths.interpolation != Interpolation::Constant;
-  if (!widths.Empty() && (widths.components != 1 || widths.values.size() != (perPoint ? points.size() : 1)))
-    fail("widths needs " + std::to_string(perPoint ? points.size() : 1) + " values, got " +
+  const bool perPoint = !widths.Empty() && PerPoint(widths);
+  if (!widths.Empty() && (widths.components != 1 || widths.values.size() != NeededValues(widths, points.size())))
+    fail("widths needs " + std::to_string(NeededValues(widths, points.size())) + " values, got " +
          std::to_string(widths.values.size()));
   const RTCGeometry g = rtcNewGeometry(renderParam->Device(), RTC_GEOMETRY_TYPE_SPHERE_POINT);
   auto* vertices = static_cast<glm::vec4*>(
@@ -30,13 +38,12 @@ void Points::SyncGeometry(SceneDelegate* sceneDelegate, RenderParam* renderParam
   // displayColor, constant or per point, as 3 equal corner values per point (GeometryContext::displayColor).
   displayColor_.clear();
   const Primvar color = sceneDelegate->GetPrimvar(Id(), "displayColor");
-  const bool colorPerPoint = color.interpolation != Interpolation::Constant;
-  if (!color.Empty() && (color.components != 3 || color.values.size() != 3 * (colorPerPoint ? points.size() : 1))) {
-    renderParam->Warn("points " + Id() + ": displayColor needs " + std::to_string(colorPerPoint ? points.size() : 1) +
+  if (!color.Empty() && (color.components != 3 || color.values.size() != 3 * NeededValues(color, points.size()))) {
+    renderParam->Warn("points " + Id() + ": displayColor needs " + std::to_string(NeededValues(color, points.size())) +
                       " colours (ignored)");
   } else if (!color.Empty()) {
     for (std::size_t i = 0; i < points.size(); ++i) {
-      const float* c = &color.values[3 * (colorPerPoint ? i : 0)];
+      const float* c = &color.values[3 * (PerPoint(color) ? i : 0)];
       displayColor_.insert(displayColor_.end(), 3, Vec3f(c[0], c[1], c[2]));
     }
   }
