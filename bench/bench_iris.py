@@ -3,8 +3,9 @@
 Renders the scene with the real command line (`python -m eyerender.eyerecord`, two threads, each budget with two
 seeds), compares every render with the scene's reference through its own compare.py (relative RMSE per iris pixel,
 glint excluded; with two seeds the noise and the bias floor sqrt(mean(e1 e2)), the error both seeds share), and prints
-a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, and
-the floor at the longest budget, as a markdown table. --plot writes the figure docs/iris_benchmark.md shows.
+a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, the
+floor at the longest budget, and the relative RMSE with the corneal glint included (over the whole iris mask) and over
+the glint's own pixels, as a markdown table. --plot writes the figure docs/iris_benchmark.md shows.
 
 Usage: python3 bench/bench_iris.py [--budgets 2.5,10] [--floor-spp N] [--build LABEL=PYTHON ...]
                                    [--lever "LABEL=EYERECORD FLAGS" ...] [--scene-dir DIR]
@@ -42,7 +43,7 @@ import tempfile
 DEFAULT_SCENE_DIR = os.environ.get("EYERENDER_SCENE_B", "/work/shared/bench/sceneB")
 SCENE_B_PIXELS = 32879  # the iris pixels compare.py counts (its pixels=), for CSVs that do not record them
 FIELDS = ("label", "fixed_spp", "seconds", "relrmse", "relrmse_seed2", "noise", "floor", "bias", "spp", "err_sqrt_s",
-          "pixels", "msamples_per_s")
+          "pixels", "msamples_per_s", "with_glint", "glint")
 IMAGE_PIXELS = 256 * 256
 
 
@@ -72,6 +73,18 @@ def compare(scene_dir, a, b):
     return {k: float(v) for k, v in values.items()}
 
 
+def glint_included(scene_dir, paths):
+    """The relative RMSE over the whole iris mask with the corneal glint (every pixel compare.py counts and the
+    glint's), and over the glint's own pixels (the reference above 20x the iris median, not grown), each the mean over
+    the renders `paths`."""
+    import numpy as np
+    ref = np.load(os.path.join(scene_dir, "reference.npy")).astype(np.float64)
+    iris = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
+    whole, glint = iris & (ref > 0), ref > 20 * np.median(ref[iris])
+    errors = [(load_exr(p) - ref) / np.where(ref > 0, ref, 1) for p in paths]
+    return tuple(float(np.mean([np.sqrt(np.mean(e[m] ** 2)) for e in errors])) for m in (whole, glint))
+
+
 def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels=None):
     """One row per build and time budget, then (floor_spp > 0) one per build of floor_spp samples per pixel, its time
     the mean of the two seeds'. builds: (label, python) pairs, rendered in turn at every budget and seed so that the
@@ -96,12 +109,14 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels
                 (a, spp1, s1), (b, spp2, s2) = done[k, 1], done[k, 2]
                 c = compare(scene_dir, a, b)
                 err = 0.5 * (c["relRMSE"] + c["relRMSE2"])
+                with_glint, glint = glint_included(scene_dir, (a, b))
                 taken = seconds or 0.5 * (s1 + s2)
                 rows.append({"label": label, "fixed_spp": spp, "seconds": taken, "relrmse": c["relRMSE"],
                              "relrmse_seed2": c["relRMSE2"], "noise": c["noise"], "floor": c["floor"],
                              "bias": c["bias"], "spp": 0.5 * (spp1 + spp2), "err_sqrt_s": err * math.sqrt(taken),
                              "pixels": c["pixels"],
-                             "msamples_per_s": (spp1 + spp2) * IMAGE_PIXELS / max(s1 + s2, 1e-9) / 1e6})
+                             "msamples_per_s": (spp1 + spp2) * IMAGE_PIXELS / max(s1 + s2, 1e-9) / 1e6,
+                             "with_glint": with_glint, "glint": glint})
                 budget = f"{spp} spp" if spp else f"{seconds:g} s"
                 print(f"  {label}: {budget} done (relRMSE {err:.4f})", file=sys.stderr)
     return rows
@@ -272,14 +287,15 @@ def grazing_table(rows, degrees):
 
 def table(rows):
     lines = ["| code | budget | seconds | rel RMSE (seed 1 / 2) | noise | floor (two seeds) | mean bias | spp "
-             "| error x sqrt(s) | M samples/s |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| error x sqrt(s) | M samples/s | glint included | the glint's pixels |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         budget = f"{r['fixed_spp']:.0f} spp" if r.get("fixed_spp") else f"{r['seconds']:g} s"
         lines.append(f"| {r['label']} | {budget} | {r['seconds']:.1f} "
                      f"| {100 * r['relrmse']:.2f} % / {100 * r['relrmse_seed2']:.2f} % "
                      f"| {100 * r['noise']:.2f} % | {100 * r['floor']:.2f} % | {100 * r['bias']:+.2f} % "
-                     f"| {r['spp']:.0f} | {r['err_sqrt_s']:.3f} | {float(r.get('msamples_per_s') or 0):.2f} |")
+                     f"| {r['spp']:.0f} | {r['err_sqrt_s']:.3f} | {float(r.get('msamples_per_s') or 0):.2f} "
+                     f"| {100 * float(r.get('with_glint') or 0):.2f} % | {100 * float(r.get('glint') or 0):.2f} % |")
     return "\n".join(lines)
 
 

@@ -241,17 +241,21 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
   ev = ScatterFromCornea(eye, CorneaEntry{hit.analyticPoint, hit.analyticNormal, hit.canonicalDir}, lighting, random);
   if (ev.kind == EyeEvent::Sclera) {
     ev.scleraOnSurface = true;  // the limbus blend chose sclera: shade the mesh surface there
-  } else if (ev.kind == EyeEvent::Continue && (hit.reprojected || ev.reflectedAtEntry)) {
-    // Re-projected: every leaving ray (reflection at entry, exit after the chamber walk) leaves from the
-    // deformed hit point, its canonical direction turned back by the hit's local rotation. ScatterFromCornea
-    // placed it through the eye's rigid frame; undo that exactly (a similarity) to recover the canonical one.
-    // Baseline: a reflection at entry leaves from the mesh point the ray met, in the eye's affine frame;
-    // exits leave from the analytic exit point there (the mesh is transparent from inside).
+    return ev;
+  }
+  // Re-projected: every leaving ray (reflection at entry, exit after the chamber walk) leaves from the
+  // deformed hit point, its canonical direction turned back by the hit's local rotation. ScatterFromCornea
+  // placed it through the eye's rigid frame; undo that exactly (a similarity) to recover the canonical one.
+  // Baseline: a reflection at entry leaves from the mesh point the ray met, in the eye's affine frame;
+  // exits leave from the analytic exit point there (the mesh is transparent from inside).
+  const auto leaveFromMesh = [&](glm::dvec3* origin, glm::dvec3* dir) {
     EyeMeshHit leaving = hit;
     if (!hit.reprojected) leaving.worldToLocal = glm::dmat3(1.0);  // the direction is already the world one
-    ev.dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(ev.dir) : ev.dir);
-    ev.origin = SpawnOrigin(hit.worldPoint, hit.worldNormal, eye.SpawnScale());
-  }
+    *dir = EyeMeshLeavingDirection(leaving, hit.reprojected ? eye.DirToCanonical(*dir) : *dir);
+    *origin = SpawnOrigin(hit.worldPoint, hit.worldNormal, eye.SpawnScale());
+  };
+  if (ev.kind == EyeEvent::Continue && (hit.reprojected || ev.reflectedAtEntry)) leaveFromMesh(&ev.origin, &ev.dir);
+  if (ev.reflection.weight > 0) leaveFromMesh(&ev.reflection.origin, &ev.reflection.dir);
   return ev;
 }
 
@@ -290,7 +294,14 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
     return ev;
   }
   ev = WalkChamber(eye, p, wt, lighting, random, 1 - F);
-  if (uFresnel < F) reflectAtEntry(&ev);
+  if (lighting.splitAtEntry && F > 0) {
+    EyeEvent reflected;
+    reflectAtEntry(&reflected);
+    ev.reflection = {reflected.origin, reflected.dir, F};
+    ev.weight *= 1 - F;
+  } else if (uFresnel < F) {
+    reflectAtEntry(&ev);
+  }
   return ev;
 }
 

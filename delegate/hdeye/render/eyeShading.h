@@ -1,10 +1,10 @@
 #pragma once
 // What happens to a world ray that meets an eye: the hit moves to the canonical
 // frame; the limbus blend decides cornea or sclera; the cornea reflects or refracts (Fresnel, chosen
-// stochastically); inside the chamber the path walks against the analytic model: the iris gets its
-// direct light from every light through MNEE and scatters diffusely, the cornea's inside reflects
-// (total internal reflection included) or lets the path out, the pupil absorbs. Light that bounces
-// inside the chamber is kept: the walk continues until the path leaves or is absorbed.
+// stochastically, or both traced with their weights: EyeLighting::splitAtEntry); inside the chamber the path walks
+// against the analytic model: the iris gets its direct light from every light through MNEE and scatters diffusely, the
+// cornea's inside reflects (total internal reflection included) or lets the path out, the pupil absorbs. Light that
+// bounces inside the chamber is kept: the walk continues until the path leaves or is absorbed.
 //
 // Two doors lead to one walk: ScatterAtEye (an analytic eye: the hit found again in double precision)
 // and ScatterAtEyeMesh (an eye mesh: the hit mapped onto the analytic cornea) both end in
@@ -56,6 +56,10 @@ struct EyeLighting {
   ChamberEstimator chamberEstimator = ChamberEstimator::Path;
   /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
   std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
+  /// Trace both the reflection off the cornea and the refraction into it at the entry, with their Fresnel
+  /// weights (EyeEvent::reflection beside the walk), instead of choosing one by F: the glint otherwise comes
+  /// from 1 path in 1 / F (about 40 at 25 degrees), in steps of a tenth of its value at hundreds of samples.
+  bool splitAtEntry = false;
 };
 
 /// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris
@@ -87,6 +91,12 @@ struct EyeEvent {
   bool passThrough = false;
   /// Continue: reflected off the cornea at the entry point (never entered the chamber).
   bool reflectedAtEntry = false;
+  /// A second ray leaving the eye: the reflection off the cornea at the entry when EyeLighting::splitAtEntry
+  /// traced it beside the walk (whatever the walk's kind); weight 0: none.
+  struct Branch {
+    glm::dvec3 origin{0}, dir{0};  ///< the world ray
+    double weight = 0;             ///< the Fresnel reflectance F (the walk's exit then weighs 1 - F)
+  } reflection;
   glm::dvec3 scleraAlbedo{0}, normal{0};  ///< Sclera: shade as a diffuse surface (world normal)
   /// Sclera on an eye mesh: shade the mesh surface itself (its shading normal; `normal` is unset) with
   /// scleraAlbedo, or with its bound material when EyeGeometry::scleraUsesMaterial.

@@ -163,6 +163,9 @@ struct PathState {
   // handle: its one-solution search has no known pdf over exit directions, so the two are a partition, light
   // by light, never a mixture.
   bool specular = true, skipLights = false, skipMnee = false;
+  /// The path has not yet split at a cornea (EyeLighting::splitAtEntry): only the camera's specular chain splits,
+  /// at the first cornea it meets, so a sample traces at most two paths.
+  bool splitsAtCornea = true;
   int fromPrim = -1;        ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
   double bsdfPdf = 0;       ///< the pdf the current ray was sampled with (after a diffuse bounce)
   EyeLighting eyeLighting;  ///< the lights and switches of the eye last met
@@ -221,14 +224,25 @@ class Tracer {
   PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time) {
     SetTime(time);
     PathSample sample;
-    const auto random = [&rng] { return rng.Next(); };
     // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
     const auto transmittance = [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
       return Transmittance(lights_[k], po, pd, t);
     };
     PathState path(ray, cone);
     path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.mneeAllSolutions, settings_.mnee};
-    for (int depth = 0; depth <= settings_.maxDepth; ++depth) {
+    TracePath(&path, 0, rng, &sample);
+    return sample;
+  }
+
+  const Counts& GetCounts() const { return counts_; }
+
+ private:
+  /// The path's vertices from `firstDepth` on (0: the camera ray), adding what it gathers to *sample (and, at depth
+  /// 0, the first hit's data). A branch split off at a cornea (ShadeEyeHit) goes through here on its own.
+  void TracePath(PathState* pathState, int firstDepth, SampleStream& rng, PathSample* samplePtr) {
+    PathState& path = *pathState;
+    PathSample& sample = *samplePtr;
+    for (int depth = firstDepth; depth <= settings_.maxDepth; ++depth) {
       SurfaceHit hit;
       const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
       if (depth == 0) {
@@ -256,7 +270,7 @@ class Tracer {
         rng.AlignToPair();  // the eye draws whole pairs (EyeLighting)
         // A moving eye is shaded with its frames at the path's time (where the ray met it).
         const std::optional<EyeGeometry> moved = eye->motion ? std::optional(eye->AtTime(time_)) : std::nullopt;
-        const EyeOutcome outcome = ShadeEyeHit(moved ? *moved : *eye, depth, random, &hit, &path, &sample);
+        const EyeOutcome outcome = ShadeEyeHit(moved ? *moved : *eye, depth, rng, &hit, &path, &sample);
         if (outcome == EyeOutcome::Continue) continue;
         if (outcome == EyeOutcome::End) break;
       }
@@ -271,13 +285,10 @@ class Tracer {
       sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
       if (!SampleContinuation(hit, bsdf, bsdfAt, origin, depth, rng, &path)) break;
     }
-    if (path.arc) sample.limbalArc = sample.L - path.lAtArc;
-    return sample;
+    // A branch adds its own arc: what the sample gathered from its teleport to its end is the branch's.
+    if (path.arc) sample.limbalArc += sample.L - path.lAtArc;
   }
 
-  const Counts& GetCounts() const { return counts_; }
-
- private:
   /// The path's time: Embree's ray time, and the moving lights moved to it.
   void SetTime(double time) {
     time_ = time;
@@ -559,8 +570,9 @@ class Tracer {
 
   /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
   /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
-  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
-                         PathState* path, PathSample* sample) {
+  EyeOutcome ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& rng, SurfaceHit* hit, PathState* path,
+                         PathSample* sample) {
+    const auto random = [&rng] { return rng.Next(); };
     const GeometryContext& ctx = *hit->context;
     const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
     EyeLighting& lighting = path->eyeLighting;
@@ -572,6 +584,7 @@ class Tracer {
     lighting.chamberSplits = settings_.chamberSplits;
     lighting.receiver = hit->primIndex;
     lighting.chamberEstimator = settings_.chamberEstimator;
+    lighting.splitAtEntry = path->splitsAtCornea && path->specular;
     const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
     lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
     const EyeEvent ev = ctx.eye
@@ -580,6 +593,10 @@ class Tracer {
                                                path->d, lighting, random);
     sample->L += path->beta * ev.radiance;
     sample->irisMnee += path->beta * ev.radiance;
+    if (ev.reflection.weight > 0) {
+      path->splitsAtCornea = false;
+      TraceCorneaReflection(ev.reflection, depth, *hit, *path, rng, sample);
+    }
     if (ev.kind == EyeEvent::Continue) {
       path->beta *= ev.weight;
       path->cone = path->cone.AfterBounce(hit->t, true);
@@ -598,6 +615,18 @@ class Tracer {
     if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
       return EnterSclera(eye, switches.limbalArc, random, hit, path, sample->L);
     return EyeOutcome::ShadeSurface;
+  }
+
+  /// The reflection off the cornea that ShadeEyeHit's eye split from the path at its entry (EyeEvent::reflection),
+  /// traced to its end as a path of its own from the next depth, before the path goes on through the cornea.
+  void TraceCorneaReflection(const EyeEvent::Branch& reflection, int depth, const SurfaceHit& hit,
+                             const PathState& path, SampleStream& rng, PathSample* sample) {
+    PathState branch = path;
+    branch.beta *= reflection.weight;
+    branch.cone = path.cone.AfterBounce(hit.t, true);
+    branch.SetRay(reflection.origin, reflection.dir);
+    branch.SetSpecular();
+    TracePath(&branch, depth + 1, rng, sample);
   }
 
   /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
