@@ -9,6 +9,7 @@ from pxr import Usd, UsdGeom
 
 from . import cameras
 from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
+from .aovs import AOV_CHANNELS
 from .camera_light import add_camera_light, follow_camera
 from .errors import EyeRenderError
 from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
@@ -16,16 +17,6 @@ from .plan import PlanOverrides, plan_json
 from .shutter import ShutterOverride, resolve_shutter
 from .usd_scene_delegate import UsdSceneDelegate
 
-# AOV name -> EXR channel names (color's RGB are plain R, G, B so any viewer shows the beauty).
-AOV_CHANNELS = {
-    "color": ("R", "G", "B", "A"),
-    "albedo": ("albedo.R", "albedo.G", "albedo.B"),
-    "normal": ("N.X", "N.Y", "N.Z"),
-    "depth": ("depth.Z",),
-    "primId": ("primId",),
-    "irisMnee": ("irisMnee.R", "irisMnee.G", "irisMnee.B"),
-    "limbalArc": ("limbalArc.R", "limbalArc.G", "limbalArc.B"),
-}
 DEFAULT_CAMERA_ID = "/__eyerender_default_camera"
 DEFAULT_CAMERA_NAME = "main_cam"  # usdrecord's default --camera
 # Image size bounds: an aperture ratio beyond MAX_ASPECT (e.g. a horizontalAperture of 0.0024 mm) would ask for

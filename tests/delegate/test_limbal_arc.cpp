@@ -408,3 +408,45 @@ TEST_CASE("sclera walks run only for eye meshes with scattering on, and bad mean
       ScatterInSclera(mesh.Eye(), entry, glm::dvec3(0, 0, -1), glm::dvec3(0.8), glm::dvec3(1), boundary, random);
   CHECK(ok.status != eyelib::WalkStatus::Invalid);
 }
+
+TEST_CASE("the eye AOVs sum to the beauty: nonEye, glint, iris, sclera and limbalArc, each present", "[limbal][aov]") {
+  // A side-lit eye mesh (its shadowed limbus lit through the cylinder) before a Lambert wall the light also reaches:
+  // every part has light somewhere, and per pixel the five parts add up to the colour to float precision.
+  ArcScene s(40, EyeParams{}, false, 75 * kPi / 180);
+  MeshTopology wall;
+  std::vector<Vec3f> points;
+  test::Quad(40, &wall, &points);
+  MaterialParams grey;
+  grey.diffuseColor = glm::vec3(0.5f);
+  s.scene.AddMaterial("/wall_material", grey);
+  Matrix4d behind(1.0);
+  behind[3] = glm::dvec4(0, 0, -30, 1);
+  s.scene.AddMesh("/wall", wall, points, behind, "/wall_material");
+  const char* parts[] = {"nonEye", "glint", "iris", "sclera", "limbalArc"};
+  std::vector<AovBinding> bindings = {{"color", "/color"}};
+  for (const char* part : parts) {
+    s.scene.AddRenderBuffer(std::string("/") + part, s.size, s.size, 3);
+    bindings.push_back({part, std::string("/") + part});
+  }
+  s.delegate.Settings().samplesPerPixel = 8;
+  const RenderStats stats = s.pass.Execute("/cam", bindings);
+  double totals[5] = {0, 0, 0, 0, 0}, worst = 0;
+  for (int y = 0; y < s.size; ++y)
+    for (int x = 0; x < s.size; ++x)
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (int k = 0; k < 5; ++k) {
+          const double v = s.Buffer(std::string("/") + parts[k]).Resolved(x, y, c);
+          sum += v, totals[k] += v;
+        }
+        const double color = s.Buffer("/color").Resolved(x, y, c);
+        worst = std::max(worst, std::abs(sum - color) / std::max(1e-3, std::abs(color)));
+      }
+  std::printf(
+      "eye AOVs: totals nonEye %.4f glint %.4f iris %.4f sclera %.4f limbalArc %.4f; worst |sum - color| "
+      "/ color %.2g\n",
+      totals[0], totals[1], totals[2], totals[3], totals[4], worst);
+  CHECK(stats.nonFiniteSamples == 0);
+  CHECK(worst < 1e-5);
+  for (double total : totals) CHECK(total > 0);
+}

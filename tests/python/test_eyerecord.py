@@ -78,6 +78,27 @@ def test_renders_exr_with_aovs_and_png(stage_file, tmp_path, capsys):
     assert "1 frame(s) 24x24, 2 spp" in summary and "Mrays/s" in summary
 
 
+def test_eye_aovs_sum_to_the_beauty(stage_file, tmp_path):
+    # The analytic eye under the key (made large, so that its reflection covers pixels) before the card: the glint, the
+    # refracted iris and the card (nonEye) are each lit, and the five eye AOVs add up to the colour per pixel (the
+    # analytic eye has no sclera volume: no limbal arc).
+    stage = Usd.Stage.Open(str(stage_file))
+    UsdLux.SphereLight(stage.GetPrimAtPath("/World/key")).GetRadiusAttr().Set(8.0)
+    stage.GetRootLayer().Save()
+    out = tmp_path / "parts.exr"
+    parts = ("nonEye", "glint", "iris", "sclera", "limbalArc")
+    flags = [a for part in parts for a in ("--aov", part)]
+    assert run(stage_file, out, "--camera", "main_cam", "-w", 32, "--spp", 4, *flags, "-q") == 0
+    channels = eyerender.read_exr(str(out))
+    for c in "RGB":
+        total = sum(channels[f"{part}.{c}"].astype(np.float64) for part in parts)
+        beauty = channels[c].astype(np.float64)
+        assert np.allclose(total, beauty, rtol=1e-5, atol=1e-6), np.abs(total - beauty).max()
+    for part in ("nonEye", "glint", "iris"):
+        assert channels[f"{part}.R"].max() > 0, part
+    assert channels["limbalArc.R"].max() == 0
+
+
 def test_frame_range_writes_one_file_per_frame(stage_file, tmp_path):
     assert run(stage_file, tmp_path / "f.###.png", "-f", "1:3", "-w", 8, "--spp", 1, "-q") == 0
     assert sorted(os.listdir(tmp_path)) == ["f.001.png", "f.002.png", "f.003.png", "scene.usda"]

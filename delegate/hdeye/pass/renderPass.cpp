@@ -31,6 +31,10 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
                                 : b.aovName == "depth"     ? &aovs.depth
                                 : b.aovName == "primId"    ? &aovs.primId
                                 : b.aovName == "irisMnee"  ? &aovs.irisMnee
+                                : b.aovName == "glint"     ? &aovs.glint
+                                : b.aovName == "iris"      ? &aovs.iris
+                                : b.aovName == "sclera"    ? &aovs.sclera
+                                : b.aovName == "nonEye"    ? &aovs.nonEye
                                 : b.aovName == "limbalArc" ? &aovs.limbalArc
                                                            : nullptr;
     if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");

@@ -20,6 +20,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -133,14 +134,20 @@ struct FirstHit {
   void Set(const SurfaceHit& hit) { t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex; }
 };
 
+/// The eye AOVs: a path's radiance by the first eye event on its way (the glint a reflection off the cornea at entry,
+/// the iris everything after a refraction into the cornea, the sclera everything after a hit on it; nonEye what came
+/// before any eye event, or with none), and the limbal arc: everything after the path's first teleported sclera walk.
+enum EyePart { kNonEye, kGlint, kIris, kSclera, kLimbalArc, kEyeParts };
+
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
 /// it met (for the data AOVs).
 struct PathSample {
   glm::dvec3 L{0};
-  glm::dvec3 irisMnee{0};   ///< the part that came to an iris through MNEE
-  glm::dvec3 limbalArc{0};  ///< the part gathered after the path's first teleported sclera walk
-  bool hitAny = false;      ///< the camera ray met geometry
-  FirstHit first;           ///< that first hit (its albedo the one shaded); set (and read) only when hitAny
+  glm::dvec3 irisMnee{0};  ///< the part that came to an iris through MNEE
+  /// L split by where it came from (EyePart): the parts sum to L.
+  std::array<glm::dvec3, kEyeParts> parts{};
+  bool hitAny = false;  ///< the camera ray met geometry
+  FirstHit first;       ///< that first hit (its albedo the one shaded); set (and read) only when hitAny
 };
 
 /// What a path carries from one vertex to the next.
@@ -173,13 +180,19 @@ struct PathState {
   // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry no
   // front/back flag, so this assumes the camera is outside and glass objects are closed and do not nest.
   bool insideGlass = false;
-  // The limbal-arc AOV: everything the path gathers after its first teleported sclera walk (L only grows, so
-  // L at the end minus L then).
-  bool arc = false;
-  glm::dvec3 lAtArc{0};
+  // The eye AOV (EyePart) the path's radiance goes to from now on, and the sample's L when it last moved the path's
+  // light to its part.
+  EyePart part = kNonEye;
+  glm::dvec3 lMark{0};
 
   /// The next ray starts at `origin` along unit `dir`, unbounded.
   void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
+  /// What the sample gathered since the last mark goes to the path's part; from now on the path's light goes to `next`.
+  void SwitchPart(EyePart next, PathSample* sample) {
+    sample->parts[part] += sample->L - lMark;
+    lMark = sample->L;
+    part = next;
+  }
   /// After a delta event: lights the ray meets count in full.
   void SetSpecular() { specular = true, skipLights = false, skipMnee = false; }
   /// The same ray goes on from just past a cut-out it met at distance t, point p: not a bounce.
@@ -285,8 +298,7 @@ class Tracer {
       sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
       if (!SampleContinuation(hit, bsdf, bsdfAt, origin, depth, rng, &path)) break;
     }
-    // A branch adds its own arc: what the sample gathered from its teleport to its end is the branch's.
-    if (path.arc) sample.limbalArc += sample.L - path.lAtArc;
+    path.SwitchPart(path.part, &sample);
   }
 
   /// The path's time: Embree's ray time, and the moving lights moved to it.
@@ -591,11 +603,16 @@ class Tracer {
                             ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
                             : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
                                                path->d, lighting, random);
+    const bool firstEyeEvent = path->part == kNonEye && !ev.passThrough;
+    if (firstEyeEvent)
+      path->SwitchPart(ev.kind == EyeEvent::Sclera ? kSclera : ev.reflectedAtEntry ? kGlint : kIris, sample);
     sample->L += path->beta * ev.radiance;
     sample->irisMnee += path->beta * ev.radiance;
     if (ev.reflection.weight > 0) {
       path->splitsAtCornea = false;
-      TraceCorneaReflection(ev.reflection, depth, *hit, *path, rng, sample);
+      path->SwitchPart(path->part, sample);
+      TraceCorneaReflection(ev.reflection, firstEyeEvent ? kGlint : path->part, depth, *hit, *path, rng, sample);
+      path->lMark = sample->L;  // what the branch gathered is in its own part
     }
     if (ev.kind == EyeEvent::Continue) {
       path->beta *= ev.weight;
@@ -613,15 +630,18 @@ class Tracer {
     // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
     // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
     if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
-      return EnterSclera(eye, switches.limbalArc, random, hit, path, sample->L);
+      return EnterSclera(eye, switches.limbalArc, random, hit, path, sample);
     return EyeOutcome::ShadeSurface;
   }
 
   /// The reflection off the cornea that ShadeEyeHit's eye split from the path at its entry (EyeEvent::reflection),
   /// traced to its end as a path of its own from the next depth, before the path goes on through the cornea.
-  void TraceCorneaReflection(const EyeEvent::Branch& reflection, int depth, const SurfaceHit& hit,
+  /// Its light goes to the eye AOV `part`.
+  void TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart part, int depth, const SurfaceHit& hit,
                              const PathState& path, SampleStream& rng, PathSample* sample) {
     PathState branch = path;
+    branch.part = part;
+    branch.lMark = sample->L;
     branch.beta *= reflection.weight;
     branch.cone = path.cone.AfterBounce(hit.t, true);
     branch.SetRay(reflection.origin, reflection.dir);
@@ -645,7 +665,7 @@ class Tracer {
   /// The path meets an eye mesh's sclera and walks it (ScleraWalk). A mirror reflection continues the path; an
   /// exit turns the hit into the exit point, shaded as a diffuse transmission lobe by the caller.
   EyeOutcome EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
-                         PathState* path, const glm::dvec3& L) const {
+                         PathState* path, PathSample* sample) const {
     const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
     if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
     if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
@@ -662,7 +682,7 @@ class Tracer {
     // With a Lambertian lobe, next event estimation and the sampled continuation are weighted by the power
     // heuristic like any diffuse bounce. What this approximates: light refracted out of a dielectric is
     // Lambertian times (1 - F(theta)), a little darker at grazing exit.
-    if (!path->arc && step.teleported) path->arc = true, path->lAtArc = L;
+    if (path->part != kLimbalArc && step.teleported) path->SwitchPart(kLimbalArc, sample);
     path->beta *= step.weight;
     hit->p = step.point;
     hit->n = hit->ng = step.normal;
@@ -841,7 +861,8 @@ class Tracer {
 void CheckBuffers(const AovBuffers& aovs) {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
-  for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc})
+  for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.glint, aovs.iris,
+                                aovs.sclera, aovs.nonEye, aovs.limbalArc})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
@@ -859,11 +880,14 @@ void AddRgb(AccumulationBuffer* buffer, int x, int y, const glm::dvec3& v) {
 bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sample) {
   const glm::dvec3& L = sample.L;
   const bool finite = std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z);
-  if (!finite) sample.L = sample.irisMnee = sample.limbalArc = glm::dvec3(0);  // never let it into the image
+  if (!finite) sample = PathSample{};  // never let it into the image
   const float color[4] = {float(L.x), float(L.y), float(L.z), sample.hitAny ? 1.0f : 0.0f};
   aovs.color->AddSample(x, y, color);
   AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
-  AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
+  // The eye AOVs' buffers in EyePart's order.
+  constexpr AccumulationBuffer* AovBuffers::*kPartBuffers[kEyeParts] = {
+      &AovBuffers::nonEye, &AovBuffers::glint, &AovBuffers::iris, &AovBuffers::sclera, &AovBuffers::limbalArc};
+  for (int part = 0; part < kEyeParts; ++part) AddRgb(aovs.*kPartBuffers[part], x, y, sample.parts[part]);
   if (s != 0) return finite;
   const FirstHit& first = sample.first;
   AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));

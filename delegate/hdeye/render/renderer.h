@@ -33,8 +33,16 @@ struct AovBuffers {
   AccumulationBuffer* depth = nullptr;
   AccumulationBuffer* primId = nullptr;
   AccumulationBuffer* irisMnee = nullptr;  ///< 3: the light that reached irises through MNEE, as the camera sees it
-  /// 3: the part of color carried by paths whose sclera walk crossed the teleportation cylinder (the
-  /// limbal arc): everything such a path gathers after its first teleported walk.
+  /// The eye AOVs (3 each): color split by where its light came from, so that nonEye + glint + iris + sclera +
+  /// limbalArc = color (RGB) to float precision. A path's light goes to the part of the first eye event on its way:
+  /// glint, a reflection off the cornea at entry; iris, a refraction into the cornea (the direct caustic, the
+  /// chamber's light, and what the path brings back out); sclera, a sclera hit (shaded or walked); nonEye, the light
+  /// met before any eye event, or with none. limbalArc: everything a path gathers after its first sclera walk that
+  /// crossed the teleportation cylinder (the limbal arc), taken out of the part it was in.
+  AccumulationBuffer* glint = nullptr;
+  AccumulationBuffer* iris = nullptr;
+  AccumulationBuffer* sclera = nullptr;
+  AccumulationBuffer* nonEye = nullptr;
   AccumulationBuffer* limbalArc = nullptr;
 };
 
