@@ -111,3 +111,62 @@ TEST_CASE("the cornea's Fresnel choice at a camera path's entry picks the path's
   CHECK(minLight > 0);                                                          // every path brings the iris light
   CHECK(maxLight == Approx(minLight).epsilon(1e-12));                           // ... weighted by 1 - F, no noise
 }
+
+TEST_CASE(
+    "MNEE picks among lights by their predicted iris light: the same irradiance, less noise under a key and fills",
+    "[render][mnee]") {
+  // A bright key 40 degrees off the gaze, a dim fill 30 degrees the other way and a constant dome: picked uniformly,
+  // a third of the estimates go to a fill that brings 1 %; picked by prediction, the key and the dome (whose estimate
+  // is the noisy one) take most. Each light alone gives the reference sum (one light: no choice).
+  const EyeGeometry eye{EyeParams{}, Matrix4d(1.0)};
+  LightParams key, fill, dome;
+  key.radius = 2, key.intensity = 1000;
+  fill.radius = 2, fill.intensity = 20;
+  dome.type = LightType::Dome, dome.intensity = 0.2f;
+  const std::vector<RenderLight> lights{RenderLight::FromParams(key, test::KeyAt(40, 100)),
+                                        RenderLight::FromParams(fill, test::KeyAt(-30, 100)),
+                                        RenderLight::FromParams(dome, Matrix4d(1.0))};
+  EyeLighting lighting;
+  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+  lighting.lights = &lights;
+  const std::vector<double> pick = MneeLightPick(eye, lighting);
+  std::printf("MNEE light pick: key %.3f, fill %.3f, dome %.3f\n", pick[0], pick[1], pick[2]);
+  REQUIRE(pick.size() == 3);
+  CHECK(pick[0] + pick[1] + pick[2] == Approx(1.0));
+  CHECK(pick[0] > 0.3);
+  CHECK(pick[1] < 0.1);
+  for (double p : pick) CHECK(p >= 0.2 / 3 - 1e-12);  // every light keeps its uniform share
+  const glm::dvec3 x(-2.0, 1.0, eye.chamber.IrisZ());
+  struct Estimate {
+    double mean, se, relStd;
+  };
+  auto estimate = [&](const std::vector<RenderLight>& set, const std::vector<double>* weights, std::uint64_t seed) {
+    EyeLighting l = lighting;
+    l.lights = &set;
+    l.mneePick = weights;
+    std::uint64_t dim = 0;
+    const std::function<double()> random = [&] { return eyelib::UniformAt(seed, 1, dim++); };
+    const int n = 20000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+      const double e = IrisIrradianceMnee(eye, x, l, random).x;
+      sum += e, sum2 += e * e;
+    }
+    const double mean = sum / n, var = std::max(0.0, sum2 / n - mean * mean);
+    return Estimate{mean, std::sqrt(var / n), std::sqrt(var) / mean};
+  };
+  double reference = 0, referenceSe2 = 0;
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    const Estimate alone = estimate({lights[k]}, nullptr, 11 + k);
+    std::printf("  light %zu alone: %.5g (relative std %.3f)\n", k, alone.mean, alone.relStd);
+    reference += alone.mean, referenceSe2 += alone.se * alone.se;
+  }
+  const Estimate uniform = estimate(lights, nullptr, 21), picked = estimate(lights, &pick, 22);
+  std::printf(
+      "MNEE over three lights: each alone %.5g, uniform pick %.5g (relative std %.3f), predicted pick %.5g "
+      "(%.3f)\n",
+      reference, uniform.mean, uniform.relStd, picked.mean, picked.relStd);
+  CHECK(std::abs(picked.mean - reference) < 4 * std::sqrt(picked.se * picked.se + referenceSe2));
+  CHECK(std::abs(uniform.mean - reference) < 4 * std::sqrt(uniform.se * uniform.se + referenceSe2));
+  CHECK(picked.relStd < 0.8 * uniform.relStd);
+}

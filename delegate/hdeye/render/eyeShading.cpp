@@ -115,6 +115,61 @@ glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const Eye
 EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const EyeLighting& lighting,
                      eyelib::FunctionRef<double()> random, double gatherScale);
 
+/// What light `light` is predicted to bring the eye's iris, for MneeLightPick: its irradiance at the apex (world
+/// units, unshadowed, through no cornea), times 0.1 plus the cosine of its direction off the gaze.
+double PredictedIrisLight(const EyeGeometry& eye, const RenderLight& light) {
+  const double L = std::max(0.0, 0.2126 * light.radiance.x + 0.7152 * light.radiance.y + 0.0722 * light.radiance.z);
+  const glm::dvec3 apex = eye.ToWorld(glm::dvec3(0)), gaze = eye.DirToWorld(glm::dvec3(0, 0, 1));
+  // A dome's irradiance on the iris is about pi L (the front hemisphere through the cornea); its MNEE estimate per
+  // sampled direction varies about as much as its mean, so it takes sqrt(2) of that share (the second moment's root).
+  if (light.type == LightType::Dome) return L * kPi * (light.dome ? light.dome->meanLuminance : 1) * std::sqrt(2.0);
+  if (light.type == LightType::Distant) {
+    const double solidAngle = light.delta ? 1 : kPi * (1 - light.cosHalfAngle * light.cosHalfAngle);
+    return L * solidAngle * (0.1 + std::max(0.0, glm::dot(light.direction, gaze)));
+  }
+  const glm::dvec3 to = light.position - apex;
+  const double d2 = std::max(glm::dot(to, to), 1e-300);
+  const glm::dvec3 dir = to / std::sqrt(d2);
+  const double facing = std::max(0.0, -glm::dot(light.direction, dir));  // a one-sided emitter's cosine to the eye
+  double intensity;  // radiant intensity towards the eye (world units), from the light's size
+  switch (light.type) {
+    case LightType::Sphere: intensity = light.delta ? L : L * kPi * light.radius * light.radius; break;
+    case LightType::Disk: intensity = L * kPi * light.radius * light.radius * facing; break;
+    case LightType::Rect: intensity = L * 4 * glm::length(light.axisU) * glm::length(light.axisV) * facing; break;
+    case LightType::Cylinder: intensity = L * 2 * light.halfLength * (light.delta ? 1 : 2 * light.radius); break;
+    default: intensity = L; break;
+  }
+  return intensity / d2 * (0.1 + std::max(0.0, glm::dot(dir, gaze)));
+}
+
+/// Chooses the light of an MNEE estimate from one uniform number: by lighting.mneePick, else uniformly among the
+/// lights MNEE counts; false if there is none.
+bool PickMneeLight(const EyeLighting& lighting, double u, std::size_t* index, double* pdf) {
+  const std::size_t n = lighting.lights->size();
+  const std::vector<double>* pick = lighting.mneePick;
+  if (pick && pick->size() == n) {
+    double cumulative = 0;
+    std::size_t last = n;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!((*pick)[k] > 0)) continue;
+      last = k;
+      cumulative += (*pick)[k];
+      if (u < cumulative) break;
+    }
+    if (last == n) return false;
+    *index = last, *pdf = (*pick)[last];
+    return true;
+  }
+  std::size_t counted = 0;
+  for (std::size_t k = 0; k < n; ++k) counted += MneeCountsLight(lighting, k);
+  if (counted == 0) return false;
+  std::size_t chosen = std::min(counted - 1, std::size_t(u * double(counted)));
+  for (std::size_t k = 0; k < n; ++k)
+    if (MneeCountsLight(lighting, k) && chosen-- == 0) *index = k;
+  *pdf = 1 / double(counted);
+  return true;
+}
+
 }  // namespace
 
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
@@ -126,12 +181,9 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
   // draws start on a pair.
   const double u1 = random(), u2 = random(), pick = random();
   random();
-  std::size_t counted = 0;
-  for (std::size_t k = 0; k < lights.size(); ++k) counted += MneeCountsLight(lighting, k);
-  if (counted == 0) return glm::dvec3(0);
-  std::size_t chosen = std::min(counted - 1, std::size_t(pick * double(counted))), index = 0;
-  for (;; ++index)
-    if (MneeCountsLight(lighting, index) && chosen-- == 0) break;
+  std::size_t index = 0;
+  double pickPdf = 0;
+  if (!PickMneeLight(lighting, pick, &index, &pickPdf)) return glm::dvec3(0);
   const RenderLight& light = lights[index];
   // Sample the light (a point on it, or a direction, with its pdf) as seen from about where its centre's light
   // crosses the cornea on the way to x: seen from the apex instead, the sampled point's cosine towards the path's
@@ -204,7 +256,22 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     const glm::dvec3 le = distant ? ls.radiance : EmittedRadiance(light, y, -toLight);
     E += le * (s.transfer * cosEmit * weight * transmittance);
   }
-  return E * double(counted);
+  return E / pickPdf;
+}
+
+std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lighting) {
+  const std::vector<RenderLight>& lights = *lighting.lights;
+  std::vector<double> pick(lights.size(), 0.0);
+  double predicted = 0;
+  std::size_t counted = 0;
+  for (std::size_t k = 0; k < lights.size(); ++k)
+    if (MneeCountsLight(lighting, k)) pick[k] = PredictedIrisLight(eye, lights[k]), predicted += pick[k], ++counted;
+  const bool informed = counted > 1 && predicted > 0 && std::isfinite(predicted);
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    if (!MneeCountsLight(lighting, k)) continue;
+    pick[k] = informed ? 0.8 * pick[k] / predicted + 0.2 / double(counted) : 1 / double(counted);
+  }
+  return pick;
 }
 
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,

@@ -56,6 +56,9 @@ struct EyeLighting {
   ChamberEstimator chamberEstimator = ChamberEstimator::Path;
   /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
   std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
+  /// With `mnee`: the probability MNEE picks each light with (over *lights, MneeLightPick), or null or of another
+  /// length: uniformly among the lights it counts.
+  const std::vector<double>* mneePick = nullptr;
   /// Trace both the reflection off the cornea and the refraction into it at the entry, with their Fresnel
   /// weights (EyeEvent::reflection beside the walk), instead of choosing one by F: the glint otherwise comes
   /// from 1 path in 1 / F (about 40 at 25 degrees), in steps of a tenth of its value at hundreds of samples.
@@ -134,9 +137,17 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
                            eyelib::FunctionRef<double()> random);
 
+/// The probability of MNEE picking each of *lighting.lights at the eye (0 for a light it does not count), by what
+/// each is predicted to bring the iris: its irradiance at the apex, unshadowed, the cornea left out, times 0.1 plus
+/// the cosine of its direction off the gaze (clamped at 0: the iris sees through the cornea what is ahead of the
+/// eye); a dome's, pi L times sqrt(2) for its noisier estimate. A fifth of the probability is spread uniformly, so that
+/// a prediction far off (an occluded key, a shaped spot) costs variance, never bias. One light, or lights predicted to
+/// bring nothing: uniform.
+std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lighting);
+
 /// Irradiance (world units) at iris point x (canonical, mm) from one of the lights MNEE counts
-/// (MneeCountsLight), chosen uniformly among them, through the cornea by MNEE: a one-sample estimate of
-/// their sum.
+/// (MneeCountsLight), chosen by lighting.mneePick (uniformly without it), through the cornea by MNEE: a
+/// one-sample estimate of their sum.
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
                               eyelib::FunctionRef<double()> random);
 

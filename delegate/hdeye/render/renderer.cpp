@@ -537,6 +537,18 @@ class Tracer {
   /// The probability of picking any one light for next event estimation (uniform).
   double LightSelectPdf() const { return lights_.empty() ? 0 : 1.0 / double(lights_.size()); }
 
+  /// MNEE's light choice at the eye of `ctx` (MneeLightPick), from the eye and the lights as they stand still (so
+  /// that it, and a chamber cache built with it, does not depend on which path asked first); the last eye's is kept.
+  const std::vector<double>& MneePickOf(const GeometryContext& ctx, const EyeLighting& lighting) {
+    LastMneePick& last = lastMneePick_;
+    if (last.ctx != &ctx || last.receiver != lighting.receiver || last.mask != lighting.mneeLights) {
+      EyeLighting still = lighting;
+      still.lights = &sourceLights_;
+      last = {&ctx, lighting.receiver, lighting.mneeLights, MneeLightPick(*EyeOf(ctx), still)};
+    }
+    return last.pick;
+  }
+
   /// The eye's chamber-light cache (RenderSettings::chamberEstimator): one per render whatever the path's time.
   /// Under an open shutter it is built from the eye, the lights and the shadow rays at the shutter's opening, so
   /// which path builds it (thread count, sample split) never changes it; the control variate stays unbiased for
@@ -597,6 +609,7 @@ class Tracer {
     lighting.receiver = hit->primIndex;
     lighting.chamberEstimator = settings_.chamberEstimator;
     lighting.splitAtEntry = path->splitsAtCornea && path->specular;
+    lighting.mneePick = lighting.mnee ? &MneePickOf(ctx, lighting) : nullptr;
     const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
     lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
     const EyeEvent ev = ctx.eye
@@ -853,6 +866,12 @@ class Tracer {
     glm::dmat4 frame{0.0};
     std::shared_ptr<const eyelib::IrisChamberCache> cache;
   } lastChamberCache_;
+  struct LastMneePick {
+    const GeometryContext* ctx = nullptr;
+    int receiver = -1;
+    const std::vector<bool>* mask = nullptr;
+    std::vector<double> pick;
+  } lastMneePick_;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
   mutable Counts counts_;
 };
