@@ -54,12 +54,36 @@ def eye_attributes_vary(prim):
     return any(prim.GetAttribute(n).ValueMightBeTimeVarying() for n in FALLBACKS if prim.GetAttribute(n))
 
 
-def _number(prim, name, time):
-    return as_float(prim.GetPath(), name, _get(prim, name, time))
+def _format(value):
+    """A value as the one-line messages print it: %g numbers, (a, b, c) vectors."""
+    if isinstance(value, tuple):
+        return "(" + ", ".join(_format(v) for v in value) + ")"
+    return f"{value:g}"
 
 
-def _vector(prim, name, time):
-    return as_vector(prim.GetPath(), name, _get(prim, name, time))
+def _in_range(path, name, value, ok, valid, unit=""):
+    """`value` if ok(value) holds for it (for every channel of a vector), else raises the one line naming the
+    attribute, its value and its valid range. `ok` must be False for NaN (comparisons with NaN are)."""
+    values = value if isinstance(value, tuple) else (value,)
+    if not all(ok(v) for v in values):
+        raise EyeRenderError(f"{path}: {name} = {_format(value)}{unit} is outside its valid range {valid}")
+    return value
+
+
+def _number(prim, name, time, ok, valid, unit=""):
+    """A float attribute checked against its range (NaN and infinities fail it, named with the range)."""
+    value = as_float(prim.GetPath(), name, _get(prim, name, time), finite=False)
+    return _in_range(prim.GetPath(), name, value, lambda v: math.isfinite(v) and ok(v), valid, unit)
+
+
+def _vector(prim, name, time, ok, valid, unit=""):
+    """A 3-vector attribute checked channel by channel against its range."""
+    value = as_vector(prim.GetPath(), name, _get(prim, name, time), finite=False)
+    return _in_range(prim.GetPath(), name, value, lambda v: math.isfinite(v) and ok(v), valid, unit)
+
+
+def _is_albedo(value):
+    return 0 <= value <= 1
 
 
 def _matrix(prim, value):
@@ -83,40 +107,26 @@ def read_eye_params(prim, time=Usd.TimeCode.Default(), cornea_model_override=Non
     model = cornea_model_override or str(_get(prim, "eye:corneaModel", time))
     if model not in CORNEA_MODELS:
         raise EyeRenderError(f"{path}: eye:corneaModel = '{model}' is not one of {', '.join(CORNEA_MODELS)}")
-    ior, depth = _number(prim, "eye:corneaIor", time), _number(prim, "eye:irisDepth", time)
-    inner, outer = _number(prim, "eye:limbusInnerRatio", time), _number(prim, "eye:limbusOuterRatio", time)
-    pupil = _number(prim, "eye:pupilDiameter", time)
-    if ior < 1:
-        raise EyeRenderError(f"{path}: eye:corneaIor = {ior:g} must be at least 1")
-    if depth <= 0:
-        raise EyeRenderError(f"{path}: eye:irisDepth = {depth:g} mm must be positive (depth below the apex)")
-    for name, ratio in (("eye:limbusInnerRatio", inner), ("eye:limbusOuterRatio", outer)):
-        if not 0 < ratio <= 1:
-            raise EyeRenderError(f"{path}: {name} = {ratio:g} must be in (0, 1] (a fraction of the "
-                                 f"{IRIS_DIAMETER_MM} mm iris diameter)")
-    if inner > outer:
-        raise EyeRenderError(f"{path}: eye:limbusInnerRatio = {inner:g} exceeds eye:limbusOuterRatio = {outer:g}")
-    if not 0 <= pupil < IRIS_DIAMETER_MM:
-        raise EyeRenderError(f"{path}: eye:pupilDiameter = {pupil:g} mm must be in [0, {IRIS_DIAMETER_MM}) mm")
+    ior = _number(prim, "eye:corneaIor", time, lambda v: v >= 1, "[1, inf)")
+    depth = _number(prim, "eye:irisDepth", time, lambda v: v > 0, "(0, inf) mm", " mm")
+    pupil = _number(prim, "eye:pupilDiameter", time, lambda v: 0 <= v < IRIS_DIAMETER_MM,
+                    f"[0, {IRIS_DIAMETER_MM:g}) mm", " mm")
+    outer = _number(prim, "eye:limbusOuterRatio", time, lambda v: 0 < v <= 1, "(0, 1]")
+    inner = _number(prim, "eye:limbusInnerRatio", time, lambda v: 0 < v <= 1, "(0, 1]")
+    _in_range(path, "eye:limbusInnerRatio", inner, lambda v: v <= outer, f"(0, eye:limbusOuterRatio = {outer:g}]")
 
     eye = EyeParams()
     eye.cornea_model = CORNEA_MODELS[model]
     eye.cornea_ior, eye.iris_depth, eye.pupil_diameter = ior, depth, pupil
     eye.limbus_inner_ratio, eye.limbus_outer_ratio = inner, outer
-    for name, setter in (("eye:irisColor", "iris_color"), ("eye:scleraColor", "sclera_color")):
-        color = _vector(prim, name, time)
-        if min(color) < 0 or max(color) > 1:
-            raise EyeRenderError(f"{path}: {name} = {color} must be an albedo in [0, 1]")
-        setattr(eye, setter, color)
+    eye.iris_color = _vector(prim, "eye:irisColor", time, _is_albedo, "[0, 1] per channel")
+    eye.sclera_color = _vector(prim, "eye:scleraColor", time, _is_albedo, "[0, 1] per channel")
     limbal_arc = _get(prim, "eye:limbalArc", time)
     if not isinstance(limbal_arc, bool):
         raise EyeRenderError(f"{path}: eye:limbalArc is a {type(limbal_arc).__name__}, not a bool")
     eye.limbal_arc = limbal_arc
-    mfp = _vector(prim, "eye:scleraMeanFreePath", time)
-    if min(mfp) <= 0 or max(mfp) > MAX_MEAN_FREE_PATH_MM:
-        raise EyeRenderError(f"{path}: eye:scleraMeanFreePath = {mfp} mm must be in (0, {MAX_MEAN_FREE_PATH_MM:g}] "
-                             "in every channel")
-    eye.sclera_mean_free_path = mfp
+    eye.sclera_mean_free_path = _vector(prim, "eye:scleraMeanFreePath", time, lambda v: 0 < v <= MAX_MEAN_FREE_PATH_MM,
+                                        f"(0, {MAX_MEAN_FREE_PATH_MM:g}] mm per channel", " mm")
     model_transform = _matrix(prim, _get(prim, "eye:modelTransform", time))
     eye.model_transform = np.array(model_transform, dtype=np.float64).reshape(4, 4)
     eye.iris_texture, problem = resolve_texture(prim.GetAttribute("eye:irisTexture"), time, f"{path}: eye:irisTexture")

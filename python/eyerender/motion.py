@@ -10,7 +10,10 @@ come from USD itself: UsdGeom.XformCache (one per time, shared by every prim of 
 UsdGeom.PointBased.ComputePointsAtTimes (velocities and accelerations applied about the frame's own sample, as
 USD documents for motion blur), UsdGeom.PointInstancer's instance transforms with the frame as base time, and
 skinning.py's UsdSkel evaluation. Where velocities only are authored, motion is linear over the shutter and the
-end points are exact; accelerations or angular velocities bend it: CURVED_MOTION_SAMPLES uniform times.
+end points are exact; accelerations or angular velocities bend it: CURVED_MOTION_SAMPLES uniform times. Then,
+for transforms and points (skinned or accelerated), more times where the renderer's interpolation between two
+samples would leave USD's motion (refined, INTERPOLATION_TOLERANCE): a child of a turning parent moves on an arc
+that the renderer's straight interpolation of its translation would cut across (the bias of docs/motion_blur.md).
 
 A prim whose values are equal at every time of the interval is one sample (static); more than
 MAX_SAMPLES_PER_PRIM times are resampled uniformly over the interval, with one warning naming the prim.
@@ -33,6 +36,13 @@ CURVED_MOTION_SAMPLES = 5
 # Frames: an authored time sample this close to a shutter end is that end (frame + open is rounded: 1.1 + 0.1 is
 # not 1.2), so a key on the end is read exactly, not interpolated a rounding error past it.
 TIME_EPSILON = 1e-9
+# Between two samples the renderer interpolates (points linearly; transforms rigidly, render/motion.h: translation
+# and stretch linearly, rotation by slerp). Where USD's own value halfway between two samples is farther from that
+# interpolation than this fraction of the prim's whole path over the shutter (an orbit or a head turn carrying a
+# child along an arc, a skinned lid turning about the eye, Euler angles turning about two axes), the segment is
+# split in two, a round at a time, up to MAX_SAMPLES_PER_PRIM samples. An arc of angle a misses its chord by about
+# a^2 / 8 of its radius: 1 % of the path takes a 60 degree orbit to 5 samples (4 arcs of 15 degrees).
+INTERPOLATION_TOLERANCE = 0.01
 # The scene delegate's updater kinds whose pushes follow the shutter (re-run when it or the prims change).
 MOTION_KINDS = ("transform", "skinned transform", "points", "skinned points", "instancer")
 
@@ -151,13 +161,112 @@ def _has_value(attr):
     return bool(attr) and attr.HasAuthoredValue()
 
 
+# -- where the renderer's interpolation misses USD's motion ------------------------------------------------------
+
+def refined(times, values, value_at, miss, step):
+    """(times, values) with the midpoint of a segment inserted where the renderer's interpolation from its sample a
+    to b misses USD's value halfway (value_at(time)) by more than INTERPOLATION_TOLERANCE of the prim's path over
+    the shutter: miss(a, b, halfway) and step(a, b) are those distances in scene units (the path is the sum of the
+    steps). Splits are made a round at a time (an evenly moving prim keeps even times) until none is needed or the
+    next round would pass MAX_SAMPLES_PER_PRIM samples."""
+    times, values = list(times), list(values)
+    unsettled = set(range(len(times) - 1))  # segments not yet found close enough
+    while unsettled:
+        path = sum(step(values[k], values[k + 1]) for k in range(len(times) - 1))
+        halves = {k: value_at(0.5 * (times[k] + times[k + 1])) for k in sorted(unsettled)}
+        split = [k for k, half in halves.items()
+                 if miss(values[k], values[k + 1], half) > INTERPOLATION_TOLERANCE * path]
+        if not split or len(times) + len(split) > MAX_SAMPLES_PER_PRIM:
+            break
+        for k in reversed(split):
+            times.insert(k + 1, 0.5 * (times[k] + times[k + 1]))
+            values.insert(k + 1, halves[k])
+        unsettled = {k + i + j for i, k in enumerate(split) for j in (0, 1)}  # the two halves of each split
+    return times, values
+
+
+def _largest_distance(a, b):
+    """The largest distance between matching rows of (n, 3) arrays, less their precision (a few units in the last
+    place of the largest coordinate), so rounding is no miss."""
+    if len(a) == 0:
+        return 0.0
+    precision = 8 * np.finfo(a.dtype).eps * float(max(np.max(np.abs(a)), np.max(np.abs(b))))
+    return max(0.0, float(np.max(np.linalg.norm(a - b, axis=1))) - precision)
+
+
+def points_miss(a, b, halfway):
+    """How far points `halfway` ((n, 3)) are from the straight line from a to b the renderer takes (0 for a count
+    that changes: the caller refuses it)."""
+    return _largest_distance(halfway, 0.5 * (a + b)) if a.shape == b.shape == halfway.shape else 0.0
+
+
+def points_step(a, b):
+    return _largest_distance(a, b) if a.shape == b.shape else 0.0
+
+
+def _rigid_parts(m):
+    """A USD matrix (numpy (4, 4), row vectors) as render/motion.h's T R U: (rotation as a Gf.Quatd, U (3, 3) upper
+    triangular, translation (3,)), for column vectors."""
+    q, u = np.linalg.qr(m[:3, :3].T)
+    signs = np.where(np.diag(u) < 0, -1.0, 1.0)  # Gram-Schmidt's positive diagonal
+    q, u = q * signs, signs[:, None] * u
+    if np.linalg.det(q) < 0:  # a mirror goes into the last scale, as DecomposeTransform puts it
+        q[:, 2], u[2, :] = -q[:, 2], -u[2, :]
+    return Gf.Matrix3d(*q.T.flatten()).ExtractRotation().GetQuat(), u, m[3, :3]
+
+
+def rigid_halfway(m0, m1):
+    """The transform the renderer interpolates halfway from m0 to m1 (numpy (4, 4), USD's row vectors): translation
+    and U averaged, rotation slerped along the shorter arc (InterpolateParts at u = 0.5)."""
+    (q0, u0, t0), (q1, u1, t1) = _rigid_parts(m0), _rigid_parts(m1)
+    rotation = np.array(Gf.Matrix3d().SetRotate(Gf.Slerp(0.5, q0, q1))).T  # column vectors
+    out = np.eye(4)
+    out[:3, :3] = (rotation @ (0.5 * (u0 + u1))).T
+    out[3, :3] = 0.5 * (t0 + t1)
+    return out
+
+
+def transform_measures(probes):
+    """(miss, step) for refined() over transforms (numpy (4, 4)), measured on the local points `probes` ((k, 3):
+    the prim's origin and bound corners): where USD's halfway transform and the renderer's rigid interpolation put
+    them, and how far they move."""
+    local = np.hstack([probes, np.ones((len(probes), 1))])
+
+    def miss(m0, m1, halfway):
+        return _largest_distance((local @ halfway)[:, :3], (local @ rigid_halfway(m0, m1))[:, :3])
+
+    def step(m0, m1):
+        return _largest_distance((local @ m0)[:, :3], (local @ m1)[:, :3])
+    return miss, step
+
+
+def probe_points(prim, time):
+    """Local points whose motion stands for a prim's: its origin and the corners of its extent (a Boundable's, from
+    USD's extent plugins), or of the unit cube where it has none (an Xform, a camera, a light)."""
+    extent = None
+    if prim.IsA(UsdGeom.Boundable):
+        extent = UsdGeom.Boundable.ComputeExtentFromPlugins(UsdGeom.Boundable(prim), time)
+    lo, hi = (np.array(extent[0]), np.array(extent[1])) if extent else (-np.ones(3), np.ones(3))
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+        lo, hi = -np.ones(3), np.ones(3)
+    corners = [[(lo, hi)[(i >> axis) & 1][axis] for axis in range(3)] for i in range(8)]
+    return np.array([[0.0, 0.0, 0.0]] + corners)
+
+
 # -- samples -------------------------------------------------------------------------------------------------
 
 def transform_samples(sampler, prim, world_at, extra_times=()):
     """Samples of prim's local-to-world transform: world_at(time, xform_cache) gives it (a Gf.Matrix4d, checked by
-    the caller) at a time code; extra_times: other authored times it depends on (a rigid skinning anchor's)."""
+    the caller) at a time code; extra_times: other authored times it depends on (a rigid skinning anchor's). Where
+    the renderer's rigid interpolation would leave USD's path (an arc about a parent's pivot), more times
+    (refined)."""
     times = sampler.times(xform_times(prim, sampler.interval()) | set(extra_times), prim.GetPath())
-    values = [np.array(world_at(t, sampler.cache(t)), dtype=np.float64).reshape(4, 4) for t in times]
+
+    def value_at(t):
+        return np.array(world_at(t, sampler.cache(t)), dtype=np.float64).reshape(4, 4)
+    values = [value_at(t) for t in times]
+    if not sampler.samples(times, values).static:
+        times, values = refined(times, values, value_at, *transform_measures(probe_points(prim, sampler.frame)))
     return sampler.samples(times, values)
 
 
@@ -175,12 +284,16 @@ def points_samples(sampler, prim, count, to_array):
     arrays = point_based.ComputePointsAtTimes([Usd.TimeCode(t) for t in times], sampler.frame)
     if arrays is None or len(arrays) != len(times):
         raise EyeRenderError(f"{path}: points cannot be computed over the shutter")
-    values = []
-    for t, points in zip(times, arrays):
-        a = to_array(points, f"{path}: points at time {t:g}")
+    values = [to_array(points, f"{path}: points at time {t:g}") for t, points in zip(times, arrays)]
+    if curved:  # velocities alone move points on straight lines, authored keys are lerped by USD as by us
+
+        def value_at(t):
+            return to_array(point_based.ComputePointsAtTime(Usd.TimeCode(t), sampler.frame), f"{path}: points at "
+                            f"time {t:g}")
+        times, values = refined(times, values, value_at, points_miss, points_step)
+    for t, a in zip(times, values):
         if len(a) != count:
             raise EyeRenderError(f"{path}: {len(a)} points at time {t:g} within the shutter, the mesh has {count}")
-        values.append(a)
     return sampler.samples(times, values)
 
 
@@ -188,6 +301,8 @@ def skinned_points_samples(sampler, skinned, deform):
     """Samples of a skinned prim's points: deform(time, xform_cache) gives them (float32 (n, 3)) at a time code."""
     times = sampler.times(skinning_times(skinned, sampler.interval()), skinned.prim.GetPath())
     values = [deform(t, sampler.cache(t)) for t in times]
+    if not sampler.samples(times, values).static and len({len(v) for v in values}) == 1:
+        times, values = refined(times, values, lambda t: deform(t, sampler.cache(t)), points_miss, points_step)
     count = len(values[0])
     for t, v in zip(times, values):
         if len(v) != count:
@@ -225,6 +340,7 @@ def instance_samples(sampler, path, times, groups_at):
     return result
 
 
-__all__ = ["MAX_SAMPLES_PER_PRIM", "CURVED_MOTION_SAMPLES", "TIME_EPSILON", "MOTION_KINDS", "Samples",
-           "MotionSampler", "xform_times", "attribute_times", "skinning_times", "transform_samples",
-           "points_samples", "skinned_points_samples", "instancer_times", "instance_samples"]
+__all__ = ["MAX_SAMPLES_PER_PRIM", "CURVED_MOTION_SAMPLES", "TIME_EPSILON", "INTERPOLATION_TOLERANCE", "MOTION_KINDS",
+           "Samples", "MotionSampler", "refined", "points_miss", "points_step", "rigid_halfway", "transform_measures",
+           "probe_points", "xform_times", "attribute_times", "skinning_times", "transform_samples", "points_samples",
+           "skinned_points_samples", "instancer_times", "instance_samples"]

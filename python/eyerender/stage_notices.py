@@ -77,10 +77,10 @@ class StageFollowing:
     """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
     delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
     `_instance_sources` (prim path an instancer reads -> its owners' paths), `_point_counts` (mesh id -> points
-    sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `_forget_id`, `warnings`, `_world_of`,
-    `_link_light`, `_light_params`, the eye, camera and material readers, and the shutter's: `_motion` (this
-    frame's motion.MotionSampler), `shutter`, `set_shutter`, `push_transform` and `push_points` (samples over the
-    shutter where a prim moves within it)."""
+    sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `raise_refused_eyes`, `_forget_id`,
+    `warnings`, `_world_of`, `_link_light`, `_light_params`, the eye, camera and material readers, and the
+    shutter's: `_motion` (this frame's motion.MotionSampler), `shutter`, `set_shutter`, `push_transform` and
+    `push_points` (samples over the shutter where a prim moves within it)."""
 
     def apply_stage_changes(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
@@ -115,6 +115,7 @@ class StageFollowing:
                     self.warnings.append(f"{e} (edit ignored)")
         if self._shutter_at and self._shutter_at(self.time) != self.shutter:  # a camera's shutter was edited
             self.set_shutter(self._shutter_at)
+        self.raise_refused_eyes()  # every edit applied first: the session stays in step with the stage
         return self.last_changes
 
     def _nearest_prim(self, path):

@@ -82,6 +82,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._owner = None       # the prim _add_prim is adding
         self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
         self._skipped = set()    # owner prim paths skipped (a later edit may fix them: stage_notices re-adds)
+        self._refused_eyes = []  # errors of eyes that could not be rendered: raised when this read ends
         self._point_counts = {}  # mesh id -> number of points its topology was built for
         self._element_counts = {}  # mesh id -> {interpolation: elements a primvar of it needs} (_push_primvar)
         self._changes = stage_notices.StageChangeQueue(stage)
@@ -110,6 +111,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._add_subtree(self.stage.GetPseudoRoot())
         self._rigs.warn_look_alikes(list(self._point_counts))
         self._changes.take()  # edits before now are in what was just read
+        self.raise_refused_eyes()
 
     @property
     def cornea_shells(self):
@@ -146,10 +148,24 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _skip(self, owner, error):
         """Drops what prim `owner` added (it failed part-way through, or an edit made it unreadable) with one
-        warning ending '(skipped)'."""
+        warning ending '(skipped)'. An eye is never skipped: its error is raised when this read of the stage ends
+        (raise_refused_eyes), as rendering the shot without it would hide the problem in a plausible image."""
         self._forget(owner)
         self._skipped.add(owner)
-        self.warnings.append(f"{error} (skipped)")
+        prim = self.stage.GetPrimAtPath(owner)
+        if prim and eyes.is_eye(prim):
+            self._refused_eyes.append(error)
+        else:
+            self.warnings.append(f"{error} (skipped)")
+
+    def raise_refused_eyes(self):
+        """Raises the first error of an eye that could not be rendered since the last call (EyeRenderError, one
+        line, the count of any others appended); the rest of the stage was read, and a later edit that fixes the
+        eye adds it back."""
+        refused, self._refused_eyes = self._refused_eyes, []
+        if refused:
+            others = f" (and {len(refused) - 1} more eye(s) that cannot be rendered)" if len(refused) > 1 else ""
+            raise EyeRenderError(f"{refused[0]}{others}")
 
     def _forget(self, owner):
         """Removes every delegate prim owner prim `owner` added (its own id too, which the store may hold before
@@ -332,7 +348,11 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
             self._forget_id(prim_id)
             del self._updaters[updaters:]
             instanced = binding is not None and binding.GetPath() != prim.GetPath()
-            self._warn_once([f"{e} (skipped{f'; instanced as {binding.GetPath()}' if instanced else ''})"])
+            if eyes.is_eye(prim):  # never skipped (see _skip)
+                where = f" (instanced as {binding.GetPath()})" if instanced else ""
+                self._refused_eyes.append(EyeRenderError(f"{e}{where}"))
+            else:
+                self._warn_once([f"{e} (skipped{f'; instanced as {binding.GetPath()}' if instanced else ''})"])
             return
         self._own(prim_id)  # by the instancer's owner (owning): a copy is not its prim's own
 
@@ -607,7 +627,8 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
                 self.store.set_primvar(prim_id, "rest", "vertex", _array(bind, 3, f"{prim.GetPath()}: bind points"))
             return
         if not np.isfinite(rest_time):
-            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is not finite")
+            raise EyeRenderError(f"{prim.GetPath()}: eye:restTime = {rest_time} is outside its valid range: a finite "
+                                 "time code")
         if skinned is not None:
             rest = self._skinned_points(skinned, Usd.TimeCode(rest_time), None)
         else:

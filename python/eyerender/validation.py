@@ -36,24 +36,26 @@ def check_transform(path, matrix, what="transform"):
     return matrix
 
 
-def as_float(path, name, value):
-    """value as a finite float; raises EyeRenderError naming the attribute for another type or NaN/Inf."""
+def as_float(path, name, value, finite=True):
+    """value as a finite float; raises EyeRenderError naming the attribute for another type or NaN/Inf (finite:
+    False passes NaN/Inf through, for a range check that names the valid range)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise EyeRenderError(f"{path}: {name} is a {type(value).__name__}, not a number")
-    if not math.isfinite(value):
+    if finite and not math.isfinite(value):
         raise EyeRenderError(f"{path}: {name} = {value} is not finite")
     return float(value)
 
 
-def as_vector(path, name, value, size=3):
-    """value (a Gf vector or sequence) as a tuple of `size` finite floats; raises EyeRenderError otherwise."""
+def as_vector(path, name, value, size=3, finite=True):
+    """value (a Gf vector or sequence) as a tuple of `size` finite floats (any floats, finite: False); raises
+    EyeRenderError otherwise."""
     try:
         items = tuple(value)
     except TypeError:
         raise EyeRenderError(f"{path}: {name} is a {type(value).__name__}, not a {size}-vector") from None
     if len(items) != size:
         raise EyeRenderError(f"{path}: {name} has {len(items)} components, not {size}")
-    return tuple(as_float(path, name, v) for v in items)
+    return tuple(as_float(path, name, v, finite) for v in items)
 
 
 @contextlib.contextmanager

@@ -9,6 +9,7 @@ from pxr import Gf, Sdf, Usd, UsdGeom
 
 from eyerender import RenderDelegate, RenderIndex, SceneStore
 from eyerender._hdeye import write_exr
+from eyerender.errors import EyeRenderError
 from eyerender.render_session import RenderSession
 from eyerender.usd_scene_delegate import UsdSceneDelegate
 
@@ -106,24 +107,23 @@ def test_an_animated_iris_projection_target_is_pushed_per_frame():
     assert np.array(store.eye_params["/World/Eye/Ball"].iris_projection).reshape(4, 4)[3, 2] == pytest.approx(3)
 
 
-def _skip_warning(scene, path):
-    """The one warning saying prim `path` was skipped."""
-    warnings = [w for w in scene.warnings if w.startswith(f"{path}: ") and w.endswith("(skipped)")]
-    assert len(warnings) == 1 and path not in scene.eyes, scene.warnings
-    return warnings[0]
+def _refusal(stage, time=Usd.TimeCode.Default()):
+    """The one-line error populating `stage` raises: an eye that cannot be rendered is never skipped."""
+    with pytest.raises(EyeRenderError) as error:
+        _populate(stage, time)
+    assert "\n" not in str(error.value) and len(str(error.value)) < 200
+    return str(error.value)
 
 
-def test_a_missing_or_non_xformable_projection_target_skips_the_eye_with_one_warning():
+def test_a_missing_or_non_xformable_projection_target_is_a_one_line_error():
     stage, prim = _eye_stage()
     prim.CreateRelationship("eye:irisProjection").SetTargets(["/World/Nowhere"])
-    scene, _ = _populate(stage)
-    assert "eye:irisProjection target /World/Nowhere does not exist" in _skip_warning(scene, "/World/Eye/Ball")
+    assert _refusal(stage) == "/World/Eye/Ball: eye:irisProjection target /World/Nowhere does not exist"
     stage, prim = _eye_stage()
     stage.DefinePrim("/World/Looks", "Scope")
     prim.CreateRelationship("eye:irisProjection").SetTargets(["/World/Looks"])
-    scene, _ = _populate(stage)
-    assert "eye:irisProjection target /World/Looks is a Scope, not an Xform or Camera" in \
-        _skip_warning(scene, "/World/Eye/Ball")
+    assert _refusal(stage).startswith(
+        "/World/Eye/Ball: eye:irisProjection target /World/Looks is a Scope, not an Xform or Camera")
 
 
 def test_rest_time_points_become_the_rest_primvar_and_pref_is_read_as_rest():
@@ -138,11 +138,10 @@ def test_rest_time_points_become_the_rest_primvar_and_pref_is_read_as_rest():
     UsdGeom.PrimvarsAPI(prim).CreatePrimvar("Pref", Sdf.ValueTypeNames.Point3fArray, UsdGeom.Tokens.vertex).Set(rest)
     _, store = _populate(stage, time=2)
     np.testing.assert_allclose(store.primvars[("/World/Eye/Ball", "rest")][1], np.array(rest, dtype=np.float32))
-    # A rest time whose points do not match skips the eye with a warning naming the attribute.
+    # A rest time whose points do not match is an error naming the attribute.
     stage, prim = _eye_stage({1: rest, 2: moved}, rest_time=1)
     UsdGeom.Mesh(prim).GetPointsAttr().Set(rest[:4], 1)
-    scene, _ = _populate(stage, time=2)
-    assert "eye:restTime" in _skip_warning(scene, "/World/Eye/Ball")
+    assert _refusal(stage, time=2) == "/World/Eye/Ball: eye:restTime = 1 has 4 points, the mesh has 8"
 
 
 def _uv_texture(path):

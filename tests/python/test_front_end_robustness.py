@@ -126,19 +126,21 @@ def test_a_bad_xform_op_skips_the_prim_with_usds_reason(tmp_path, case):
 
 
 @pytest.mark.parametrize("attribute,kind,value,message", [
-    ("eye:scleraMeanFreePath", Sdf.ValueTypeNames.Float3, Gf.Vec3f(1e20, 1, 1), "must be in (0, 1000]"),
+    ("eye:scleraMeanFreePath", Sdf.ValueTypeNames.Float3, Gf.Vec3f(1e20, 1, 1), "valid range (0, 1000] mm"),
     ("eye:corneaIor", Sdf.ValueTypeNames.String, "1.4", "is a str, not a number"),
     ("eye:limbalArc", Sdf.ValueTypeNames.Int, 3, "not a bool"),
     ("eye:irisColor", Sdf.ValueTypeNames.Float, 0.5, "not a 3-vector"),
     ("eye:modelTransform", Sdf.ValueTypeNames.Double, 1.0, "not a matrix4d"),
 ])
-def test_an_eye_attribute_out_of_range_or_of_the_wrong_type_skips_the_eye(tmp_path, attribute, kind, value, message):
+def test_an_eye_attribute_out_of_range_or_of_the_wrong_type_fails_the_render(tmp_path, attribute, kind, value,
+                                                                             message):
     stage, path = shot(tmp_path)
     eye = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
     eye.AddAppliedSchema("EyeAPI")
     author_raw(stage, "/World/Eye", attribute, kind, value)
-    rc, _, err, _ = render(stage, path)
-    assert rc == 0 and message in warning_about(err, "/World/Eye")
+    rc, _, err, out = render(stage, path)
+    assert rc == 1 and err[-1].startswith(f"eyerecord: error: /World/Eye: {attribute}") and message in err[-1], err
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("case", ["NaN position", "singular transform", "string intensity", "float color"])
@@ -321,7 +323,7 @@ def test_curves_and_points_with_a_singular_transform_or_a_string_width_are_skipp
     assert warning_about(err, "/World/stringy").endswith("(skipped)")
 
 
-def test_an_eye_whose_cornea_shell_target_is_unreadable_still_renders_with_a_warning():
+def test_an_eye_whose_cornea_shell_target_and_model_transform_are_unreadable_is_one_error_line():
     stage = Usd.Stage.CreateInMemory()
     UsdGeom.Camera.Define(stage, "/World/main_cam").AddTranslateOp().Set(Gf.Vec3d(0, 0, 40))
     eye = UsdGeom.Xform.Define(stage, "/World/eye").GetPrim()
@@ -329,9 +331,10 @@ def test_an_eye_whose_cornea_shell_target_is_unreadable_still_renders_with_a_war
     eye.CreateRelationship("eye:corneaShell").SetTargets(["/World/nowhere"])
     author_raw(stage, "/World/eye", "eye:modelTransform", Sdf.ValueTypeNames.String, "tilted")
     UsdGeom.Mesh.Define(stage, "/World/cornea")  # named like a shell: the look-alike check reads the eye
-    session = eyerender.RenderSession(stage, width=8, height=8)
-    assert [w for w in session.scene.warnings if w.startswith("/World/eye: ")], session.scene.warnings
-    assert not any("Traceback" in w for w in session.scene.warnings)
+    # The look-alike check reads the eye's model transform too: the eye's own error is what is raised.
+    with pytest.raises(eyerender.EyeRenderError) as error:
+        eyerender.RenderSession(stage, width=8, height=8)
+    assert str(error.value) == "/World/eye: eye:modelTransform is a str, not a matrix4d"
 
 
 def test_an_edit_that_makes_a_mesh_transform_singular_skips_it_at_the_next_frame():

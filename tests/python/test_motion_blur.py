@@ -134,9 +134,9 @@ def test_skinned_mesh_gets_points_samples():
     stage = skel_stages.two_joint_strip(bend=60.0)
     scene, store = delegate(stage, (0.0, 1.0), time=2)
     times, points = store.samples["/World/Rig/Strip"]
-    assert times == [0.0, 1.0]
+    assert times == [0.0, 0.25, 0.5, 0.75, 1.0]  # the ends, and halfway times along the tip's 30 degree arc
     angles = [math.degrees(math.atan2(p[-2][1], p[-2][0] - 1.0)) for p in points]  # the tip end about its joint
-    assert angles == pytest.approx([30.0, 60.0], abs=1e-3), angles
+    assert angles == pytest.approx([30.0 + 30.0 * t for t in times], abs=1e-3), angles
 
 
 def test_point_instancer_gets_instance_transform_samples():
@@ -323,6 +323,71 @@ def test_a_blurred_card_covers_its_sweep_by_the_time_it_spends_there(how):
     assert np.all(np.diff(ramp) < 0.05) and ramp[0] > ramp[-1], ramp
 
 
+
+
+# -- a blurred render is the average of sharp renders over its shutter ---------------------------------------------
+# With RenderSettings.time_strata N, sample s of a blurred render is taken at the centre of stratum s mod N of the
+# shutter, with the random numbers of (seed, pixel, s): the same as sample s of a sharp render at that time. So the
+# blurred image equals the mean of those sharp samples wherever the renderer's motion between its time steps is
+# USD's motion; it differs where it is not (a chord across an arc). Alpha (coverage) measures where things are.
+
+BIAS_FRAME, BIAS_SHUTTER, BIAS_STRATA, BIAS_SPP, BIAS_SIZE = 2.0, (-0.5, 0.5), 3, 9, 32
+
+
+def _arc_stage(what):
+    """Frames 1-3 on a camera at z = 10: "transform", a ball on a 2.5-unit arm turning about z (-60 to 60 degrees);
+    "camera", the camera on a rig turning about y (-40 to 40 degrees) around a still ball; "deformation", a strip
+    skinned to a joint turning about z (0 to 120 degrees)."""
+    if what == "deformation":
+        stage = skel_stages.base_stage(camera_z=6.0)
+        skel = skel_stages.skeleton(stage, "/World/Rig", ["root"], [Gf.Matrix4d(1)],
+                                    anim_rotations={1: [Gf.Quatf(1)], 3: [skel_stages.z_rotation(120.0)]})
+        mesh = skel_stages.strip_mesh(stage, "/World/Rig/Strip", segments=4, length=1.0, height=0.4)
+        mesh.AddTranslateOp().Set(Gf.Vec3d(0.8, 0, 0))
+        count = len(mesh.GetPointsAttr().Get())
+        skel_stages.bind(mesh.GetPrim(), skel, [0] * count, [1.0] * count, 1, geom_bind=Gf.Matrix4d(1))
+        return stage
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    rig = UsdGeom.Xform.Define(stage, "/World/Rig")
+    turn = rig.AddRotateZOp() if what == "transform" else rig.AddRotateYOp()
+    turn.Set(-60.0 if what == "transform" else -40.0, 1)
+    turn.Set(60.0 if what == "transform" else 40.0, 3)
+    cam = UsdGeom.Camera.Define(stage, "/World/Rig/main_cam" if what == "camera" else "/World/main_cam")
+    cam.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    cam.CreateFocalLengthAttr(35.0)
+    ball = UsdGeom.Sphere.Define(stage, "/World/Rig/Ball" if what == "transform" else "/World/Ball")
+    ball.AddTranslateOp().Set(Gf.Vec3d(2.5 if what == "transform" else 0.0, 0, 0))
+    UsdLux.DistantLight.Define(stage, "/World/key")
+    return stage
+
+
+def _blurred_and_sharp_mean(stage):
+    """(alpha of the blurred render, alpha of the mean of the sharp samples at its strata's times)."""
+    blurred = RenderSession(stage, width=BIAS_SIZE, height=BIAS_SIZE, time=Usd.TimeCode(BIAS_FRAME),
+                            shutter=BIAS_SHUTTER, settings={"time_strata": BIAS_STRATA, "seed": 5})
+    blurred.render(spp=BIAS_SPP)
+    sharp = RenderSession(stage, width=BIAS_SIZE, height=BIAS_SIZE, time=Usd.TimeCode(BIAS_FRAME),
+                          shutter=(0.0, 0.0), settings={"seed": 5})
+    span = BIAS_SHUTTER[1] - BIAS_SHUTTER[0]
+    total = 0.0
+    for s in range(BIAS_SPP):
+        stratum = s % BIAS_STRATA
+        sharp.render(time=BIAS_FRAME + BIAS_SHUTTER[0] + span * (stratum + 0.5) / BIAS_STRATA, spp=1, first_sample=s)
+        total = total + sharp.image("color")[:, :, 3].astype(np.float64)
+    return blurred.image("color")[:, :, 3].astype(np.float64), total / BIAS_SPP
+
+
+@pytest.mark.parametrize("what", ["transform", "deformation", "camera"])
+def test_a_blurred_arc_is_the_average_of_sharp_renders_at_its_times(what):
+    blurred, sharp = _blurred_and_sharp_mean(_arc_stage(what))
+    difference = np.abs(blurred - sharp)
+    moved = np.abs(sharp - sharp.mean()).sum()  # something is there to compare
+    print(f"{what} on an arc: mean |blurred - mean of sharp| alpha {difference.mean():.5f}, max {difference.max():.3f}")
+    assert sharp.max() > 0.5 and moved > 0, (sharp.max(), moved)
+    # Interpolation between the refined time steps leaves one sample in 9 flipped in fewer than 1 pixel in 40
+    # (measured 0 to 0.00065); the chord across the whole arc moved the edges by pixels (0.0088 to 0.0175).
+    assert difference.mean() < 0.0025, difference.mean()
 
 
 def test_eyestudy_takes_the_shutter_and_keys_its_reference_by_it(moving_file, tmp_path, capsys):

@@ -109,29 +109,6 @@ def test_eye_on_xform_and_mesh_are_eyes_with_schema_fallbacks():
     s.render(spp=1)
 
 
-@pytest.mark.parametrize("attribute,value,message", [
-    ("eye:limbusInnerRatio", 0.9, "eye:limbusInnerRatio = 0.9 exceeds eye:limbusOuterRatio"),
-    ("eye:limbusOuterRatio", 1.2, "eye:limbusOuterRatio = 1.2 must be in (0, 1]"),
-    ("eye:irisDepth", -1.0, "eye:irisDepth = -1 mm must be positive"),
-    ("eye:corneaIor", 0.9, "eye:corneaIor = 0.9 must be at least 1"),
-    ("eye:pupilDiameter", float("nan"), "eye:pupilDiameter = nan is not finite"),
-])
-def test_invalid_eye_values_skip_the_eye_with_a_warning_naming_attribute_and_path(attribute, value, message):
-    stage = base_stage()
-    prim = UsdGeom.Xform.Define(stage, "/World/Eye_L").GetPrim()
-    prim.AddAppliedSchema("EyeAPI")
-    prim.CreateAttribute(attribute, Sdf.ValueTypeNames.Float).Set(value)
-    assert message in skipped_with_one_warning(stage, "/World/Eye_L")
-
-
-def test_bad_cornea_model_token_skips_the_eye():
-    stage = base_stage()
-    prim = UsdGeom.Xform.Define(stage, "/World/Eye").GetPrim()
-    prim.AddAppliedSchema("EyeAPI")
-    prim.GetAttribute("eye:corneaModel").Set("sphere")
-    assert "eye:corneaModel = 'sphere' is not one of" in skipped_with_one_warning(stage, "/World/Eye")
-
-
 def test_degenerate_and_nan_meshes_are_skipped_with_a_warning():
     stage = base_stage()
     mesh = quad_grid_mesh(stage, "/World/bad", scheme="none")
