@@ -209,9 +209,18 @@ class RenderSession:
         .png (the colour after `exposure` stops, encoded by `color_correction`, one of COLOR_CORRECTION_MODES).
         Atomic. denoise: also the OIDN-denoised beauty (eyerender.denoise; the session must render the albedo and
         normal AOVs)."""
-        attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
-        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=self.header(),
                      color_correction=color_correction, denoise=denoise)
+
+    def header(self):
+        """The EXR header attributes of this frame's outputs: the render plan's JSON when the session plans."""
+        return {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
+
+    def write_product(self, path, product, exposure=0.0, color_correction="sRGB", settings_path=None):
+        """Writes a render product (render_products.RenderProductSpec, whose vars' AOVs this session renders) at
+        `path` (write_product_images). Atomic."""
+        write_product_images(path, product, {aov: self.image(aov) for aov in self.aovs}, self.header(), exposure,
+                             color_correction, settings_path)
 
 
 def _srgb_to_linear(x):
@@ -262,6 +271,18 @@ def write_images(path, images, exposure=0.0, attributes=None, color_correction="
         raise EyeRenderError(str(e)) from None
 
 
+def write_product_images(path, product, images, attributes=None, exposure=0.0, color_correction="sRGB",
+                         settings_path=None):
+    """Writes a render product from AOV images ({aov: float32 (h, w, c)}): an .exr holds exactly its vars'
+    channels (product_output.write_product_exr), a .png the beauty as write_images writes it. Atomic."""
+    from .product_output import write_product_exr
+
+    if path.lower().endswith(".exr"):
+        write_product_exr(path, product, images, attributes, settings_path)
+    else:
+        write_images(path, {"color": images["color"]}, exposure, color_correction=color_correction)
+
+
 def resolve_states(states):
     """Buffer states {aov: (sums float64 (h, w, c), counts float64 (h, w))}, e.g. merged from sample ranges
     rendered elsewhere, as images {aov: float32 (h, w, c)}, resolved by a render buffer itself so that they are
@@ -300,4 +321,4 @@ def check_writable(path):
 
 
 __all__ = ["RenderSession", "AOV_CHANNELS", "MAX_ASPECT", "MAX_PIXELS", "check_image_size", "check_writable",
-           "write_images", "resolve_states"]
+           "write_images", "write_product_images", "resolve_states"]
