@@ -122,6 +122,19 @@ def _frame_stats(session, frame, stats, load_seconds, job):
             "shutter": session.scene.shutter.describe() if session.scene.shutter.blurred else None}
 
 
+def write_outputs(job, frame, images, header):
+    """Writes frame `frame` of `job` from AOV images ({aov: float32 (h, w, c)}): each plain output with every AOV,
+    each render product with exactly its vars; header: the EXR attributes (the render plan), or None."""
+    from .render_session import write_images, write_product_images
+
+    for path, product in job.frame_writes(frame):
+        if product is None:
+            write_images(path, images, job.exposure, attributes=header)
+        else:
+            write_product_images(path, product, images, header, job.exposure,
+                                 settings_path=job.render_settings_prim)
+
+
 @_forget_session_on_error
 def render_frame(job, frame, job_id=None, task=None):
     """Renders samples [0, job.spp) of `frame` (None: the stage's earliest time) and writes its outputs.
@@ -131,8 +144,8 @@ def render_frame(job, frame, job_id=None, task=None):
         progress = _Progress(job_id, task, frame, job.spp)
         stats = session.render(time, spp=job.spp, time_limit=job.time_limit, progress=progress)
         start = clock.perf_counter()
-        for path in job.output_paths(frame):
-            session.write(path, job.exposure)
+        images = {aov: session.image(aov) for aov in session.aovs}
+        write_outputs(job, frame, images, session.header())
         result = _frame_stats(session, frame, stats, load_seconds, job)
     result.update(write_seconds=clock.perf_counter() - start, tasks=1, merge_seconds=0.0, uncertified_values=0,
                   rerendered_unsplit=False)
@@ -160,14 +173,15 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
             progress(i + 1)
         stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": clock.perf_counter() - start,
                  "rays": rays, "non_finite_samples": non_finite}
-        return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators}
+        return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators,
+                "header": session.header()}
 
 
 def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
     """Merges a frame's sample ranges (render_samples results, in sample order), and writes the outputs. Where a
     value cannot be certified equal to the single-machine render's (farm_merge), `exact` re-renders the frame
     unsplit here instead; otherwise such values are within one float32 ulp. Returns the frame's statistics."""
-    from .render_session import resolve_states, write_images  # imported on use: pxr after the schema plugin
+    from .render_session import resolve_states  # imported on use: pxr after the schema plugin
 
     start = clock.perf_counter()
     states, uncertified = {}, 0
@@ -181,8 +195,7 @@ def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
         return result
     images = resolve_states(states)
     merge_seconds = clock.perf_counter() - start
-    for path in job.output_paths(frame):
-        write_images(path, images, job.exposure)
+    write_outputs(job, frame, images, parts[0].get("header"))  # every range planned the same frame alike
     stats = [p["stats"] for p in parts]
     return {**stats[0], "samples_per_pixel": sum(s["samples_per_pixel"] for s in stats),
             "render_seconds": sum(s["render_seconds"] for s in stats), "rays": sum(s["rays"] for s in stats),
@@ -193,4 +206,4 @@ def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
             "rerendered_unsplit": False}
 
 
-__all__ = ["PROGRESS_TOPIC", "check_worker", "render_frame", "render_samples", "merge_and_write"]
+__all__ = ["PROGRESS_TOPIC", "check_worker", "write_outputs", "render_frame", "render_samples", "merge_and_write"]

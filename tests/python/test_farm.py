@@ -149,6 +149,71 @@ def test_a_frame_split_into_sample_ranges_is_bit_identical_to_the_unsplit_frame(
     assert_same_bits(expected, tmp_path / "split_0009.exr", "split frame")
 
 
+def products_stage(tmp):
+    """SAMPLE under render settings with two products: the beauty and depth; albedo (half), normal and the iris
+    light in a multi-part file."""
+    from pxr import Gf, UsdRender
+
+    path = tmp / "products.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
+    names = {}
+    for name, source, data_type in (("beauty", "color", "color4f"), ("depth", "depth", "float"),
+                                    ("albedo", "albedo", "color3h"), ("N", "normal", "normal3f"),
+                                    ("iris", "irisMnee", "color3f")):
+        var = UsdRender.Var.Define(stage, f"/Render/Vars/{name}")
+        var.CreateSourceNameAttr(source)
+        var.CreateDataTypeAttr(data_type)
+        names[name] = var.GetPath()
+    products = []
+    for name, variables in (("main", ("beauty", "depth")), ("aovs", ("albedo", "N", "iris"))):
+        product = UsdRender.Product.Define(stage, f"/Render/Products/{name}")
+        product.CreateProductNameAttr(str(tmp / "local" / f"{name}.####.exr"))
+        product.CreateOrderedVarsRel().SetTargets([names[v] for v in variables])
+        products.append(product.GetPath())
+    stage.GetPrimAtPath(products[1]).CreateAttribute("eyerender:multiPart", Sdf.ValueTypeNames.Bool).Set(True)
+    settings = UsdRender.Settings.Define(stage, "/Render/Settings")
+    settings.CreateResolutionAttr(Gf.Vec2i(WIDTH, WIDTH))
+    settings.CreateProductsRel().SetTargets(products)
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Settings")
+    stage.GetRootLayer().Save()
+    (tmp / "local").mkdir()
+    return path
+
+
+def exr_parts_bits(path):
+    """{(part, channel): uint32 or uint16 bits} of every channel of every part of an EXR."""
+    import OpenEXR
+
+    parts = OpenEXR.File(str(path), separate_channels=True).parts
+    return {(part.name(), name): channel.pixels.view(np.uint16 if channel.pixels.dtype == np.float16 else np.uint32)
+            for part in parts for name, channel in part.channels.items()}
+
+
+def test_a_split_frame_of_render_products_merges_every_var_bit_identical_to_the_local_render(local_farm, tmp_path):
+    import dataclasses
+
+    from eyerender.eyerecord import build_parser
+    from eyerender.job import open_stage, product_sessions, session_options
+
+    pytest.importorskip("OpenEXR", reason="the openexr Python package reads multi-part files")
+    stage_path, frame, spp = products_stage(tmp_path), 2.0, 5
+    assert main([str(stage_path), "--spp", str(spp), "--frames", "2", "-q"]) == 0
+    args = build_parser().parse_args([str(stage_path)])
+    ((options, products),) = product_sessions(open_stage(str(stage_path)), session_options(args), print)
+    farm_products = tuple(dataclasses.replace(p, name=p.name.replace("/local/", "/")) for p in products)
+    job = RenderJob.from_options(str(stage_path), (), options, spp=spp, products=farm_products)
+    stats = local_farm.submit_frame(job, frame, split=3).result()
+    assert stats["tasks"] >= 4 and stats["samples_per_pixel"] == spp
+    for name in ("main.0002.exr", "aovs.0002.exr"):
+        expected, merged = exr_parts_bits(tmp_path / "local" / name), exr_parts_bits(tmp_path / name)
+        assert set(merged) == set(expected), name
+        for key, bits in expected.items():
+            assert np.count_nonzero(bits != merged[key]) == 0, f"{name} {key}: differs from the local render"
+    assert sorted(part for part, _ in exr_parts_bits(tmp_path / "aovs.0002.exr")) == \
+        ["N"] * 3 + ["albedo"] * 3 + ["iris"] * 3
+
+
 def test_merge_certificates_flag_a_value_on_a_float32_rounding_boundary():
     # Two ranges of one sample each: 1.0 and 2^-30, whose ulp is 2^-53: sum|s| > 2^52 ulp, certificate 1 fails.
     parts = []

@@ -104,6 +104,32 @@ def test_product_channels_are_half_or_float_as_the_var_data_type_says(two_produc
     (part,) = types.values()
     assert {part[c] for c in ("albedo.R", "albedo.G", "albedo.B")} == {np.dtype(np.float16)}
     assert {part[c] for c in ("iris.R", "iris.G", "iris.B")} == {np.dtype(np.float32)}
+    assert run(two_products, tmp_path / "cli.exr", "--spp", 1, "-q", "--aov", "albedo") == 0
+    half = eyerender.read_exr(str(tmp_path / "aovs.exr"))["albedo.G"]
+    full = eyerender.read_exr(str(tmp_path / "cli.exr"))["albedo.G"]
+    assert full.max() > 0.1
+    np.testing.assert_array_equal(half, full.astype(np.float16).astype(np.float32))  # rounded to half, no more
+
+
+def test_the_exr_writer_keeps_half_parts_apart_clamps_them_and_checks_its_windows(tmp_path):
+    from eyerender._hdeye import write_exr_parts
+
+    ramp = np.linspace(-1e6, 1e6, 12, dtype=np.float32).reshape(3, 4)
+    parts = [(f"p{k}", [(f"c{k}", ramp * (k + 1), "half"), (f"f{k}", ramp, "float")]) for k in range(3)]
+    path = str(tmp_path / "parts.exr")
+    write_exr_parts(path, 6, 5, parts, [("note", "x")], (1, 2, 4, 4))
+    read = OpenEXR.File(path, separate_channels=True).parts
+    assert [p.name() for p in read] == ["p0", "p1", "p2"] and all(p.header["note"] == "x" for p in read)
+    for k, part in enumerate(read):
+        expected = np.clip(ramp * (k + 1), -65504, 65504).astype(np.float16)
+        np.testing.assert_array_equal(part.channels[f"c{k}"].pixels, expected)
+        np.testing.assert_array_equal(part.channels[f"f{k}"].pixels, ramp)
+    for x0, y0, x1, y1 in ((0, 0, 6, 2), (-1, 0, 2, 2)):
+        plane = np.zeros((y1 - y0 + 1, x1 - x0 + 1), np.float32)
+        with pytest.raises(RuntimeError, match="outside the 6x5 display window"):
+            write_exr_parts(path, 6, 5, [("a", [("c", plane, "float")])], [], (x0, y0, x1, y1))
+    with pytest.raises(RuntimeError, match="needs a name of its own"):
+        write_exr_parts(path, 4, 3, [("", [("c", ramp, "half")]), ("", [("d", ramp, "half")])])
 
 
 def test_the_beauty_var_holds_the_pixels_the_command_line_render_writes(two_products, tmp_path):

@@ -207,7 +207,10 @@ void WriteExrParts(const std::string& path, int width, int height, const std::ve
   }
   CheckAttributes(path, attributes);
   WriteAtomically(path, [&](const std::string& tmp) {
+    // Reserved: a reallocation may copy a PartBuffers (Imf::Header's move is not noexcept), and its frame buffer
+    // would then point into the old copy's half pixels.
     std::vector<PartBuffers> buffers;
+    buffers.reserve(parts.size());
     for (const ImagePart& part : parts) buffers.push_back(MakePart(display, data, part, attributes, multiPart));
     WriteParts(tmp, buffers, data.max.y - data.min.y + 1, multiPart);
   });
