@@ -16,7 +16,8 @@ from .shutter import parse_shutter_arguments, settings_override
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
-AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc")
+AOV_NAMES = ("color", "albedo", "normal", "depth", "primId", "irisMnee", "limbalArc",
+             "CryptoObject", "CryptoMaterial", "CryptoAsset")
 DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
 PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
 CHAMBER_ESTIMATORS = ("path", "cache", "controlVariate")  # RenderSettings.chamber_estimator's values

@@ -5,6 +5,8 @@ import os
 
 import numpy as np
 
+from .cryptomatte import TYPES as CRYPTO_TYPES
+from .cryptomatte import header_attributes
 from .errors import EyeRenderError
 from .render_products import data_window_pixels
 
@@ -34,9 +36,10 @@ def product_parts(product, images, window=None):
     return parts
 
 
-def write_product_exr(path, product, images, attributes=None, settings_path=None):
+def write_product_exr(path, product, images, attributes=None, settings_path=None, manifests=None):
     """Writes `product` as the EXR `path` from AOV images as product_parts lays them out: exactly its vars'
-    channels, the header attributes {name: string} and the product's and settings' prim paths. Atomic."""
+    channels, the header attributes {name: string}, the product's and settings' prim paths, and each cryptomatte
+    var's metadata, named as the var, with its manifest from `manifests` ({layer: {name: id bits}}). Atomic."""
     from ._hdeye import write_exr_parts
     from .output_files import remove_stale_temp_files
 
@@ -45,6 +48,9 @@ def write_product_exr(path, product, images, attributes=None, settings_path=None
     header = {**(attributes or {}), PRODUCT_ATTRIBUTE: product.path}
     if settings_path:
         header[SETTINGS_ATTRIBUTE] = settings_path
+    for var in product.vars:
+        if var.aov in CRYPTO_TYPES:
+            header.update(header_attributes(var.name, (manifests or {}).get(var.aov, {})))
     remove_stale_temp_files(path)
     try:
         write_exr_parts(path, width, height, product_parts(product, images, window), sorted(header.items()),

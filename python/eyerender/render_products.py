@@ -3,8 +3,9 @@ file of the render vars it orders, with its own camera, resolution and data wind
 the settings' values), read into plain data that the local and the farm render paths write alike.
 
 A render var names what to write by sourceName and sourceType; the subset the renderer honours (VAR_SOURCES):
-raw AOVs (color, albedo, normal, depth, primId, irisMnee, limbalArc, and alpha, the colour's A) and the beauty
-as the LPE `C.*`. Anything else (a primvar, another LPE, an unknown name, a
+raw AOVs (color, albedo, normal, depth, primId, irisMnee, limbalArc, and alpha, the colour's A), the beauty as
+the LPE `C.*`, and the cryptomatte layers CryptoObject, CryptoMaterial and CryptoAsset (cryptomatte.py: channels
+`{name}00.R` ..., float32 whatever the dataType). Anything else (a primvar, another LPE, an unknown name, a
 dataType whose components the source lacks) is one warning naming the var, and no channel: an empty channel is
 never written. dataType sets the components and the channel type (half types: 16-bit half channels, else 32-bit
 float; ints are written as floats, exact to 2^24).
@@ -19,6 +20,8 @@ import math
 import re
 from typing import Optional
 
+from .cryptomatte import LEVELS, layer_channels
+from .cryptomatte import TYPES as CRYPTO_TYPES
 from .errors import EyeRenderError
 
 # sourceName (raw) -> (AOV, first component): the renderer's AOVs under their names and common aliases.
@@ -28,9 +31,11 @@ RAW_SOURCES = {
     "albedo": ("albedo", 0), "normal": ("normal", 0), "N": ("normal", 0),
     "depth": ("depth", 0), "primId": ("primId", 0),
     "irisMnee": ("irisMnee", 0), "limbalArc": ("limbalArc", 0),
+    **{layer: (layer, 0) for layer in CRYPTO_TYPES},  # cryptomatte.py: ranked ids and coverage
 }
 LPE_SOURCES = {"C.*": ("color", 0)}  # light path expressions the renderer can produce: the whole beauty
-AOV_COMPONENTS = {"color": 4, "albedo": 3, "normal": 3, "depth": 1, "primId": 1, "irisMnee": 3, "limbalArc": 3}
+AOV_COMPONENTS = {"color": 4, "albedo": 3, "normal": 3, "depth": 1, "primId": 1, "irisMnee": 3, "limbalArc": 3,
+                  **{layer: 2 * LEVELS for layer in CRYPTO_TYPES}}
 _VECTOR_SUFFIXES, _COLOR_SUFFIXES = ("X", "Y", "Z"), ("R", "G", "B", "A")
 # UsdRender dataType -> (components, channel suffixes, half); UsdRender's fallback is color3f.
 DATA_TYPES = {
@@ -112,6 +117,9 @@ def read_var(var, warn):
     if source is None:
         return None
     aov, first = source
+    name = str(_authored(var.GetPrim().GetAttribute(AOV_NAME_ATTRIBUTE)) or var.GetPrim().GetName())
+    if aov in CRYPTO_TYPES:  # its own layout; ids are float32 bits whatever the dataType
+        return RenderVarSpec(str(var.GetPath()), name, aov, 0, layer_channels(name), False)
     data_type = str(var.GetDataTypeAttr().Get() or DEFAULT_DATA_TYPE)
     if data_type not in DATA_TYPES:
         warn(f"{var.GetPath()}: render var dataType '{data_type}' is not supported: not written")
@@ -121,7 +129,6 @@ def read_var(var, warn):
         warn(f"{var.GetPath()}: render var dataType {data_type} has {components} components, "
              f"{var.GetSourceNameAttr().Get()} {AOV_COMPONENTS[aov] - first}: not written")
         return None
-    name = str(_authored(var.GetPrim().GetAttribute(AOV_NAME_ATTRIBUTE)) or var.GetPrim().GetName())
     channels = tuple(f"{name}.{s}" for s in suffixes) if suffixes else (name,)
     return RenderVarSpec(str(var.GetPath()), name, aov, first, channels, half)
 

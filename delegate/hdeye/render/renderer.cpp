@@ -79,6 +79,7 @@ struct SurfaceHit {
   StFrame stFrame;                            // dp/ds, dp/dt of the hit triangle (world), where st and points are known
   bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
+  int instanceIndex = 0;                      // the hit instance's index in its instancer (0: not instanced)
   float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
 };
 
@@ -129,8 +130,15 @@ struct FirstHit {
   double t;              ///< distance along the camera ray
   glm::dvec3 n, albedo;  ///< the shading normal and the albedo shaded there
   int primIndex;
+  int instanceIndex;  ///< for the hitId AOV (cryptomatte): which instance of the prim
+  int subset;         ///< the hit face's materialBind subset (-1: the prim's own material), for the hitId AOV
   /// Field by field: assigning a temporary FirstHit stalls on its reload (store forwarding) in the path loop.
-  void Set(const SurfaceHit& hit) { t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex; }
+  void Set(const SurfaceHit& hit) {
+    t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex, instanceIndex = hit.instanceIndex;
+    subset = hit.context->triangleSubsets && hit.part < hit.context->triangleSubsets->size()
+                 ? (*hit.context->triangleSubsets)[hit.part]
+                 : -1;
+  }
 };
 
 /// What one camera path brings back: its radiance, the parts of it the AOVs split out, and the first surface
@@ -316,6 +324,7 @@ class Tracer {
     const glm::dmat3& normalToWorld =
         instance ? (instance->motion ? moved : instance->normalToWorld) : ctx->normalToWorld;
     hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
+    hit->instanceIndex = instance ? instance->instanceIndex : 0;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
     const glm::dvec3 ng = normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -812,7 +821,8 @@ class Tracer {
 void CheckBuffers(const AovBuffers& aovs) {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
-  for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc})
+  for (AccumulationBuffer* b :
+       {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.limbalArc, aovs.hitId})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
@@ -835,6 +845,12 @@ bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sampl
   aovs.color->AddSample(x, y, color);
   AddRgb(aovs.irisMnee, x, y, sample.irisMnee);
   AddRgb(aovs.limbalArc, x, y, sample.limbalArc);
+  if (aovs.hitId) {  // every sample: cryptomatte ranks the first hits of all of them
+    const FirstHit& first = sample.first;
+    const float hit[3] = {sample.hitAny ? float(first.primIndex) : -1.0f,
+                          sample.hitAny ? float(first.instanceIndex) : 0, sample.hitAny ? float(first.subset) : -1.0f};
+    aovs.hitId->AddSample(x, y, hit);
+  }
   if (s != 0) return finite;
   const FirstHit& first = sample.first;
   AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));
