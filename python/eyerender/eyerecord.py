@@ -26,10 +26,13 @@ from .job import (
     open_session,
     open_stage,
     output_patterns,
+    product_sessions,
+    render_settings_path,
     session_options,
 )
 from .output_files import COLOR_CORRECTION_MODES, partial_failure
 from .plan import plan_json
+from .product_output import product_outputs, product_summary
 
 RENDERERS = ("Eye", "hdeye")  # --renderer: the display name and the delegate's name; there is no other renderer
 
@@ -39,7 +42,8 @@ def build_parser():
     p = argparse.ArgumentParser(prog="eyerecord", description=__doc__.split("\n\n")[0], allow_abbrev=False,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("usdFilePath", help="the USD file to render")
-    p.add_argument("outputImagePath", help="image to write (.exr or .png); '#' placeholders take the frame number")
+    p.add_argument("outputImagePath", nargs="?", help="image to write (.exr or .png); '#' placeholders take the "
+                   "frame number; omitted: the render settings prim's products (docs/render_products.md)")
     p.add_argument("--camera", "-cam", help="camera prim path or name (default: main_cam, else the first camera, "
                    "else a 50 mm camera framing the stage)")
     time = p.add_mutually_exclusive_group()
@@ -59,8 +63,9 @@ def build_parser():
     p.add_argument("--purposes", action="append", default=None, metavar="PURPOSE[,PURPOSE...]",
                    help=f"extra UsdGeom purposes to render besides 'default' ({', '.join(PURPOSES[1:])}; separated "
                    "by commas and/or spaces; default: proxy)")
-    p.add_argument("--renderSettingsPrimPath", "-rs", help="a UsdRender.Settings prim: its resolution, camera and "
-                   "the AOVs its first product names (default: the stage's renderSettingsPrimPath metadata)")
+    p.add_argument("--renderSettingsPrimPath", "-rs", help="a UsdRender.Settings prim: its resolution, camera, "
+                   "purposes and products, each written with exactly its vars (with an outputImagePath: that file, "
+                   "with the AOVs of its first product; default: the stage's renderSettingsPrimPath metadata)")
     p.add_argument("--renderPassPrimPath", "-rp", help="a UsdRender.Pass prim: the settings prim its renderSource "
                    "names")
     p.add_argument("--renderer", "-r", choices=RENDERERS, default="Eye", help="the Hydra renderer (only Eye)")
@@ -129,6 +134,9 @@ def run(argv=None):
     """eyerecord with the command line `argv` (None: sys.argv); returns the exit status."""
     args = build_parser().parse_args(argv)
     spp = samples_per_pixel(args)
+    if args.outputImagePath is None and (args.aov or args.denoise):
+        raise EyeRenderError(f"{'--aov' if args.aov else '--denoise'} needs an outputImagePath: render products "
+                             "write the vars they order")
     if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
         if args.denoise:
             raise EyeRenderError("--denoise is not available on the farm yet: denoise a local render")
@@ -159,22 +167,86 @@ def render_locally(args, spp):
     from .usd_diagnostics import UsdDiagnostics
 
     diagnostics = UsdDiagnostics()  # USD's warnings become one line each, printed with the scene's
-    frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)
     stage = open_stage(args.usdFilePath, args.sessionLayer, args.mask)
+    options = session_options(args)
+    if args.outputImagePath is None:
+        return render_products_locally(args, spp, stage, options, diagnostics)
+    frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)
     outputs = output_patterns(args.outputImagePath, args.png)
     if not args.plan:  # --plan writes nothing
         check_outputs(outputs)
-    options = session_options(args)
     if args.denoise:  # OIDN's guides
         options = dataclasses.replace(options, aovs=tuple(dict.fromkeys(("color", *options.aovs, *GUIDE_AOVS))))
     session = open_session(stage, options, frames[0])
     if args.plan:
         print(plan_json(session.plan()))
         return 0
+    note_unwritten_products(stage, options)
     report_plan_and_warnings(session, planned=not args.no_auto_plan, usd_warnings=diagnostics.take_warnings())
-    render_frames(session, frames, outputs, spp, args)
+
+    def write(frame, written):
+        for path in frame_outputs(outputs, frame):
+            session.write(path, args.exposure, args.colorCorrectionMode, denoise=args.denoise)
+            written.append(path)
+            if args.denoise and path.lower().endswith(".png"):
+                written.append(denoised_png_path(path))
+
+    render_frames([(session, write)], frames, spp, args)
     print_warnings(diagnostics.take_warnings())
     return 0
+
+
+def render_products_locally(args, spp, stage, options, diagnostics):
+    """Renders the render settings prim's products (no outputImagePath): one session per camera and resolution
+    the products ask for, each frame rendered once per session and written to every product of it."""
+    warnings = []
+    groups = product_sessions(stage, options, warnings.append)
+    frames = frames_to_render(args.frames, groups[0][1][0].name, args.defaultTime)
+    for _, products in groups:
+        for product in products:
+            frames_to_render(args.frames, product.name, args.defaultTime)  # each name's placeholder, checked
+            if not args.plan:
+                check_outputs(product_outputs(product, args.png))
+    sessions = [(open_session(stage, group_options, frames[0]), products) for group_options, products in groups]
+    if args.plan:
+        print(plan_json(sessions[0][0].plan()))
+        return 0
+    for _, products in groups:
+        for product in products:
+            print(f"eyerecord: {product_summary(product)}")
+    print_warnings(warnings)
+    for n, (session, _) in enumerate(sessions):
+        report_plan_and_warnings(session, planned=not args.no_auto_plan and n == 0,
+                                 usd_warnings=diagnostics.take_warnings())
+    settings_path = groups[0][0].render_settings_prim
+    targets = [(session, product_writer(session, products, settings_path, args)) for session, products in sessions]
+    render_frames(targets, frames, spp, args)
+    print_warnings(diagnostics.take_warnings())
+    return 0
+
+
+def product_writer(session, products, settings_path, args):
+    """write(frame, written) for render_frames: every product of a session at that frame."""
+    def write(frame, written):
+        for product in products:
+            for pattern in product_outputs(product, args.png):
+                path = frame_outputs([pattern], frame)[0]
+                session.write_product(path, product, args.exposure, args.colorCorrectionMode,
+                                      settings_path=settings_path)
+                written.append(path)
+    return write
+
+
+def note_unwritten_products(stage, options):
+    """One note when an outputImagePath stands in for a render settings prim's products."""
+    from .render_products import read_products
+
+    path = render_settings_path(stage, options)
+    if path:
+        products = read_products(stage, path, lambda _: None)
+        if products:
+            print(f"eyerecord: note: {path}'s {len(products)} product(s) not written: the outputImagePath is "
+                  "(omit it to write them)")
 
 
 def check_outputs(outputs):
@@ -199,33 +271,32 @@ def report_plan_and_warnings(session, planned, usd_warnings=()):
     print_warnings(list(usd_warnings) + session.scene.warnings)
 
 
-def render_frames(session, frames, outputs, spp, args):
-    """Renders each frame and writes its outputs, then prints the summary line. A failure part-way keeps the files
+def render_frames(targets, frames, spp, args):
+    """Renders each frame with each target's session and writes its outputs (`write(frame, written)` appends each
+    path to `written` once the file is complete), then prints the summary line. A failure part-way keeps the files
     already written (each is complete) and its error line names them."""
     bar = ProgressBar(not args.quiet)
     total_seconds, total_rays, written = 0.0, 0, []
-    warned = len(session.scene.warnings)  # printed before rendering; a later frame may add some (motion samples)
+    warned = {id(session): len(session.scene.warnings) for session, _ in targets}  # printed before rendering
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
-        try:
-            # The session was opened at the first frame's time.
-            stats = session.render(None if frame is None or n == 0 else frame, spp=spp,
-                                   time_limit=args.time_limit, progress=bar)
-            bar.finish()
-            warn_non_finite(stats["non_finite_samples"])
-            print_warnings(session.scene.warnings[warned:])
-            warned = len(session.scene.warnings)
-            for path in frame_outputs(outputs, frame):
-                session.write(path, args.exposure, args.colorCorrectionMode, denoise=args.denoise)
-                written.append(path)
-                if args.denoise and path.lower().endswith(".png"):
-                    written.append(denoised_png_path(path))
-        except EyeRenderError as e:
-            bar.finish()
-            where = f"frame {frame:g}: " if frame is not None and len(frames) > 1 else ""
-            raise EyeRenderError(partial_failure(f"{where}{e}", written)) from None
-        total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
+        for session, write in targets:
+            try:
+                # The session was opened at the first frame's time.
+                stats = session.render(None if frame is None or n == 0 else frame, spp=spp,
+                                       time_limit=args.time_limit, progress=bar)
+                bar.finish()
+                warn_non_finite(stats["non_finite_samples"])
+                print_warnings(session.scene.warnings[warned[id(session)]:])  # a later frame may add some
+                warned[id(session)] = len(session.scene.warnings)
+                write(frame, written)
+            except EyeRenderError as e:
+                bar.finish()
+                where = f"frame {frame:g}: " if frame is not None and len(frames) > 1 else ""
+                raise EyeRenderError(partial_failure(f"{where}{e}", written)) from None
+            total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
+    session = targets[0][0]
     blur = f", {session.scene.shutter.describe()}" if session.scene.shutter.blurred else ""
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp"
           f"{blur}, {total_seconds:.2f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")

@@ -15,14 +15,19 @@ from .job import frames_to_render, output_patterns, session_options
 
 def run_farm(args, spp):
     """eyerecord's run() for --scheduler/--workers, `spp` samples per pixel; returns the exit status."""
-    frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)  # the local path's rules
     for flag, value in (("--sessionLayer", args.sessionLayer), ("--mask", args.mask),
                         ("--colorCorrectionMode", None if args.colorCorrectionMode == "sRGB" else 1)):
         if value is not None:  # a farm job carries the stage's path alone, and writes sRGB PNGs
             raise EyeRenderError(f"{flag} is not supported with a farm render (--scheduler/--workers)")
     split = farm_split(args)
-    job = RenderJob.from_options(args.usdFilePath, output_patterns(args.outputImagePath, args.png),
-                                 session_options(args), spp=spp, exposure=args.exposure, time_limit=args.time_limit)
+    if args.outputImagePath is None:
+        job = products_job(args, spp)
+        frames = frames_to_render(args.frames, job.products[0].name, args.defaultTime)
+    else:
+        frames = frames_to_render(args.frames, args.outputImagePath, args.defaultTime)  # the local path's rules
+        job = RenderJob.from_options(args.usdFilePath, output_patterns(args.outputImagePath, args.png),
+                                     session_options(args), spp=spp, exposure=args.exposure,
+                                     time_limit=args.time_limit)
     if not os.path.isfile(job.stage_path) and args.workers:  # local workers see this machine's files
         raise EyeRenderError(f"{args.usdFilePath}: no such file")
     # Dask logs worker losses and reschedules as warnings; the report says what matters, once.
@@ -30,6 +35,25 @@ def run_farm(args, spp):
     report = render_on_farm(args, job, frames, split)
     print_report(report, job, frames)
     return 0 if report.ok else 1
+
+
+def products_job(args, spp):
+    """The RenderJob of the render settings prim's products (no outputImagePath): one session renders them all, so
+    products asking for different cameras or sizes are an error here (render them locally). The warnings of vars
+    that cannot be written are printed here, once."""
+    from .job import open_stage, product_sessions
+
+    warnings = []
+    groups = product_sessions(open_stage(args.usdFilePath), session_options(args), warnings.append)
+    print_warnings(warnings)
+    if len(groups) > 1:
+        raise EyeRenderError(f"the products ask for {len(groups)} cameras or image sizes: a farm render has one "
+                             "(render them locally, or with -cam / -w)")
+    options, products = groups[0]
+    for product in products:
+        frames_to_render(args.frames, product.name, args.defaultTime)  # each name's placeholder, checked
+    return RenderJob.from_options(args.usdFilePath, (), options, spp=spp, exposure=args.exposure,
+                                  time_limit=args.time_limit, products=tuple(products), png=args.png)
 
 
 def farm_split(args):

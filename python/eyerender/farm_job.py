@@ -5,6 +5,7 @@ import os
 
 from .errors import EyeRenderError
 from .job import SessionOptions, check_output_extension, frame_outputs
+from .product_output import product_outputs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -24,16 +25,24 @@ class RenderJob(SessionOptions, _JobTarget):
     pixel; exposure: the PNG's, in stops; time_limit (seconds, 0: none) only for unsplit frames. The fields from
     width to plan are the session's, as SessionOptions documents them (width None: the render settings prim's, else
     960; plan: job.plan_options, so workers plan frames as a local render does); they follow spp because dataclass
-    fields come base by base, the last base first.
+    fields come base by base, the last base first. products: render_products.RenderProductSpecs written instead of
+    plain outputs (their names and .png previews are then `outputs`; one session renders them all, so they share
+    its camera and size); png: a .png preview beside each .exr product.
     """
     exposure: float = 0.0
     time_limit: float = 0.0
+    products: tuple = ()
+    png: bool = False
 
     def __post_init__(self):
         super().__post_init__()
         # Workers run in other directories: relative paths would name other files there.
         object.__setattr__(self, "stage_path", os.path.abspath(self.stage_path))
         object.__setattr__(self, "outputs", tuple(os.path.abspath(o) for o in self.outputs))
+        object.__setattr__(self, "products", tuple(
+            dataclasses.replace(p, name=os.path.abspath(p.name)) for p in self.products))
+        if self.products:
+            object.__setattr__(self, "outputs", tuple(o for p in self.products for o in product_outputs(p, self.png)))
         if self.spp < 1:
             raise EyeRenderError("spp must be at least 1")
         if not self.outputs:
@@ -54,6 +63,13 @@ class RenderJob(SessionOptions, _JobTarget):
     def output_paths(self, frame):
         """The files frame `frame` (None: the single unanimated render) writes."""
         return frame_outputs(self.outputs, frame)
+
+    def frame_writes(self, frame):
+        """[(path, product or None)]: what frame `frame` writes, each product's files with it (None: a plain
+        output of every AOV)."""
+        if not self.products:
+            return [(path, None) for path in self.output_paths(frame)]
+        return [(path, p) for p in self.products for path in frame_outputs(product_outputs(p, self.png), frame)]
 
     def session_key(self):
         """What a cached RenderSession must match to be reused for another frame (everything but the time)."""

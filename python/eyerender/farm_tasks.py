@@ -122,6 +122,20 @@ def _frame_stats(session, frame, stats, load_seconds, job):
             "shutter": session.scene.shutter.describe() if session.scene.shutter.blurred else None}
 
 
+def write_outputs(job, frame, images, header, manifests=None):
+    """Writes frame `frame` of `job` from AOV images ({aov: float32 (h, w, c)}): each plain output with every AOV,
+    each render product with exactly its vars; header: the EXR attributes (the render plan), or None; manifests:
+    the cryptomatte layers' {name: id bits}."""
+    from .render_session import write_images, write_product_images
+
+    for path, product in job.frame_writes(frame):
+        if product is None:
+            write_images(path, images, job.exposure, attributes=header, manifests=manifests)
+        else:
+            write_product_images(path, product, images, header, job.exposure,
+                                 settings_path=job.render_settings_prim, manifests=manifests)
+
+
 @_forget_session_on_error
 def render_frame(job, frame, job_id=None, task=None):
     """Renders samples [0, job.spp) of `frame` (None: the stage's earliest time) and writes its outputs.
@@ -131,8 +145,8 @@ def render_frame(job, frame, job_id=None, task=None):
         progress = _Progress(job_id, task, frame, job.spp)
         stats = session.render(time, spp=job.spp, time_limit=job.time_limit, progress=progress)
         start = clock.perf_counter()
-        for path in job.output_paths(frame):
-            session.write(path, job.exposure)
+        images = {aov: session.image(aov) for aov in session.aovs}
+        write_outputs(job, frame, images, session.header(), session.manifests())
         result = _frame_stats(session, frame, stats, load_seconds, job)
     result.update(write_seconds=clock.perf_counter() - start, tasks=1, merge_seconds=0.0, uncertified_values=0,
                   rerendered_unsplit=False)
@@ -149,7 +163,8 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
         session, load_seconds, time = _session_for(job, frame)
         progress = _Progress(job_id, task, frame, spp)
         accumulators = {aov: RangeAccumulator(session.height, session.width, len(AOV_CHANNELS[aov]))
-                        for aov in session.aovs}
+                        for aov in session.buffer_aovs}
+        crypto = _range_coverage(session)
         start, rays, non_finite = clock.perf_counter(), 0, 0
         for i in range(spp):
             stats = session.render(time if i == 0 else None, spp=1, first_sample=first_sample + i)
@@ -157,17 +172,47 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
             for aov, accumulator in accumulators.items():
                 sums, counts = session.buffer_state(aov)
                 accumulator.add(sums, counts)
+            if crypto is not None:  # integer counts: merged exactly in any grouping
+                _merge_coverage(crypto, session.crypto.tables, session.crypto.manifests)
             progress(i + 1)
         stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": clock.perf_counter() - start,
                  "rays": rays, "non_finite_samples": non_finite}
-        return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators}
+        return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators,
+                "header": session.header(), "crypto": crypto}
+
+
+def _range_coverage(session):
+    """Empty coverage of the session's cryptomatte layers, {"tables": {layer: CoverageTable}, "manifests":
+    {layer: {name: id bits}}} (plain data a worker ships), or None without cryptomatte."""
+    if not session.crypto:
+        return None
+    from .cryptomatte import CoverageTable
+
+    return {"tables": {layer: CoverageTable(session.height, session.width) for layer in session.crypto_layers},
+            "manifests": {layer: {} for layer in session.crypto_layers}}
+
+
+def _merge_coverage(into, tables, manifests):
+    for layer, table in into["tables"].items():
+        table.merge(tables[layer])
+        into["manifests"][layer].update(manifests[layer])
+
+
+def _merged_coverage(parts):
+    """The ranges' cryptomatte coverage merged in sample order: ({layer: encoded image}, manifests), or ({}, {})."""
+    if parts[0].get("crypto") is None:
+        return {}, {}
+    merged = parts[0]["crypto"]
+    for part in parts[1:]:
+        _merge_coverage(merged, part["crypto"]["tables"], part["crypto"]["manifests"])
+    return {layer: table.encode() for layer, table in merged["tables"].items()}, merged["manifests"]
 
 
 def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
     """Merges a frame's sample ranges (render_samples results, in sample order), and writes the outputs. Where a
     value cannot be certified equal to the single-machine render's (farm_merge), `exact` re-renders the frame
     unsplit here instead; otherwise such values are within one float32 ulp. Returns the frame's statistics."""
-    from .render_session import resolve_states, write_images  # imported on use: pxr after the schema plugin
+    from .render_session import resolve_states  # imported on use: pxr after the schema plugin
 
     start = clock.perf_counter()
     states, uncertified = {}, 0
@@ -180,9 +225,10 @@ def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
         result.update(uncertified_values=uncertified, rerendered_unsplit=True, tasks=len(parts) + 1)
         return result
     images = resolve_states(states)
+    crypto_images, manifests = _merged_coverage(parts)
+    images.update(crypto_images)
     merge_seconds = clock.perf_counter() - start
-    for path in job.output_paths(frame):
-        write_images(path, images, job.exposure)
+    write_outputs(job, frame, images, parts[0].get("header"), manifests)  # every range planned the frame alike
     stats = [p["stats"] for p in parts]
     return {**stats[0], "samples_per_pixel": sum(s["samples_per_pixel"] for s in stats),
             "render_seconds": sum(s["render_seconds"] for s in stats), "rays": sum(s["rays"] for s in stats),
@@ -193,4 +239,4 @@ def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
             "rerendered_unsplit": False}
 
 
-__all__ = ["PROGRESS_TOPIC", "check_worker", "render_frame", "render_samples", "merge_and_write"]
+__all__ = ["PROGRESS_TOPIC", "check_worker", "write_outputs", "render_frame", "render_samples", "merge_and_write"]

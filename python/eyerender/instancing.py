@@ -40,6 +40,10 @@ class InstanceGroup:
     first_instance: Usd.Prim = None  # native groups: the instance whose proxies bind the prototype's materials
     instance_paths: list = dataclasses.field(default_factory=list)  # native groups: their instance prims' paths
     root_colors: list = dataclasses.field(default_factory=list)  # native groups: each instance root's displayColor
+    names: list = None  # each instance's stable name (cryptomatte.py): a native instance's path, `pi[id]` else
+
+    def instance_names(self):
+        return self.names if self.names is not None else [str(p) for p in self.instance_paths]
 
 
 def _instance_colors(instancer, time, count):
@@ -100,11 +104,12 @@ def _nested_instancers(root):
             yield prim
 
 
-def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=None):
+def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=None, names=None):
     """The instance groups of PointInstancer `prim` at `time`, whose local space is at each of `worlds`
     (Gf.Matrix4d, row vectors), nested PointInstancers flattened into groups of their own. base_time (default
     `time`): the time whose samples velocities extrapolate from and whose prototype indices and mask say which
-    instance is which (the frame's, for samples over a shutter: UsdGeom's baseTime)."""
+    instance is which (the frame's, for samples over a shutter: UsdGeom's baseTime). names: the path each of
+    `worlds` names prim by (default its own); an instance is `name[id]`, id its `ids` entry, else its index."""
     base_time = time if base_time is None else base_time
     instancer = UsdGeom.PointInstancer(prim)
     prototypes = instancer.GetPrototypesRel().GetTargets()
@@ -113,6 +118,9 @@ def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=No
     proto_indices = instancer.GetProtoIndicesAttr().Get(base_time) or []
     mask = instancer.ComputeMaskAtTime(base_time) or []
     colors = _instance_colors(instancer, base_time, len(proto_indices))
+    ids = instancer.GetIdsAttr().Get(base_time)
+    ids = list(ids) if ids is not None and len(ids) == len(proto_indices) else range(len(proto_indices))
+    names = names or [prim.GetPath().pathString] * len(worlds)
     prefix = prefix or prim.GetPath().pathString
     stage = prim.GetStage()
     for p, target in enumerate(prototypes):
@@ -123,13 +131,15 @@ def point_instancer_groups(prim, worlds, time, xforms, prefix=None, base_time=No
                    if index == p and (not mask or mask[k])]
         group_worlds = [transforms[k] * w for w in worlds for k in members]
         group_colors = [colors[k] for _ in worlds for k in members] if colors else None
+        group_names = [f"{name}[{ids[k]}]" for name in names for k in members]
         group_id = f"{prefix}/__prototype{p}"
-        yield InstanceGroup(group_id, root, group_worlds, group_colors)
+        yield InstanceGroup(group_id, root, group_worlds, group_colors, names=group_names)
         for nested in _nested_instancers(root):
             relative, _ = xforms.ComputeRelativeTransform(nested, root)
+            below = nested.GetPath().MakeRelativePath(root.GetPath().GetParentPath())
             yield from point_instancer_groups(
-                nested, [relative * w for w in group_worlds], time, xforms,
-                f"{group_id}/{nested.GetPath().MakeRelativePath(root.GetPath().GetParentPath())}", base_time)
+                nested, [relative * w for w in group_worlds], time, xforms, f"{group_id}/{below}", base_time,
+                [f"{name}/{below}" for name in group_names])
 
 
 def _matrices(worlds):
@@ -259,9 +269,11 @@ class Instancing:
         d = self.delegate
         for nested in _nested_instancers(group.root):
             relative, _ = d.xform_cache.ComputeRelativeTransform(nested, group.root)
-            prefix = f"{group.instancer_id}/{nested.GetPath().MakeRelativePath(group.root.GetPath())}"
+            below = nested.GetPath().MakeRelativePath(group.root.GetPath())
+            prefix = f"{group.instancer_id}/{below}"
+            names = [f"{name}/{below}" for name in group.instance_names()]
             for nested_group in point_instancer_groups(nested, [relative * w for w in group.worlds], d.time,
-                                                       d.xform_cache, prefix):
+                                                       d.xform_cache, prefix, names=names):
                 self._add_group(nested_group, proxy_prefix=None)
 
     # -- groups --------------------------------------------------------------------------------------------------
@@ -311,13 +323,16 @@ class Instancing:
             else:
                 relative_path = prim.GetPath().MakeRelativePath(group.root.GetPath())
                 binding = d.stage.GetPrimAtPath(proxy_prefix.AppendPath(relative_path))
+            names = [f"{name}/{relative_path}" for name in group.instance_names()]
             if prim in shared:
-                d.add_instanced_prim(prim, f"{group.instancer_id}/{relative_path}", relative, group.instancer_id,
-                                      binding)
+                prim_id = f"{group.instancer_id}/{relative_path}"
+                d.add_instanced_prim(prim, prim_id, relative, group.instancer_id, binding)
+                d.instance_names[prim_id] = names
                 continue
             for k, world in enumerate(group.worlds):
                 prim_id = f"{group.instancer_id}/instance_{k}/{relative_path}"
                 d.add_instanced_prim(prim, prim_id, relative * world, "", binding)
+                d.instance_names[prim_id] = [names[k]]
                 if group.colors and prim.IsA(UsdGeom.Gprim):  # eyes keep their own colours
                     color = np.array([group.colors[k]], dtype=np.float32)
                     d.store.set_primvar(prim_id, "displayColor", "constant", color)

@@ -31,7 +31,8 @@ class SessionOptions:
     width, height: pixels (width None: the render settings prim's, else DEFAULT_WIDTH; height None: the camera's
     aperture ratio); camera: a prim path or name (None: RenderSession's default); aovs: names from AOV_NAMES;
     render_settings_prim: a UsdRender.Settings prim path whose resolution, camera and first product's AOVs fill in
-    what the options leave open; purposes: UsdGeom purposes besides "default"; refine_level: Catmull-Clark levels;
+    what the options leave open; purposes: UsdGeom purposes besides "default" (None: the render settings prim's
+    authored includedPurposes, else proxy, usdrecord's default); refine_level: Catmull-Clark levels;
     cornea_model: "ellipsoidCone"/"paraboloid" for every eye (None: as authored); settings: RenderSettings
     overrides as (name, value) pairs; plan: what the render plan may not decide (plan_options: e.g.
     (("mnee", False),)); () plans everything, None renders with no plan (the settings as given);
@@ -47,7 +48,7 @@ class SessionOptions:
     camera: Optional[str] = None
     aovs: tuple[str, ...] = ()
     render_settings_prim: Optional[str] = None
-    purposes: tuple[str, ...] = ("default", "proxy")
+    purposes: Optional[tuple[str, ...]] = ("default", "proxy")
     refine_level: int = 2
     cornea_model: Optional[str] = None
     settings: tuple[tuple[str, object], ...] = ()
@@ -63,7 +64,7 @@ class SessionOptions:
 
     def normalised(self):
         """The fields that have one canonical form, in it: sequences as tuples, settings sorted by name."""
-        return {"aovs": tuple(self.aovs), "purposes": tuple(self.purposes),
+        return {"aovs": tuple(self.aovs), "purposes": None if self.purposes is None else tuple(self.purposes),
                 "settings": tuple(sorted(dict(self.settings).items())),
                 "shutter": None if self.shutter is None else tuple(float(v) for v in self.shutter)}
 
@@ -77,7 +78,8 @@ def session_options(args):
     return SessionOptions(
         width=args.imageWidth, height=args.imageHeight, camera=args.camera, aovs=tuple(args.aov or ()),
         render_settings_prim=args.renderSettingsPrimPath, render_pass_prim=args.renderPassPrimPath,
-        camera_light=not args.disableCameraLight, purposes=parse_purposes(args.purposes),
+        camera_light=not args.disableCameraLight,
+        purposes=None if args.purposes is None else parse_purposes(args.purposes),
         refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], cornea_model=args.cornea_model,
         settings=(("seed", args.seed), ("threads", args.threads), ("max_depth", args.max_depth),
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
@@ -244,6 +246,42 @@ def image_options(stage, options):
     return width, height, camera, aovs
 
 
+def session_purposes(stage, options):
+    """The UsdGeom purposes a session renders: the options', else the render settings prim's authored
+    includedPurposes, else proxy (usdrecord's --purposes default)."""
+    from .render_products import included_purposes
+
+    if options.purposes is not None:
+        return options.purposes
+    return included_purposes(stage, render_settings_path(stage, options)) or ("proxy",)
+
+
+def product_sessions(stage, options, warn):
+    """The render settings prim's products grouped by what a session renders: [(SessionOptions, [products])],
+    one group per (camera, width, height), whose AOVs are those its products' vars need. The options' camera and
+    size win over the products' (an explicit width with the height following the camera, as usdrecord).
+    `warn(line)` takes one line per var or product that cannot be written; none at all is an EyeRenderError."""
+    from .render_products import read_products
+
+    settings_path = render_settings_path(stage, options)
+    if not settings_path:
+        raise EyeRenderError("no outputImagePath and no render settings prim (-rs, -rp or the stage's "
+                             "renderSettingsPrimPath) whose products say what to write")
+    products = read_products(stage, settings_path, warn)
+    if not products:
+        raise EyeRenderError(f"{settings_path}: no render product to write (give an outputImagePath)")
+    groups = {}
+    for product in products:
+        camera = options.camera or product.camera
+        width, height = (options.width, options.height) if options.width else \
+            (product.width, options.height or product.height)
+        groups.setdefault((camera, width, height), []).append(product)
+    return [(dataclasses.replace(options, camera=camera, width=width, height=height,
+                                 aovs=tuple(dict.fromkeys(a for p in group for a in p.aovs)),
+                                 render_settings_prim=settings_path, render_pass_prim=None), group)
+            for (camera, width, height), group in groups.items()]
+
+
 def open_session(stage, options, time=None):
     """A RenderSession of `stage` made from SessionOptions, at frame `time` (None: the stage's start time code,
     usdrecord's time without --frames; DEFAULT_TIME: the default time)."""
@@ -253,7 +291,8 @@ def open_session(stage, options, time=None):
 
     width, height, camera, aovs = image_options(stage, options)
     shutter = settings_override(stage, render_settings_path(stage, options), options.shutter)
-    return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs, purposes=options.purposes,
+    return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs,
+                         purposes=session_purposes(stage, options),
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
                          camera_light=options.camera_light,
@@ -265,4 +304,5 @@ def open_session(stage, options, time=None):
 __all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
-           "render_settings_path", "read_render_settings", "image_options", "open_session"]
+           "render_settings_path", "read_render_settings", "image_options", "session_purposes", "product_sessions",
+           "open_session"]

@@ -11,6 +11,8 @@ from . import cameras
 from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
 from .aovs import AOV_CHANNELS
 from .camera_light import add_camera_light, follow_camera
+from .cryptomatte import HIT_AOV, header_attributes
+from .cryptomatte import TYPES as CRYPTO_TYPES
 from .errors import EyeRenderError
 from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .plan import PlanOverrides, plan_json
@@ -74,12 +76,28 @@ class RenderSession:
         self.camera_light = camera_light and not self.scene.lights
         if self.camera_light:
             add_camera_light(self.store, self._camera_to_world())
-        for aov in self.aovs:
+        for aov in self.buffer_aovs:
             self.store.add_render_buffer(self._buffer_id(aov), self.width, self.height, len(AOV_CHANNELS[aov]))
+        self.crypto = None  # cryptomatte layers' coverage, accumulated from the hitId AOV pass by pass
+        if self.crypto_layers:
+            from .cryptomatte_session import CryptoCoverage
+
+            self.store.add_render_buffer(self._buffer_id(HIT_AOV), self.width, self.height, 3)
+            self.crypto = CryptoCoverage(self.scene, self.crypto_layers, self.height, self.width)
         self.render_pass = RenderPass(self.index)
         self.stats = None
         self.plan_overrides = plan_overrides
         self.last_plan = None  # the RenderPlan of the last frame planned (plan_overrides set)
+
+    @property
+    def crypto_layers(self):
+        """The cryptomatte layers among the AOVs (CryptoObject, CryptoMaterial, CryptoAsset)."""
+        return [a for a in self.aovs if a in CRYPTO_TYPES]
+
+    @property
+    def buffer_aovs(self):
+        """The AOVs held in render buffers (all but the cryptomatte layers)."""
+        return [a for a in self.aovs if a not in CRYPTO_TYPES]
 
     @staticmethod
     def _buffer_id(aov):
@@ -146,8 +164,10 @@ class RenderSession:
             self.scene.set_time(time)
             if self.camera_light:
                 follow_camera(self.store, self._camera_to_world())
-        for aov in self.aovs:
+        for aov in self.buffer_aovs:
             self.index.clear_buffer(self._buffer_id(aov))
+        if self.crypto:
+            self.crypto.reset()
         settings = self.delegate.settings
         if self.plan_overrides is not None:
             self.last_plan = self.plan()
@@ -155,14 +175,21 @@ class RenderSession:
         else:
             clear_render_plan(self.index)  # no plan: no eye keeps a switch from an earlier planned frame
             self.last_plan = None
-        bindings = [(aov, self._buffer_id(aov)) for aov in self.aovs]
+        bindings = [(aov, self._buffer_id(aov)) for aov in self.buffer_aovs]
+        if self.crypto:
+            bindings.append((HIT_AOV, self._buffer_id(HIT_AOV)))
         start, rays, done, non_finite = clock.perf_counter(), 0, 0, 0
         while done < spp:
             settings.first_sample, settings.samples_per_pixel = first_sample + done, 1
+            if self.crypto:  # the pass's own sample alone
+                self.index.clear_buffer(self._buffer_id(HIT_AOV))
             try:
                 stats = self.render_pass.execute(self.camera_id, bindings)
             except RuntimeError as e:  # bad prim data found at sync: already one line naming the prim
                 raise EyeRenderError(str(e)) from None
+            if self.crypto:
+                sums, counts = self.index.buffer_state(self._buffer_id(HIT_AOV))
+                self.crypto.add_pass(sums, counts, self.render_pass.prim_ids_by_index())
             done, rays, non_finite = done + stats.passes, rays + stats.rays, non_finite + stats.non_finite_samples
             elapsed = clock.perf_counter() - start
             if progress:
@@ -178,7 +205,9 @@ class RenderSession:
         return self.stats
 
     def image(self, aov):
-        """An AOV's pixels, float32 (height, width, components)."""
+        """An AOV's pixels, float32 (height, width, components); a cryptomatte layer's ranked ids and coverage."""
+        if aov in CRYPTO_TYPES:
+            return self.crypto.tables[aov].encode()
         return self.index.resolved(self._buffer_id(aov))
 
     def buffer_state(self, aov):
@@ -200,9 +229,23 @@ class RenderSession:
         .png (the colour after `exposure` stops, encoded by `color_correction`, one of COLOR_CORRECTION_MODES).
         Atomic. denoise: also the OIDN-denoised beauty (eyerender.denoise; the session must render the albedo and
         normal AOVs)."""
-        attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
-        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=attributes,
-                     color_correction=color_correction, denoise=denoise)
+        write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=self.header(),
+                     color_correction=color_correction, denoise=denoise, manifests=self.manifests())
+
+    def header(self):
+        """The EXR header attributes of this frame's outputs: the render plan's JSON when the session plans (the
+        writers add each cryptomatte layer's metadata, named as its channels are)."""
+        return {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
+
+    def manifests(self):
+        """{cryptomatte layer: {name: id bits}} of the last frame."""
+        return dict(self.crypto.manifests) if self.crypto else {}
+
+    def write_product(self, path, product, exposure=0.0, color_correction="sRGB", settings_path=None):
+        """Writes a render product (render_products.RenderProductSpec, whose vars' AOVs this session renders) at
+        `path` (write_product_images). Atomic."""
+        write_product_images(path, product, {aov: self.image(aov) for aov in self.aovs}, self.header(), exposure,
+                             color_correction, settings_path, self.manifests())
 
 
 def _srgb_to_linear(x):
@@ -218,11 +261,13 @@ def _write_png(path, rgb, exposure, color_correction):
     write_png_preview(path, rgb, exposure)
 
 
-def write_images(path, images, exposure=0.0, attributes=None, color_correction="sRGB", denoise=False):
+def write_images(path, images, exposure=0.0, attributes=None, color_correction="sRGB", denoise=False,
+                 manifests=None):
     """Writes AOV images ({name: float32 (height, width, components)}, "color" first) to `path` as
     RenderSession.write does. Atomic. attributes: {name: string} for the EXR header (ignored for PNG).
     denoise: the beauty denoised with the albedo and normal images as guides goes beside the raw one, never over
-    it: channels denoised.R/G/B in an .exr, `<name>.denoised.png` beside a .png."""
+    it: channels denoised.R/G/B in an .exr, `<name>.denoised.png` beside a .png. manifests: {cryptomatte layer:
+    {name: id bits}} of the cryptomatte layers among the images, for their header metadata."""
     from .denoise import DENOISED_CHANNELS, GUIDE_AOVS, denoise_beauty, denoised_png_path
 
     if color_correction not in COLOR_CORRECTION_MODES:
@@ -244,13 +289,29 @@ def write_images(path, images, exposure=0.0, attributes=None, color_correction="
                 planes += [(name, np.ascontiguousarray(pixels[:, :, c])) for c, name in enumerate(AOV_CHANNELS[aov])]
             if denoised is not None:
                 planes += [(name, np.ascontiguousarray(denoised[:, :, c])) for c, name in enumerate(DENOISED_CHANNELS)]
-            write_exr(path, planes, list((attributes or {}).items()))
+            header = dict(attributes or {})
+            for layer, manifest in (manifests or {}).items():
+                if layer in images:
+                    header.update(header_attributes(layer, manifest))
+            write_exr(path, planes, list(header.items()))
         else:
             _write_png(path, images["color"], exposure, color_correction)
             if denoised is not None:
                 _write_png(denoised_png_path(path), denoised, exposure, color_correction)
     except RuntimeError as e:
         raise EyeRenderError(str(e)) from None
+
+
+def write_product_images(path, product, images, attributes=None, exposure=0.0, color_correction="sRGB",
+                         settings_path=None, manifests=None):
+    """Writes a render product from AOV images ({aov: float32 (h, w, c)}): an .exr holds exactly its vars'
+    channels (product_output.write_product_exr), a .png the beauty as write_images writes it. Atomic."""
+    from .product_output import write_product_exr
+
+    if path.lower().endswith(".exr"):
+        write_product_exr(path, product, images, attributes, settings_path, manifests)
+    else:
+        write_images(path, {"color": images["color"]}, exposure, color_correction=color_correction)
 
 
 def resolve_states(states):
@@ -291,4 +352,4 @@ def check_writable(path):
 
 
 __all__ = ["RenderSession", "AOV_CHANNELS", "MAX_ASPECT", "MAX_PIXELS", "check_image_size", "check_writable",
-           "write_images", "resolve_states"]
+           "write_images", "write_product_images", "resolve_states"]

@@ -79,6 +79,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self._xforms = UsdGeom.XformCache(self.time)
         self._updaters = []      # (owner prim path, kind, callable(time)) for what varies in time
         self._owned = {}         # owner prim path -> delegate prim ids it added
+        # Instanced rprims: the prim they were made from, the prim whose material they bind, and each instance's
+        # name (cryptomatte.py); an rprim of a prim of its own is named by its id, the prim's path.
+        self.instanced_prims = {}  # rprim id -> (prim, binding prim)
+        self.instance_names = {}  # rprim id -> [name of instance 0, 1, ...]
         self._owner = None       # the prim _add_prim is adding
         self._instance_sources = {}  # prim path an instancer reads -> owner prim paths it re-populates (owning)
         self._skipped = set()    # owner prim paths skipped (a later edit may fix them: stage_notices re-adds)
@@ -331,6 +335,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         """A prim of an instance prototype (instancing.py): `transform` is relative to the instancer's instances
         (or the world, with no instancer_id); `binding`: the prim whose bound material it gets. One that cannot be
         rendered is left out with one warning; the rest of the prototype still renders."""
+        self.instanced_prims[prim_id] = (prim, binding or prim)
         updaters = len(self._updaters)
         try:
             with reading(prim.GetPath()):

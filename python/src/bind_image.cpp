@@ -8,10 +8,12 @@
 #include <nanobind/stl/map.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
 #include <cstring>
 #include <stdexcept>
+#include <tuple>
 
 namespace hdeye::python {
 namespace {
@@ -22,6 +24,26 @@ OIIO::TypeDesc PixelType(const std::string& name) {
   if (name == "half") return OIIO::TypeDesc::HALF;
   if (name == "float") return OIIO::TypeDesc::FLOAT;
   throw std::invalid_argument("pixel type '" + name + "' is not one of uint8, uint16, half, float");
+}
+
+ChannelType ChannelTypeOf(const std::string& name) {
+  if (name == "float") return ChannelType::kFloat;
+  if (name == "half") return ChannelType::kHalf;
+  throw std::invalid_argument("channel type '" + name + "' is not one of float, half");
+}
+
+using PlaneArg = std::tuple<std::string, InArray<float, nb::ndim<2>>, std::string>;
+
+/// The planes of one part, each (height, width) of the data window.
+ImagePart PartOf(const std::string& name, const std::vector<PlaneArg>& planes, int w, int h) {
+  ImagePart part{name, {}};
+  for (const auto& [channel, a, type] : planes) {
+    if (int(a.shape(0)) != h || int(a.shape(1)) != w)
+      throw std::invalid_argument("write_exr_parts: plane " + channel + " is not " + std::to_string(h) + " x " +
+                                  std::to_string(w));
+    part.planes.push_back({channel, std::vector<float>(a.data(), a.data() + a.size()), ChannelTypeOf(type)});
+  }
+  return part;
 }
 
 }  // namespace
@@ -45,6 +67,27 @@ void BindImage(nb::module_& m) {
       nb::arg("path"), nb::arg("planes"), nb::arg("attributes") = std::vector<std::pair<std::string, std::string>>{},
       "Writes named float planes (each (height, width)) as one EXR, atomically; attributes: [(name, value)] "
       "string attributes for the header (e.g. ('eyerender:plan', json)).");
+  m.def(
+      "write_exr_parts",
+      [](const std::string& path, int width, int height,
+         const std::vector<std::pair<std::string, std::vector<PlaneArg>>>& parts,
+         const std::vector<std::pair<std::string, std::string>>& attributes,
+         const std::tuple<int, int, int, int>& dataWindow, bool multiPart) {
+        const auto [x0, y0, x1, y1] = dataWindow;
+        const bool whole = x1 < x0 || y1 < y0;
+        const int w = whole ? width : x1 - x0 + 1, h = whole ? height : y1 - y0 + 1;
+        std::vector<ImagePart> out;
+        for (const auto& [name, planes] : parts) out.push_back(PartOf(name, planes, w, h));
+        nb::gil_scoped_release release;
+        WriteExrParts(path, width, height, out, attributes, PixelWindow{x0, y0, x1, y1}, multiPart);
+      },
+      nb::arg("path"), nb::arg("width"), nb::arg("height"), nb::arg("parts"),
+      nb::arg("attributes") = std::vector<std::pair<std::string, std::string>>{},
+      nb::arg("data_window") = std::make_tuple(0, 0, -1, -1), nb::arg("multi_part") = false,
+      "Writes an EXR of display size width x height, atomically: parts [(part name, [(channel, float32 "
+      "(rows, columns) of the data window, 'float' | 'half')])]; data_window (x0, y0, x1, y1) inclusive, rows top "
+      "down ((0, 0, -1, -1): the whole image); several parts, or multi_part, make a multi-part EXR whose parts "
+      "are named as given; attributes: string header attributes of every part.");
   m.def("read_exr_attributes", &ReadExrStringAttributes, nb::arg("path"),
         "Every string attribute of an EXR's header, {name: value}.");
   m.def(

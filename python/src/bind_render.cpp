@@ -98,7 +98,9 @@ void BindRender(nb::module_& m) {
           "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
       .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"), nb::arg("overrides"),
            nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
-           "Syncs the index and returns the render plan for the camera and image size, without rendering.");
+           "Syncs the index and returns the render plan for the camera and image size, without rendering.")
+      .def("prim_ids_by_index", &RenderPass::PrimIdsByIndex,
+           "The rprim id of each primIndex (the primId and hitId AOVs' values) of the last execute, in order.");
 }
 
 }  // namespace hdeye::python

@@ -6,6 +6,7 @@ schedulers or stages give one-line errors.
 Two clusters serve the module: a LocalCluster of 2 worker processes (eyerender.farm.Farm(workers=2)), and a
 scheduler plus 2 workers started as `python -m distributed.cli.dask_*` subprocesses, driven through --scheduler.
 """
+import json
 import os
 import signal
 import socket
@@ -21,6 +22,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 distributed = pytest.importorskip("distributed", reason="the farm extra is not installed (pip install .[farm])")
 from pxr import Sdf, Usd, UsdGeom, UsdShade, Vt  # noqa: E402
 
+from eyerender._hdeye import read_exr_attributes  # noqa: E402
 from eyerender.eyerecord import main  # noqa: E402
 from eyerender.farm import Farm, RenderJob  # noqa: E402
 from eyerender.farm_merge import RangeAccumulator, certify, merge  # noqa: E402
@@ -147,6 +149,85 @@ def test_a_frame_split_into_sample_ranges_is_bit_identical_to_the_unsplit_frame(
     stats = local_farm.submit_frame(job_for(tmp_path, "split", spp=spp, width=32), frame, split=3).result()
     assert stats["rerendered_unsplit"] == (stats["uncertified_values"] > 0)
     assert_same_bits(expected, tmp_path / "split_0009.exr", "split frame")
+
+
+def products_stage(tmp):
+    """SAMPLE under render settings with two products: the beauty, depth and a cryptomatte of objects; albedo
+    (half), normal and the iris light in a multi-part file."""
+    from pxr import Gf, UsdRender
+
+    path = tmp / "products.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    stage.GetRootLayer().subLayerPaths.append(SAMPLE)
+    names = {}
+    for name, source, data_type in (("beauty", "color", "color4f"), ("depth", "depth", "float"),
+                                    ("albedo", "albedo", "color3h"), ("N", "normal", "normal3f"),
+                                    ("iris", "irisMnee", "color3f"), ("objects", "CryptoObject", "float")):
+        var = UsdRender.Var.Define(stage, f"/Render/Vars/{name}")
+        var.CreateSourceNameAttr(source)
+        var.CreateDataTypeAttr(data_type)
+        names[name] = var.GetPath()
+    products = []
+    for name, variables in (("main", ("beauty", "depth", "objects")), ("aovs", ("albedo", "N", "iris"))):
+        product = UsdRender.Product.Define(stage, f"/Render/Products/{name}")
+        product.CreateProductNameAttr(str(tmp / "local" / f"{name}.####.exr"))
+        product.CreateOrderedVarsRel().SetTargets([names[v] for v in variables])
+        products.append(product.GetPath())
+    stage.GetPrimAtPath(products[1]).CreateAttribute("eyerender:multiPart", Sdf.ValueTypeNames.Bool).Set(True)
+    settings = UsdRender.Settings.Define(stage, "/Render/Settings")
+    settings.CreateResolutionAttr(Gf.Vec2i(WIDTH, WIDTH))
+    settings.CreateProductsRel().SetTargets(products)
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Settings")
+    stage.GetRootLayer().Save()
+    (tmp / "local").mkdir()
+    return path
+
+
+def exr_parts_bits(path):
+    """{(part, channel): uint32 or uint16 bits} of every channel of every part of an EXR (part None: single)."""
+    import OpenEXR
+
+    parts = OpenEXR.File(str(path), separate_channels=True).parts
+    return {(part.name(), name): channel.pixels.view(np.uint16 if channel.pixels.dtype == np.float16 else np.uint32)
+            for part in parts for name, channel in part.channels.items()}
+
+
+def test_a_split_frame_of_render_products_merges_every_var_bit_identical_to_the_local_render(local_farm, tmp_path):
+    import dataclasses
+
+    from eyerender.eyerecord import build_parser
+    from eyerender.job import open_stage, product_sessions, session_options
+
+    pytest.importorskip("OpenEXR", reason="the openexr Python package reads multi-part files")
+    stage_path, frame, spp = products_stage(tmp_path), 2.0, 5
+    assert main([str(stage_path), "--spp", str(spp), "--frames", "2", "-q"]) == 0
+    args = build_parser().parse_args([str(stage_path)])
+    ((options, products),) = product_sessions(open_stage(str(stage_path)), session_options(args), print)
+    farm_products = tuple(dataclasses.replace(p, name=p.name.replace("/local/", "/")) for p in products)
+    job = RenderJob.from_options(str(stage_path), (), options, spp=spp, products=farm_products)
+    stats = local_farm.submit_frame(job, frame, split=3).result()
+    assert stats["tasks"] >= 4 and stats["samples_per_pixel"] == spp
+    for name in ("main.0002.exr", "aovs.0002.exr"):
+        expected, merged = exr_parts_bits(tmp_path / "local" / name), exr_parts_bits(tmp_path / name)
+        assert set(merged) == set(expected), name
+        for key, bits in expected.items():
+            assert np.count_nonzero(bits != merged[key]) == 0, f"{name} {key}: differs from the local render"
+    assert {c for _, c in exr_parts_bits(tmp_path / "main.0002.exr")} >= {"objects00.R", "objects02.A", "depth"}
+    # Merged whatever the float certificates say: the cryptomatte's coverage is integer counts, exact in any split.
+    merged_job = dataclasses.replace(job, products=tuple(
+        dataclasses.replace(p, name=p.name.replace("/local/", "/merged_")) for p in products))
+    stats = local_farm.submit_frame(merged_job, frame, split=3, exact=False).result()
+    assert not stats["rerendered_unsplit"]
+    expected = exr_parts_bits(tmp_path / "local" / "main.0002.exr")
+    merged = exr_parts_bits(tmp_path / "merged_main.0002.exr")
+    crypto = [key for key in expected if key[1].startswith("objects")]
+    assert len(crypto) == 12 and all(np.array_equal(expected[k], merged[k]) for k in crypto)
+    headers = [read_exr_attributes(str(d / "main.0002.exr")) for d in (tmp_path / "local", tmp_path)]
+    manifests = [{k: v for k, v in h.items() if k.startswith("cryptomatte/")} for h in headers]
+    assert manifests[0] == manifests[1] and len(json.loads(next(v for k, v in manifests[0].items()
+                                                                 if k.endswith("manifest")))) >= 2
+    assert sorted(part for part, _ in exr_parts_bits(tmp_path / "aovs.0002.exr")) == \
+        ["N"] * 3 + ["albedo"] * 3 + ["iris"] * 3
 
 
 def test_merge_certificates_flag_a_value_on_a_float32_rounding_boundary():

@@ -1,10 +1,14 @@
 #include "hdeye/image/imageWriter.h"
 
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenImageIO/imageio.h>
@@ -92,54 +96,129 @@ void WriteAtomically(const std::string& path, const std::function<void(const std
 
 }  // namespace
 
-void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
-              const std::vector<std::pair<std::string, std::string>>& attributes) {
-  if (width <= 0 || height <= 0)
-    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
-  if (planes.empty()) Fail("write", path, "no image planes given");
+namespace {
+
+/// Fails (writing nothing) unless every plane of `part` has a unique non-empty name and width x height finite values.
+void CheckPlanes(const std::string& path, int width, int height, const ImagePart& part) {
+  if (part.planes.empty()) Fail("write", path, "no image planes given");
   std::set<std::string> names;
-  for (const ImagePlane& plane : planes) {
+  for (const ImagePlane& plane : part.planes) {
     if (plane.name.empty()) Fail("write", path, "a plane has an empty name");
     if (!names.insert(plane.name).second) Fail("write", path, "duplicate plane name \"" + plane.name + "\"");
     const std::string bad = CheckPixels("plane \"" + plane.name + "\"", width, height, 1, plane.pixels);
     if (!bad.empty()) Fail("write", path, bad);
   }
+}
+
+void CheckAttributes(const std::string& path, const std::vector<std::pair<std::string, std::string>>& attributes) {
+  // The attributes every header has; an extra attribute of the same name would replace them.
+  const Imf::Header required(1, 1);
+  std::set<std::string> attributeNames;
+  for (const auto& [name, value] : attributes) {
+    if (name.empty()) Fail("write", path, "a header attribute has an empty name");
+    if (!attributeNames.insert(name).second) Fail("write", path, "duplicate header attribute \"" + name + "\"");
+    if (required.find(name) != required.end() || name == "name" || name == "type")
+      Fail("write", path, "header attribute \"" + name + "\" is one of OpenEXR's required attributes");
+  }
+}
+
+/// A part's header and frame buffer over `floats` and `halves` (its FLOAT and HALF planes: OpenEXR's writer
+/// does not convert, so a HALF channel needs half pixels; beyond +-HALF_MAX they are clamped to it).
+struct PartBuffers {
+  Imf::Header header;
+  Imf::FrameBuffer frameBuffer;
+  std::vector<std::vector<Imath::half>> halves;
+};
+
+PartBuffers MakePart(const Imath::Box2i& display, const Imath::Box2i& data, const ImagePart& part,
+                     const std::vector<std::pair<std::string, std::string>>& attributes, bool named) {
+  PartBuffers out{Imf::Header(display, data), {}, {}};
+  out.header.compression() = Imf::ZIP_COMPRESSION;
+  if (named) {
+    out.header.setName(part.name);
+    out.header.setType(Imf::SCANLINEIMAGE);
+  }
+  for (const auto& [name, value] : attributes) out.header.insert(name, Imf::StringAttribute(value));
+  constexpr float kHalfMax = 65504.0f;
+  out.halves.reserve(part.planes.size());  // no reallocation: the frame buffer points into them
+  for (const ImagePlane& plane : part.planes) {
+    const bool half = plane.type == ChannelType::kHalf;
+    out.header.channels().insert(plane.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+    if (!half) {
+      // OpenEXR's Slice takes a non-const pointer for reading and writing alike; it only reads here.
+      auto* base = const_cast<float*>(plane.pixels.data());
+      out.frameBuffer.insert(plane.name, Imf::Slice::Make(Imf::FLOAT, base, data));
+      continue;
+    }
+    auto& halves = out.halves.emplace_back(plane.pixels.size());
+    for (std::size_t i = 0; i < halves.size(); ++i) halves[i] = std::clamp(plane.pixels[i], -kHalfMax, kHalfMax);
+    out.frameBuffer.insert(plane.name, Imf::Slice::Make(Imf::HALF, halves.data(), data));
+  }
+  return out;
+}
+
+/// Writes the parts through our own ofstream, not a file name: ~OutputFile writes the line offset table and
+/// swallows any error there, so the stream state is the only way to learn that the write failed.
+void WriteParts(const std::string& tmp, std::vector<PartBuffers>& parts, int rows, bool multiPart) {
+  std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
+  if (!file) throw std::runtime_error("cannot create temporary file " + tmp + " (" + std::strerror(errno) + ")");
   {
-    // The attributes every header has; an extra attribute of the same name would replace them.
-    const Imf::Header required(1, 1);
-    std::set<std::string> attributeNames;
-    for (const auto& [name, value] : attributes) {
-      if (name.empty()) Fail("write", path, "a header attribute has an empty name");
-      if (!attributeNames.insert(name).second) Fail("write", path, "duplicate header attribute \"" + name + "\"");
-      if (required.find(name) != required.end())
-        Fail("write", path, "header attribute \"" + name + "\" is one of OpenEXR's required attributes");
+    Imf::StdOFStream stream(file, tmp.c_str());
+    if (!multiPart) {
+      Imf::OutputFile out(stream, parts[0].header);
+      out.setFrameBuffer(parts[0].frameBuffer);
+      out.writePixels(rows);
+    } else {
+      std::vector<Imf::Header> headers;
+      for (const PartBuffers& part : parts) headers.push_back(part.header);
+      Imf::MultiPartOutputFile out(stream, headers.data(), int(headers.size()));
+      for (std::size_t i = 0; i < parts.size(); ++i) {
+        Imf::OutputPart part(out, int(i));
+        part.setFrameBuffer(parts[i].frameBuffer);
+        part.writePixels(rows);
+      }
     }
   }
+  file.close();
+  if (file.fail()) throw std::runtime_error("error writing temporary file " + tmp);
+}
 
+}  // namespace
+
+void WriteExrParts(const std::string& path, int width, int height, const std::vector<ImagePart>& parts,
+                   const std::vector<std::pair<std::string, std::string>>& attributes, const PixelWindow& dataWindow,
+                   bool multiPart) {
+  if (width <= 0 || height <= 0)
+    Fail("write", path, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
+  if (parts.empty()) Fail("write", path, "no image parts given");
+  const Imath::Box2i display({0, 0}, {width - 1, height - 1});
+  const bool whole = dataWindow.x1 < dataWindow.x0 || dataWindow.y1 < dataWindow.y0;
+  const Imath::Box2i data =
+      whole ? display : Imath::Box2i({dataWindow.x0, dataWindow.y0}, {dataWindow.x1, dataWindow.y1});
+  if (data.min.x < 0 || data.min.y < 0 || data.max.x >= width || data.max.y >= height)
+    Fail("write", path,
+         "the data window is outside the " + std::to_string(width) + "x" + std::to_string(height) + " display window");
+  multiPart = multiPart || parts.size() > 1;
+  std::set<std::string> partNames;
+  for (const ImagePart& part : parts) {
+    CheckPlanes(path, data.max.x - data.min.x + 1, data.max.y - data.min.y + 1, part);
+    if (multiPart && (part.name.empty() || !partNames.insert(part.name).second))
+      Fail("write", path, "a part of a multi-part file needs a name of its own (\"" + part.name + "\")");
+  }
+  CheckAttributes(path, attributes);
   WriteAtomically(path, [&](const std::string& tmp) {
-    Imf::Header header(width, height);  // data window = display window = (0,0)-(w-1,h-1)
-    header.compression() = Imf::ZIP_COMPRESSION;
-    for (const auto& [name, value] : attributes) header.insert(name, Imf::StringAttribute(value));
-    Imf::FrameBuffer frameBuffer;
-    for (const ImagePlane& plane : planes) {
-      header.channels().insert(plane.name, Imf::Channel(Imf::FLOAT));
-      // OpenEXR's Slice takes a non-const pointer for reading and writing alike; it only reads here.
-      char* base = reinterpret_cast<char*>(const_cast<float*>(plane.pixels.data()));
-      frameBuffer.insert(plane.name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * width));
-    }
-    // Our own ofstream, not OutputFile(fileName): ~OutputFile writes the line offset table and
-    // swallows any error there, so the stream state is the only way to learn that the write failed.
-    std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-    if (!file) throw std::runtime_error("cannot create temporary file " + tmp + " (" + std::strerror(errno) + ")");
-    {
-      Imf::StdOFStream stream(file, tmp.c_str());
-      Imf::OutputFile out(stream, header);
-      out.setFrameBuffer(frameBuffer);
-      out.writePixels(height);
-    }
-    file.close();
-    if (file.fail()) throw std::runtime_error("error writing temporary file " + tmp);
+    // Reserved: a reallocation may copy a PartBuffers (Imf::Header's move is not noexcept), and its frame buffer
+    // would then point into the old copy's half pixels.
+    std::vector<PartBuffers> buffers;
+    buffers.reserve(parts.size());
+    for (const ImagePart& part : parts) buffers.push_back(MakePart(display, data, part, attributes, multiPart));
+    WriteParts(tmp, buffers, data.max.y - data.min.y + 1, multiPart);
   });
+}
+
+void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
+              const std::vector<std::pair<std::string, std::string>>& attributes) {
+  WriteExrParts(path, width, height, {ImagePart{"", planes}}, attributes);
 }
 
 std::vector<ImagePlane> ReadExr(const std::string& path, int* width, int* height) {

@@ -12,11 +12,26 @@
 
 namespace hdeye {
 
-/// A named float image plane, row-major, top row first, width*height values.
+/// How a plane is stored in an EXR: a 32-bit FLOAT or a 16-bit HALF channel.
+enum class ChannelType { kFloat, kHalf };
+
+/// A named float image plane, row-major, top row first, width*height values (of the data window).
 /// The name is the EXR channel name as is: "R", "albedo.R", "N.X", "depth.Z", "primId", "irisMnee.R".
 struct ImagePlane {
   std::string name;
   std::vector<float> pixels;
+  ChannelType type = ChannelType::kFloat;  ///< kHalf: values beyond +-65504 (HALF_MAX) are clamped to it
+};
+
+/// One part of a multi-part EXR: its name (the header's "name" attribute) and its planes.
+struct ImagePart {
+  std::string name;
+  std::vector<ImagePlane> planes;
+};
+
+/// Pixel bounds within the display window, inclusive, rows top down (OpenEXR's Box2i).
+struct PixelWindow {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
 };
 
 /// Writes `planes` as one single-part scanline EXR of width x height pixels (data and display window
@@ -32,6 +47,16 @@ struct ImagePlane {
 /// required attributes (channels, compression, dataWindow, ...) is an error, writing nothing.
 void WriteExr(const std::string& path, int width, int height, const std::vector<ImagePlane>& planes,
               const std::vector<std::pair<std::string, std::string>>& attributes = {});
+
+/// Writes `parts` as one EXR whose display window is width x height pixels and whose data window is
+/// `dataWindow` (an empty one, x1 < x0: the whole display window); every plane holds the data window's
+/// pixels. One part: a single-part scanline file, as WriteExr (the part's name unused); several, or
+/// `multiPart`: a multi-part file (OpenEXR 2), each part a scanline image named as the part, with the
+/// same `attributes`. Channels are FLOAT or HALF as each plane says. Atomic; throws like WriteExr, and
+/// also for a data window outside the display window, or parts without names or with repeated ones.
+void WriteExrParts(const std::string& path, int width, int height, const std::vector<ImagePart>& parts,
+                   const std::vector<std::pair<std::string, std::string>>& attributes = {},
+                   const PixelWindow& dataWindow = {}, bool multiPart = false);
 
 /// Every string attribute of the EXR header at `path` (its first part), by name. Throws
 /// std::runtime_error if the file is missing or not a readable EXR.

@@ -36,6 +36,7 @@ AovBuffers BindBuffers(const RenderIndex& index, const std::vector<AovBinding>& 
                                 : b.aovName == "sclera"    ? &aovs.sclera
                                 : b.aovName == "nonEye"    ? &aovs.nonEye
                                 : b.aovName == "limbalArc" ? &aovs.limbalArc
+                                : b.aovName == "hitId"     ? &aovs.hitId
                                                            : nullptr;
     if (!slot) throw std::runtime_error("render pass: unknown AOV '" + b.aovName + "'");
     *slot = buffer;
@@ -98,11 +99,13 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   // Resolve each rprim's material and primId for the renderer.
   int primIndex = 0;
   std::map<PrimId, int> primIndices;
+  primIdsByIndex_.clear();
   bool cutouts = false, textured = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
     primIndices[id] = context->primIndex = primIndex++;
+    primIdsByIndex_.push_back(id);
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
     context->surface = bound;
     context->subsetMaterials.clear();

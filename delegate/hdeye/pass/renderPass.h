@@ -13,7 +13,7 @@ namespace hdeye {
 class RenderIndex;
 
 /// One AOV bound to a render buffer (HdRenderPassAovBinding's role). aovName: color, albedo,
-/// normal, depth, primId, irisMnee or limbalArc.
+/// normal, depth, primId, irisMnee, limbalArc or hitId (renderer.h: AovBuffers).
 struct AovBinding {
   std::string aovName;
   PrimId renderBufferId;
@@ -33,8 +33,12 @@ class RenderPass {
   RenderPlan Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,
                   const PlanRules& rules = {});
 
+  /// The rprim of each primIndex (the primId AOV's and hitId's values) of the last Execute, in index order.
+  const std::vector<PrimId>& PrimIdsByIndex() const { return primIdsByIndex_; }
+
  private:
   RenderIndex* index_;
+  std::vector<PrimId> primIdsByIndex_;
   Renderer renderer_;
   std::uint64_t committedVersion_ = ~0ull;
 };

@@ -80,6 +80,7 @@ struct SurfaceHit {
   StFrame stFrame;                            // dp/ds, dp/dt of the hit triangle (world), where st and points are known
   bool normalMapped = false;                  // n comes from a normal map (it may lean below the surface itself)
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
+  int instanceIndex = 0;                      // the hit instance's index in its instancer (0: not instanced)
   float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
 };
 
@@ -130,8 +131,15 @@ struct FirstHit {
   double t;              ///< distance along the camera ray
   glm::dvec3 n, albedo;  ///< the shading normal and the albedo shaded there
   int primIndex;
+  int instanceIndex;  ///< for the hitId AOV (cryptomatte): which instance of the prim
+  int subset;         ///< the hit face's materialBind subset (-1: the prim's own material), for the hitId AOV
   /// Field by field: assigning a temporary FirstHit stalls on its reload (store forwarding) in the path loop.
-  void Set(const SurfaceHit& hit) { t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex; }
+  void Set(const SurfaceHit& hit) {
+    t = hit.t, n = hit.n, albedo = hit.albedo, primIndex = hit.primIndex, instanceIndex = hit.instanceIndex;
+    subset = hit.context->triangleSubsets && hit.part < hit.context->triangleSubsets->size()
+                 ? (*hit.context->triangleSubsets)[hit.part]
+                 : -1;
+  }
 };
 
 /// The eye AOVs: a path's radiance by the first eye event on its way (the glint a reflection off the cornea at entry,
@@ -339,6 +347,7 @@ class Tracer {
     const glm::dmat3& normalToWorld =
         instance ? (instance->motion ? moved : instance->normalToWorld) : ctx->normalToWorld;
     hit->instanceColor = instance && instance->hasColor ? &instance->color : nullptr;
+    hit->instanceIndex = instance ? instance->instanceIndex : 0;
     hit->t = rh.ray.tfar;
     hit->p = o + hit->t * d;
     const glm::dvec3 ng = normalToWorld * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -881,7 +890,7 @@ void CheckBuffers(const AovBuffers& aovs) {
   if (!aovs.color) throw std::invalid_argument("render: a color buffer must be bound");
   const int width = aovs.color->Width(), height = aovs.color->Height();
   for (AccumulationBuffer* b : {aovs.albedo, aovs.normal, aovs.depth, aovs.primId, aovs.irisMnee, aovs.glint, aovs.iris,
-                                aovs.sclera, aovs.nonEye, aovs.limbalArc})
+                                aovs.sclera, aovs.nonEye, aovs.limbalArc, aovs.hitId})
     if (b && (b->Width() != width || b->Height() != height))
       throw std::invalid_argument("render: every bound buffer must be " + std::to_string(width) + " x " +
                                   std::to_string(height));
@@ -907,6 +916,12 @@ bool AddPathSample(const AovBuffers& aovs, int x, int y, int s, PathSample sampl
   constexpr AccumulationBuffer* AovBuffers::*kPartBuffers[kEyeParts] = {
       &AovBuffers::nonEye, &AovBuffers::glint, &AovBuffers::iris, &AovBuffers::sclera, &AovBuffers::limbalArc};
   for (int part = 0; part < kEyeParts; ++part) AddRgb(aovs.*kPartBuffers[part], x, y, sample.parts[part]);
+  if (aovs.hitId) {  // every sample: cryptomatte ranks the first hits of all of them
+    const FirstHit& first = sample.first;
+    const float hit[3] = {sample.hitAny ? float(first.primIndex) : -1.0f,
+                          sample.hitAny ? float(first.instanceIndex) : 0, sample.hitAny ? float(first.subset) : -1.0f};
+    aovs.hitId->AddSample(x, y, hit);
+  }
   if (s != 0) return finite;
   const FirstHit& first = sample.first;
   AddRgb(aovs.albedo, x, y, sample.hitAny ? first.albedo : glm::dvec3(0));

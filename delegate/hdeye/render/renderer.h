@@ -44,6 +44,10 @@ struct AovBuffers {
   AccumulationBuffer* sclera = nullptr;
   AccumulationBuffer* nonEye = nullptr;
   AccumulationBuffer* limbalArc = nullptr;
+  /// 3: the first hit's primIndex (-1: none), instance index and materialBind subset (-1: none), added by every
+  /// sample (not sample 0 alone): a pass of one sample per pixel holds that sample's hit, which the front end
+  /// ranks into cryptomatte coverage. Exact as floats up to 2^24.
+  AccumulationBuffer* hitId = nullptr;
 };
 
 struct RenderStats {
