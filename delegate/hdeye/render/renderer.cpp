@@ -902,50 +902,110 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
   counts->Add(tracer.GetCounts());
 }
 
+/// Seconds since `start`.
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// What every pass of one Render call shares: the scene, the tile count, the thread arena, the counters.
+struct PassContext {
+  RTCScene scene;
+  const CameraView& camera;
+  const std::vector<RenderLight>& lights;
+  const RenderSettings& settings;
+  const AovBuffers& aovs;
+  bool cutouts, textured;
+  ChamberLightCaches* chamberCaches;
+  const eyelib::ZSobolKeyTable* sampleKeys;
+  int tiles;
+  tbb::task_arena* arena;
+  SharedCounts* counts;
+};
+
+/// Samples [firstSample, firstSample + samples) of every pixel, on the arena's threads.
+void RenderPassSamples(const PassContext& c, int firstSample, int samples) {
+  c.arena->execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, c.tiles), [&](const tbb::blocked_range<int>& range) {
+      RenderTiles(range, firstSample, samples, c.scene, c.camera, c.lights, c.settings, c.cutouts, c.textured, c.aovs,
+                  c.counts, c.chamberCaches, c.sampleKeys);
+    });
+  });
+}
+
+void CopyCounts(const SharedCounts& counts, RenderStats* stats) {
+  stats->rays = counts.rays;
+  stats->nonFiniteSamples = counts.nonFinite;
+  stats->scleraWalks = counts.walks;
+  stats->teleportedWalks = counts.teleported;
+  stats->cappedWalks = counts.capped;
+  stats->invalidWalks = counts.invalid;
+}
+
 }  // namespace
 
+int NextPassSamples(int remaining, int lastPass, double secondsPerSample, double passSeconds, double timeLeft) {
+  if (remaining <= 0) return 0;
+  if (lastPass <= 0 || !(secondsPerSample > 0)) return 1;
+  const double target = timeLeft >= 0 ? std::min(passSeconds, timeLeft) : passSeconds;
+  const double fit = std::clamp(std::floor(target / secondsPerSample), 1.0, 2.0 * lastPass);
+  return std::min(int(fit), remaining);
+}
+
 RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
-                             const RenderSettings& settings, const AovBuffers& aovs) const {
+                             const RenderSettings& settings, const AovBuffers& aovs,
+                             const ProgressiveControl& control) const {
   CheckBuffers(aovs);
   const int width = aovs.color->Width(), height = aovs.color->Height();
   RenderStats stats;
   if (width == 0 || height == 0) return stats;
   const auto start = std::chrono::steady_clock::now();
-  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
   SharedCounts counts;
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
   chamberCaches_->BeginRender(lights, sceneVersion_);
   const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
+  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
+  const PassContext context{scene,       camera, lights, settings, aovs, cutouts_, textured_, chamberCaches_.get(),
+                            &sampleKeys, tiles,  &arena, &counts};
 
-  // Without a time limit every pixel takes all its samples at once (RenderTiles); with one, one pass per sample
-  // index, so that the limit stops between whole passes and every pixel has the same samples. Either way a pixel's
-  // samples are added in sample order: the two give the same image bit for bit.
-  const bool limited = settings.timeLimitSeconds > 0;
-  const int samplesPerTask = limited ? 1 : settings.samplesPerPixel;
-  for (int pass = 0; pass < settings.samplesPerPixel; pass += samplesPerTask) {
-    const int s = settings.firstSample + pass;
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, samplesPerTask, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
-                    chamberCaches_.get(), &sampleKeys);
-      });
-    });
-    stats.passes += samplesPerTask;
-    stats.samples += std::int64_t(width) * height * samplesPerTask;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (limited && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+  // Without a callback, a stop flag or a time limit every pixel takes all its samples at once (in cache); else pass
+  // after pass as NextPassSamples sizes them, stopping only between whole passes so every pixel has the same samples.
+  const bool progressive = control.Progressive(settings), limited = settings.timeLimitSeconds > 0;
+  PassProgress progress;
+  progress.samplesTotal = settings.samplesPerPixel;
+  double secondsPerSample = 0;
+  while (progress.samplesDone < settings.samplesPerPixel) {
+    const int remaining = settings.samplesPerPixel - progress.samplesDone;
+    const double timeLeft = limited ? std::max(0.0, settings.timeLimitSeconds - SecondsSince(start)) : -1.0;
+    const int samples =
+        progressive ? NextPassSamples(remaining, progress.passSamples, secondsPerSample, control.passSeconds, timeLeft)
+                    : remaining;
+    const auto passStart = std::chrono::steady_clock::now();
+    RenderPassSamples(context, settings.firstSample + progress.samplesDone, samples);
+    secondsPerSample = SecondsSince(passStart) / samples;
+    progress.samplesDone += samples;
+    progress.passSamples = samples;
+    progress.seconds = SecondsSince(start);
+    if (progress.firstPassSeconds == 0) progress.firstPassSeconds = progress.seconds;
+    stats.passes += samples;
+    stats.samples += std::int64_t(width) * height * samples;
+    const bool more = progress.samplesDone < settings.samplesPerPixel;
+    if (control.onPass && !control.onPass(progress) && more) {
+      stats.stopped = true;
+      break;
+    }
+    if (more && control.stop && control.stop->load()) {
+      stats.stopped = true;
+      break;
+    }
+    if (more && limited && SecondsSince(start) >= settings.timeLimitSeconds) {
       stats.timeLimitReached = true;
       break;
     }
   }
-  stats.rays = counts.rays;
-  stats.nonFiniteSamples = counts.nonFinite;
-  stats.scleraWalks = counts.walks;
-  stats.teleportedWalks = counts.teleported;
-  stats.cappedWalks = counts.capped;
-  stats.invalidWalks = counts.invalid;
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CopyCounts(counts, &stats);
+  stats.firstPassSeconds = progress.firstPassSeconds;
+  stats.seconds = SecondsSince(start);
   return stats;
 }
 
