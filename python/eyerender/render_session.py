@@ -157,14 +157,16 @@ class RenderSession:
         return max(1, round(width * camera[1] / camera[0])) if camera[0] and camera[1] else width
 
     def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None, resume=False,
-               on_pass=None, pass_seconds=0.25):
+               on_pass=None, pass_seconds=0.25, first_pass_stride=1):
         """Renders samples [first_sample, first_sample + spp) of a frame through the delegate's progressive loop
         (RenderPass.render): the stage's edits, the render plan, the materials and lights are gathered once, then
         passes run until the samples are taken, `time_limit` seconds (0: none) are spent after the first pass, or
         request_stop() is called from any thread. progress(samples_done, spp, seconds) and on_pass(PassProgress)
         are called between passes on this thread; either returning False stops the render. pass_seconds: what a
-        pass aims at (0: one sample per pass). resume: keep the buffers and continue after the samples the last
-        render took (a stage edit since then restarts instead). Returns a summary dict."""
+        pass aims at (0: one sample per pass). first_pass_stride (a power of two): the first pass renders the pixels
+        on a grid of that stride first, then the finer grids, with on_pass after each stage (PassProgress.stride > 1;
+        progress is not called): a coarse image of the whole frame sooner. resume: keep the buffers and continue
+        after the samples the last render took (a stage edit since then restarts instead). Returns a summary dict."""
         start = clock.perf_counter()
         changes = self.scene.apply_stage_changes()  # edits made to the stage since the last frame (ObjectsChanged)
         if time is not None:
@@ -177,7 +179,7 @@ class RenderSession:
         else:
             self.clear_buffers()
             self._apply_plan()
-        stats = self._run_passes(first_sample, spp, time_limit, progress, on_pass, pass_seconds)
+        stats = self._run_passes(first_sample, spp, time_limit, progress, on_pass, pass_seconds, first_pass_stride)
         seconds = clock.perf_counter() - start
         render_start = seconds - stats.seconds  # sync and plan came first
         done = stats.passes + (self.stats["samples_per_pixel"] if resumed else 0)
@@ -185,6 +187,7 @@ class RenderSession:
                       "rays_per_second": stats.rays / seconds if seconds > 0 else 0.0,
                       "samples_per_second": stats.samples / stats.seconds if stats.seconds > 0 else 0.0,
                       "time_to_first_pixel": render_start + stats.first_pass_seconds if stats.passes else None,
+                      "time_to_preview": render_start + stats.preview_seconds if stats.preview_seconds else None,
                       "non_finite_samples": stats.non_finite_samples, "stopped": stats.stopped,
                       "time_limit_reached": stats.time_limit_reached,
                       "first_sample": first_sample - (self.stats["samples_per_pixel"] if resumed else 0),
@@ -202,7 +205,7 @@ class RenderSession:
             clear_render_plan(self.index)  # no plan: no eye keeps a switch from an earlier planned frame
             self.last_plan = None
 
-    def _run_passes(self, first_sample, spp, time_limit, progress, on_pass, pass_seconds):
+    def _run_passes(self, first_sample, spp, time_limit, progress, on_pass, pass_seconds, first_pass_stride):
         """One call of the delegate's progressive loop; the callbacks run between its passes."""
         settings = self.delegate.settings
         settings.first_sample, settings.samples_per_pixel = first_sample, int(spp)
@@ -211,12 +214,13 @@ class RenderSession:
         if progress or on_pass:
             def callback(p):
                 keep_going = on_pass(p) if on_pass else None
-                if progress and progress(p.samples_done, p.samples_total, p.seconds) is False:
+                if progress and p.stride == 1 and progress(p.samples_done, p.samples_total, p.seconds) is False:
                     return False
                 return keep_going is not False
         bindings = [(aov, self._buffer_id(aov)) for aov in self.aovs]
         try:
-            return self.render_pass.render(self.camera_id, bindings, callback, self.stop_flag, pass_seconds)
+            return self.render_pass.render(self.camera_id, bindings, callback, self.stop_flag, pass_seconds,
+                                           first_pass_stride)
         except RuntimeError as e:  # bad prim data found at sync: already one line naming the prim
             raise EyeRenderError(str(e)) from None
         finally:

@@ -15,6 +15,7 @@ from .errors import EyeRenderError
 
 SNAPSHOT_INTERVAL = 0.15  # seconds between snapshots for the page (each pass ends within about PASS_SECONDS)
 PASS_SECONDS = 0.1  # what a pass aims at: short enough for an edit to be seen within a second
+FIRST_PASS_STRIDE = 4  # the first pass after an edit shows every 4th pixel's sample, then every 2nd, then all
 VIEW_AOVS = ("color", "irisMnee", "limbalArc", "albedo")
 
 
@@ -51,6 +52,16 @@ class Snapshot:
         with self.lock:
             self.lock.wait_for(lambda: self.version != version, timeout)
         return self.state()
+
+
+def block_fill(pixels, stride):
+    """An image whose pixels on the stride grid (x and y multiples of `stride`) each fill their stride x stride
+    block: a coarse stage of a first pass shown over the whole frame."""
+    import numpy as np
+
+    grid = pixels[::stride, ::stride]
+    height, width = pixels.shape[:2]
+    return np.ascontiguousarray(np.repeat(np.repeat(grid, stride, 0), stride, 1)[:height, :width])
 
 
 class Viewer:
@@ -112,7 +123,7 @@ class Viewer:
         self._base = done  # the samples the buffers held before this call
         try:
             self.session.render(spp=max(1, self.spp - done), resume=resume, on_pass=self._on_pass,
-                                pass_seconds=PASS_SECONDS)
+                                pass_seconds=PASS_SECONDS, first_pass_stride=FIRST_PASS_STRIDE)
         except EyeRenderError as e:
             self._undo_last_edit(f"the render failed: {e}")
             return False
@@ -121,6 +132,9 @@ class Viewer:
 
     def _on_pass(self, progress):
         now = clock.perf_counter()
+        if progress.stride > 1:  # a stage of the first pass: the coarse grid's samples, each over its block
+            self._publish(progress=progress)
+            return True
         first = progress.samples_done == progress.pass_samples
         if first and self.session.last_plan is not None:  # planned at the start of this render
             self.plan_lines = self.session.last_plan.summary_lines()
@@ -130,14 +144,22 @@ class Viewer:
         return self.requests.empty() and not self.stopping.is_set()
 
     def _publish(self, progress=None, final=False):
-        pixels = self.session.image(self.aov)[:, :, :3].copy()
+        pixels = self.session.image(self.aov)[:, :, :3]
+        if progress is not None and progress.stride > 1:
+            pixels = block_fill(pixels, progress.stride)
+        else:
+            pixels = pixels.copy()
         stats = self.session.stats or {}
         done = self._base + progress.samples_done if progress else stats.get("samples_per_pixel", 0)
         status = {"samples": done, "target": self.spp, "paused": self.paused, "plan": self.plan_lines,
                   "width": self.session.width, "height": self.session.height}
+        if progress is not None and progress.stride > 1:
+            status["preview"] = f"1/{progress.stride}"
+        else:
+            status["preview"] = ""
         if final and stats:
             status.update(seconds=stats["seconds"], time_to_first_pixel=stats["time_to_first_pixel"],
-                          samples_per_second=stats["samples_per_second"])
+                          time_to_preview=stats["time_to_preview"], samples_per_second=stats["samples_per_second"])
         self.snapshot.publish(pixels, self.aov, **status)
 
     def _take_requests(self):
@@ -192,4 +214,4 @@ class Viewer:
         self.snapshot.say(message)
 
 
-__all__ = ["Viewer", "Snapshot", "VIEW_AOVS", "PASS_SECONDS"]
+__all__ = ["Viewer", "Snapshot", "VIEW_AOVS", "PASS_SECONDS", "block_fill"]

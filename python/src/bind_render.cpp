@@ -26,11 +26,12 @@ struct StopFlag {
 /// the render and is raised again here.
 RenderStats RenderProgressively(RenderPass& pass, const PrimId& camera,
                                 const std::vector<std::pair<std::string, PrimId>>& bindings, nb::object callback,
-                                StopFlag* stop, double passSeconds) {
+                                StopFlag* stop, double passSeconds, int firstPassStride) {
   std::vector<AovBinding> b;
   for (const auto& [aov, buffer] : bindings) b.push_back({aov, buffer});
   ProgressiveControl control;
   control.passSeconds = passSeconds;
+  control.firstPassStride = firstPassStride;
   control.stop = stop ? &stop->requested : nullptr;
   bool failed = false;
   if (!callback.is_none())
@@ -115,6 +116,8 @@ void BindRender(nb::module_& m) {
       .def_ro("capped_walks", &RenderStats::cappedWalks, "sclera walks dropped at their step cap")
       .def_ro("time_limit_reached", &RenderStats::timeLimitReached)
       .def_ro("first_pass_seconds", &RenderStats::firstPassSeconds, "seconds to the end of the first pass")
+      .def_ro("preview_seconds", &RenderStats::previewSeconds,
+              "seconds to the first stage of a first pass in stages (first_pass_stride), 0 without")
       .def_ro("stopped", &RenderStats::stopped, "a stop request or the callback ended the render early");
 
   nb::class_<PassProgress>(m, "PassProgress")
@@ -122,7 +125,10 @@ void BindRender(nb::module_& m) {
       .def_ro("samples_total", &PassProgress::samplesTotal)
       .def_ro("pass_samples", &PassProgress::passSamples)
       .def_ro("seconds", &PassProgress::seconds)
-      .def_ro("first_pass_seconds", &PassProgress::firstPassSeconds);
+      .def_ro("first_pass_seconds", &PassProgress::firstPassSeconds)
+      .def_ro("stride", &PassProgress::stride,
+              "1, or during a first pass in stages: the pixels with x and y multiples of it have their sample")
+      .def_ro("preview_seconds", &PassProgress::previewSeconds);
 
   nb::class_<StopFlag>(m, "StopFlag", "A stop request, set from any thread, honoured between passes.")
       .def(nb::init<>())
@@ -160,10 +166,12 @@ void BindRender(nb::module_& m) {
           "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
       .def("render", &RenderProgressively, nb::arg("camera_id"), nb::arg("bindings"),
            nb::arg("callback").none() = nb::none(), nb::arg("stop").none() = nb::none(), nb::arg("pass_seconds") = 0.25,
+           nb::arg("first_pass_stride") = 1,
            "Syncs the index once and renders settings.samples_per_pixel samples from settings.first_sample in "
            "passes, stopping early at settings.time_limit_seconds, when `stop` is requested or when callback("
            "PassProgress) returns False. The callback runs between passes on this thread; the GIL is released "
-           "while passes render.")
+           "while passes render. first_pass_stride (a power of two): the first pass renders a grid of this stride "
+           "first, then the finer ones, with the callback after each stage (PassProgress.stride).")
       .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"), nb::arg("overrides"),
            nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
            "Syncs the index and returns the render plan for the camera and image size, without rendering.");

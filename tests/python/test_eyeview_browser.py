@@ -96,7 +96,7 @@ def test_a_nan_typed_into_a_field_is_one_message_and_the_render_goes_on(browser,
     browser.get(view.url)
     WebDriverWait(browser, 30).until(lambda d: status_samples(d) >= 2)
     field = browser.find_element(By.ID, "num-pupil")
-    field.clear()
+    field.send_keys(Keys.CONTROL, "a")  # select what the field shows, and type over it
     field.send_keys("NaN", Keys.ENTER)
     WebDriverWait(browser, 30).until(lambda d: "not a finite number" in message(d))
     samples = status_samples(browser)

@@ -113,3 +113,24 @@ def test_a_time_limit_stops_between_passes_after_the_first():
     assert stats["time_limit_reached"] and not stats["stopped"]
     assert stats["samples_per_pixel"] >= 1
     assert stats["seconds"] < 0.3 + 0.5  # a pass aims at no more than the time left
+
+
+def test_a_first_pass_in_stages_shows_the_coarse_grid_first_and_gives_the_same_image():
+    from eyerender.viewer import block_fill
+
+    plain, staged, strides = session(), session(), []
+
+    def on_pass(p):
+        if p.stride > 1:
+            counts = staged.buffer_state("color")[1]
+            on_grid = np.zeros_like(counts, dtype=bool)
+            on_grid[::p.stride, ::p.stride] = True
+            strides.append((p.stride, bool((counts[on_grid] == 1).all() and (counts[~on_grid] == 0).all())))
+            shown = block_fill(staged.image("color"), p.stride)
+            assert shown.shape == staged.image("color").shape and (shown[:p.stride, :p.stride] == shown[0, 0]).all()
+
+    plain.render(spp=6)
+    stats = staged.render(spp=6, on_pass=on_pass, first_pass_stride=4)
+    assert strides == [(4, True), (2, True)]  # each stage: its grid's pixels have the sample, the others not yet
+    assert 0 < stats["time_to_preview"] <= stats["time_to_first_pixel"]
+    assert np.array_equal(plain.image("color"), staged.image("color"))

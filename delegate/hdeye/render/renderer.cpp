@@ -865,13 +865,22 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
 
-/// Samples [firstSample, firstSample + samples) of every pixel in a range of tiles, each (pixel, sample) from its own
-/// random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
+/// The pixels a pass stage renders: those on the stride grid (x and y multiples of `stride`) that are not on the
+/// coarser grid of the stage before (0: none before). A first pass in stages 4, 2, 1 renders each pixel once.
+struct PixelGrid {
+  int stride = 1, coarser = 0;
+  bool Has(int x, int y) const {
+    return x % stride == 0 && y % stride == 0 && !(coarser && x % coarser == 0 && y % coarser == 0);
+  }
+};
+
+/// Samples [firstSample, firstSample + samples) of the grid's pixels in a range of tiles, each (pixel, sample) from its
+/// own random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
 /// per sample): its buffer entries stay in cache, where a pass over the whole image would fetch them again each time.
-void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, RTCScene scene,
-                 const CameraView& camera, const std::vector<RenderLight>& lights, const RenderSettings& settings,
-                 bool cutouts, bool textured, const AovBuffers& aovs, SharedCounts* counts,
-                 ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
+void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, const PixelGrid& grid,
+                 RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                 const RenderSettings& settings, bool cutouts, bool textured, const AovBuffers& aovs,
+                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
@@ -881,7 +890,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x)
-        for (int s = firstSample; s < firstSample + samples; ++s) {
+        for (int s = firstSample; s < firstSample + samples && grid.Has(x, y); ++s) {
           SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
           double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
           if (s != 0) rng.PixelJitter(&jx, &jy);
@@ -922,14 +931,34 @@ struct PassContext {
   SharedCounts* counts;
 };
 
-/// Samples [firstSample, firstSample + samples) of every pixel, on the arena's threads.
-void RenderPassSamples(const PassContext& c, int firstSample, int samples) {
+/// Samples [firstSample, firstSample + samples) of the grid's pixels, on the arena's threads.
+void RenderPassSamples(const PassContext& c, int firstSample, int samples, const PixelGrid& grid = {}) {
   c.arena->execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, c.tiles), [&](const tbb::blocked_range<int>& range) {
-      RenderTiles(range, firstSample, samples, c.scene, c.camera, c.lights, c.settings, c.cutouts, c.textured, c.aovs,
-                  c.counts, c.chamberCaches, c.sampleKeys);
+      RenderTiles(range, firstSample, samples, grid, c.scene, c.camera, c.lights, c.settings, c.cutouts, c.textured,
+                  c.aovs, c.counts, c.chamberCaches, c.sampleKeys);
     });
   });
+}
+
+/// The first pass (one sample) in coarse-to-fine stages, strides control.firstPassStride, its half, ..., 1, with the
+/// callback after each stage but the last (PassProgress::stride; its return value waits for the pass's end: a
+/// render stops only between whole passes). Every pixel takes its sample once, so the image is as one stage's.
+/// Returns the seconds to the end of the first stage. Each stride is a multiple of the next (powers of two: a stride
+/// that is not one is rounded down to one), so no pixel is in two stages.
+double RenderFirstPassInStages(const PassContext& c, const ProgressiveControl& control, PassProgress progress,
+                               std::chrono::steady_clock::time_point start) {
+  int coarser = 0, first = 1;
+  while (first * 2 <= control.firstPassStride) first *= 2;
+  for (int stride = first; stride > 1; coarser = stride, stride /= 2) {
+    RenderPassSamples(c, c.settings.firstSample, 1, PixelGrid{stride, coarser});
+    progress.stride = stride;
+    progress.seconds = SecondsSince(start);
+    if (progress.previewSeconds == 0) progress.previewSeconds = progress.seconds;
+    if (control.onPass) control.onPass(progress);
+  }
+  RenderPassSamples(c, c.settings.firstSample, 1, PixelGrid{1, coarser});
+  return progress.previewSeconds;
 }
 
 void CopyCounts(const SharedCounts& counts, RenderStats* stats) {
@@ -981,7 +1010,10 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
         progressive ? NextPassSamples(remaining, progress.passSamples, secondsPerSample, control.passSeconds, timeLeft)
                     : remaining;
     const auto passStart = std::chrono::steady_clock::now();
-    RenderPassSamples(context, settings.firstSample + progress.samplesDone, samples);
+    if (progress.samplesDone == 0 && progressive && control.firstPassStride > 1)
+      stats.previewSeconds = progress.previewSeconds = RenderFirstPassInStages(context, control, progress, start);
+    else
+      RenderPassSamples(context, settings.firstSample + progress.samplesDone, samples);
     secondsPerSample = SecondsSince(passStart) / samples;
     progress.samplesDone += samples;
     progress.passSamples = samples;

@@ -56,6 +56,8 @@ struct RenderStats {
   std::int64_t invalidWalks = 0;
   /// Seconds from the start of Render to the end of its first pass (every pixel has a sample): 0 if none ran.
   double firstPassSeconds = 0;
+  /// Seconds to the first stage of a first pass in stages (ProgressiveControl::firstPassStride): 0 without stages.
+  double previewSeconds = 0;
   bool stopped = false;  ///< a stop request or the pass callback ended the render before its samples
 };
 
@@ -66,6 +68,10 @@ struct PassProgress {
   int passSamples = 0;          ///< samples per pixel the last pass took
   double seconds = 0;           ///< since Render started
   double firstPassSeconds = 0;  ///< to the end of the first pass
+  /// While the first pass runs in stages (ProgressiveControl::firstPassStride): the pixels with x and y multiples of
+  /// `stride` have their sample (samplesDone is still 0). 1: the pass is whole.
+  int stride = 1;
+  double previewSeconds = 0;  ///< to the end of the first stage (0: the first pass ran in one stage)
 };
 
 /// How a render is split into passes and stopped between them. A pass takes its samples of every pixel (each pixel's
@@ -78,6 +84,9 @@ struct ProgressiveControl {
   /// Seconds a pass aims at: the first pass takes one sample (the first full image soonest), each later one as many
   /// as fit this long by the rate so far (at most twice the last, never past a time limit's estimate).
   double passSeconds = 0.25;
+  /// A power of two > 1: the first pass renders the pixels on a grid of this stride first, then the finer grids
+  /// (the callback after each), so that a coarse image of the whole frame comes sooner. 1: one stage.
+  int firstPassStride = 1;
   bool Progressive(const RenderSettings& settings) const { return onPass || stop || settings.timeLimitSeconds > 0; }
 };
 
