@@ -193,7 +193,7 @@ class RenderSession:
                       "first_sample": first_sample - (self.stats["samples_per_pixel"] if resumed else 0),
                       "updated": dict(self.scene.last_update),
                       "shutter": (self.scene.shutter.open, self.scene.shutter.close),
-                      "stage_changes": dict(self.scene.last_changes)}
+                      "stage_changes": dict(changes)}
         return self.stats
 
     def _apply_plan(self):

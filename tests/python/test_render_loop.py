@@ -134,3 +134,14 @@ def test_a_first_pass_in_stages_shows_the_coarse_grid_first_and_gives_the_same_i
     assert strides == [(4, True), (2, True)]  # each stage: its grid's pixels have the sample, the others not yet
     assert 0 < stats["time_to_preview"] <= stats["time_to_first_pixel"]
     assert np.array_equal(plain.image("color"), staged.image("color"))
+
+
+def test_a_planned_render_reports_the_stage_edits_it_applied():
+    # The plan syncs the stage again before rendering; the summary still counts the edits this render took in.
+    import eyerender.plan
+
+    stage = card_stage()
+    s = session(stage, plan_overrides=eyerender.plan.make_overrides())
+    s.render(spp=1)
+    UsdGeom.Xformable(stage.GetPrimAtPath("/World/key")).GetOrderedXformOps()[0].Set(Gf.Vec3d(-3, -1, 2))
+    assert s.render(spp=1)["stage_changes"] == {"transform": 1}
