@@ -212,7 +212,7 @@ def render_frames(session, frames, outputs, spp, args):
             stats = session.render(None if frame is None or n == 0 else frame, spp=spp,
                                    time_limit=args.time_limit, progress=bar)
             bar.finish()
-            if not bar.enabled and len(frames) > 1:  # a log: one line per frame
+            if not args.quiet and not bar.enabled and len(frames) > 1:  # a log: one line per frame
                 print(f"eyerecord: {bar.label}: {frame_line(stats)}")
             warn_non_finite(stats["non_finite_samples"])
             print_warnings(session.scene.warnings[warned:])
