@@ -76,6 +76,7 @@ class Viewer:
         self.stopping = threading.Event()
         self._taken = 0.0
         self._base = 0
+        self._started = clock.perf_counter()
         self._last_edit = collections.deque(maxlen=1)  # (name, previous value) of the last edit applied
         self.plan_lines = session.last_plan.summary_lines() if session.last_plan is not None else []
         self.snapshot.status = {"samples": 0, "target": spp, "paused": False, "plan": [], "width": session.width,
@@ -121,6 +122,9 @@ class Viewer:
         """One render call; returns whether the next may resume it (False after a failure: restart)."""
         done = self.session.stats["samples_per_pixel"] if resume and self.session.stats else 0
         self._base = done  # the samples the buffers held before this call
+        self._started = clock.perf_counter()
+        if not resume:  # the times the page shows are this render's, from its call (sync and plan included)
+            self.snapshot.publish(time_to_preview=None, time_to_first_pixel=None)
         try:
             self.session.render(spp=max(1, self.spp - done), resume=resume, on_pass=self._on_pass,
                                 pass_seconds=PASS_SECONDS, first_pass_stride=FIRST_PASS_STRIDE)
@@ -153,14 +157,26 @@ class Viewer:
         done = self._base + progress.samples_done if progress else stats.get("samples_per_pixel", 0)
         status = {"samples": done, "target": self.spp, "paused": self.paused, "plan": self.plan_lines,
                   "width": self.session.width, "height": self.session.height}
-        if progress is not None and progress.stride > 1:
-            status["preview"] = f"1/{progress.stride}"
-        else:
-            status["preview"] = ""
+        status.update(self._timing(progress))
         if final and stats:
-            status.update(seconds=stats["seconds"], time_to_first_pixel=stats["time_to_first_pixel"],
-                          time_to_preview=stats["time_to_preview"], samples_per_second=stats["samples_per_second"])
+            status["samples_per_second"] = stats["samples_per_second"]
         self.snapshot.publish(pixels, self.aov, **status)
+
+    def _timing(self, progress):
+        """What the page prints of a pass: the preview's stride, the times to the first image (its first stage) and
+        to every pixel's first sample, and the samples per second so far."""
+        if progress is None:
+            return {"preview": ""}
+        since = clock.perf_counter() - self._started
+        timing = {"preview": f"1/{progress.stride}" if progress.stride > 1 else ""}
+        if progress.stride == FIRST_PASS_STRIDE and progress.stride > 1:
+            timing["time_to_preview"] = since
+        if progress.stride == 1 and progress.samples_done == progress.pass_samples and self._base == 0:
+            timing["time_to_first_pixel"] = since
+        if progress.stride == 1 and progress.seconds > 0:
+            pixels = self.session.width * self.session.height
+            timing["samples_per_second"] = pixels * progress.samples_done / progress.seconds
+        return timing
 
     def _take_requests(self):
         """Carries out the queued requests; returns whether one of them changed the stage (a restart)."""

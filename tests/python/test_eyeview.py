@@ -66,6 +66,8 @@ def test_the_page_state_and_a_png_frame_are_served_while_samples_grow(view):
     status, png = get(view, "/frame.png?exposure=1")
     assert status == 200 and png[:8] == b"\x89PNG\r\n\x1a\n"
     later = wait_for(lambda: state(view)["samples"] > first and state(view)["samples"], what="more samples")
+    now = state(view)  # while converging, the page has this render's times and rate
+    assert 0 < now["time_to_preview"] <= now["time_to_first_pixel"] < 10 and now["samples_per_second"] > 0, now
     names = [c["name"] for c in state(view)["controls"]]
     assert {"keyAzimuth", "keyIntensity", "cameraAzimuth", "pupil", "limbusInner", "irisDepth", "gazeYaw"} <= \
         set(names), names
