@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs what the build and tests need on Debian 12 (run as root). Idempotent and quiet when
 # everything is already there, so `make test` can call it every time. clang-format is for
-# scripts/check_format.sh.
+# scripts/check_format.sh; chromium and chromium-driver for eyeview's browser test.
 set -euo pipefail
 
 apt_packages=(cmake ninja-build g++ ccache pkg-config clang-format
               libglm-dev libembree-dev libosd-dev libopenexr-dev libimath-dev libtbb-dev catch2 libjpeg62-turbo-dev
-              libopenimageio-dev openimageio-tools libkissfft-dev)
+              libopenimageio-dev openimageio-tools libkissfft-dev
+              chromium chromium-driver)  # chromium: the headless browser eyeview's page is tested in
 
 missing=()
 for p in "${apt_packages[@]}"; do
@@ -55,6 +56,8 @@ pip_missing=()
 "$PYTHON" -m ruff --version 2>/dev/null | grep -q "^ruff 0\.17\." || pip_missing+=("ruff>=0.17,<0.18")
 # bench/bench_iris.py reads EXR renders (its plot uses matplotlib, above).
 "$PYTHON" -c "import OpenEXR" 2>/dev/null || pip_missing+=(openexr)
+# tests/python/test_eyeview_browser.py drives Debian's chromium through its chromedriver.
+"$PYTHON" -c "import selenium" 2>/dev/null || pip_missing+=("selenium>=4.10")
 if ((${#pip_missing[@]})); then
   echo "install_deps: pip installing ${pip_missing[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${pip_missing[@]}"

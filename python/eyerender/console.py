@@ -20,20 +20,26 @@ class StatusLine:
 
 
 class ProgressBar(StatusLine):
-    """One render's samples as a bar, with the time spent and the time left."""
+    """One render's samples as a bar, with the time spent and the time left (by the samples left, or by the time
+    limit when that comes first). Called between the render loop's passes."""
 
-    def __init__(self, enabled):
+    def __init__(self, enabled, time_limit=0.0):
         super().__init__(enabled)
         self.label = ""
+        self.time_limit = time_limit
 
     def __call__(self, done, total, seconds):
         if not self.enabled:
             return
         width = 30
-        filled = int(width * done / max(total, 1))
+        fraction = done / max(total, 1)
         eta = seconds / done * (total - done) if done else 0.0
-        self.draw(f"{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} spp "
-                  f"{seconds:6.1f} s  eta {eta:5.1f} s ")
+        if self.time_limit:
+            fraction, eta = max(fraction, min(1.0, seconds / self.time_limit)), min(eta, self.time_limit - seconds)
+        filled = int(width * fraction)
+        total_text = "" if self.time_limit else f"/{total}"  # under a limit the sample count is open
+        self.draw(f"{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}{total_text} spp "
+                  f"{seconds:6.1f} s  eta {max(eta, 0.0):5.1f} s ")
 
 
 class FarmProgressBar(StatusLine):

@@ -275,8 +275,8 @@ def render_frames(targets, frames, spp, args):
     """Renders each frame with each target's session and writes its outputs (`write(frame, written)` appends each
     path to `written` once the file is complete), then prints the summary line. A failure part-way keeps the files
     already written (each is complete) and its error line names them."""
-    bar = ProgressBar(not args.quiet)
-    total_seconds, total_rays, written = 0.0, 0, []
+    bar = ProgressBar(not args.quiet, args.time_limit)
+    total_seconds, total_rays, total_samples, first_pixel, written = 0.0, 0, 0.0, [], []
     warned = {id(session): len(session.scene.warnings) for session, _ in targets}  # printed before rendering
     for n, frame in enumerate(frames):
         bar.label = f"frame {frame:g} ({n + 1}/{len(frames)})" if frame is not None else "render"
@@ -286,6 +286,8 @@ def render_frames(targets, frames, spp, args):
                 stats = session.render(None if frame is None or n == 0 else frame, spp=spp,
                                        time_limit=args.time_limit, progress=bar)
                 bar.finish()
+                if not args.quiet and not bar.enabled and len(frames) > 1:  # a log: one line per frame
+                    print(f"eyerecord: {bar.label}: {frame_line(stats)}")
                 warn_non_finite(stats["non_finite_samples"])
                 print_warnings(session.scene.warnings[warned[id(session)]:])  # a later frame may add some
                 warned[id(session)] = len(session.scene.warnings)
@@ -295,11 +297,21 @@ def render_frames(targets, frames, spp, args):
                 where = f"frame {frame:g}: " if frame is not None and len(frames) > 1 else ""
                 raise EyeRenderError(partial_failure(f"{where}{e}", written)) from None
             total_seconds, total_rays = total_seconds + stats["seconds"], total_rays + stats["rays"]
+            total_samples += stats["samples_per_second"] * stats["seconds"]
+            first_pixel.append(stats["time_to_first_pixel"] or 0.0)
     rate = total_rays / total_seconds / 1e6 if total_seconds > 0 else 0.0
     session = targets[0][0]
     blur = f", {session.scene.shutter.describe()}" if session.scene.shutter.blurred else ""
     print(f"eyerecord: {len(frames)} frame(s) {session.width}x{session.height}, {stats['samples_per_pixel']} spp"
-          f"{blur}, {total_seconds:.2f} s, {rate:.2f} Mrays/s -> {describe_written(written)}")
+          f"{blur}, {total_seconds:.2f} s, {rate:.2f} Mrays/s, first pixel {max(first_pixel):.3f} s, "
+          f"{total_samples / total_seconds / 1e6 if total_seconds > 0 else 0.0:.2f} Msamples/s "
+          f"-> {describe_written(written)}")
+
+
+def frame_line(stats):
+    """One frame's render, for a log: samples, time, time to first pixel, rate."""
+    return (f"{stats['samples_per_pixel']} spp, {stats['seconds']:.2f} s, first pixel "
+            f"{stats['time_to_first_pixel'] or 0.0:.3f} s, {stats['samples_per_second'] / 1e6:.2f} Msamples/s")
 
 
 def main(argv=None):

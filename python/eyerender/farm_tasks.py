@@ -156,8 +156,9 @@ def render_frame(job, frame, job_id=None, task=None):
 @_forget_session_on_error
 def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
     """Renders samples [first_sample, first_sample + spp) of `frame` and returns them accumulated
-    ({"stats": ..., "aovs": {aov: RangeAccumulator}}), for `merge_and_write`. One render call per sample reads
-    each float sample exactly, which the exactness certificates need (farm_merge)."""
+    ({"stats": ..., "aovs": {aov: RangeAccumulator}}), for `merge_and_write`. One render call with one sample per
+    pass: after each pass the buffers (holding that sample alone) go to the accumulators and are cleared, so each
+    float sample is read exactly, which the exactness certificates need (farm_merge)."""
     from .render_session import AOV_CHANNELS
     with _session_lock:
         session, load_seconds, time = _session_for(job, frame)
@@ -165,18 +166,18 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
         accumulators = {aov: RangeAccumulator(session.height, session.width, len(AOV_CHANNELS[aov]))
                         for aov in session.buffer_aovs}
         crypto = _range_coverage(session)
-        start, rays, non_finite = clock.perf_counter(), 0, 0
-        for i in range(spp):
-            stats = session.render(time if i == 0 else None, spp=1, first_sample=first_sample + i)
-            rays, non_finite = rays + stats["rays"], non_finite + stats["non_finite_samples"]
+
+        def take_sample(p):  # one sample per pass: each merged on its own, then the buffers emptied for the next
             for aov, accumulator in accumulators.items():
-                sums, counts = session.buffer_state(aov)
-                accumulator.add(sums, counts)
+                accumulator.add(*session.buffer_state(aov))
             if crypto is not None:  # integer counts: merged exactly in any grouping
                 _merge_coverage(crypto, session.crypto.tables, session.crypto.manifests)
-            progress(i + 1)
-        stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": clock.perf_counter() - start,
-                 "rays": rays, "non_finite_samples": non_finite}
+            session.clear_buffers()
+            progress(p.samples_done)
+
+        stats = session.render(time, spp=spp, first_sample=first_sample, on_pass=take_sample, pass_seconds=0)
+        stats = {"samples_per_pixel": spp, "first_sample": first_sample, "seconds": stats["seconds"],
+                 "rays": stats["rays"], "non_finite_samples": stats["non_finite_samples"]}
         return {"stats": _frame_stats(session, frame, stats, load_seconds, job), "aovs": accumulators,
                 "header": session.header(), "crypto": crypto}
 

@@ -8,7 +8,16 @@ import numpy as np
 from pxr import Usd, UsdGeom
 
 from . import cameras
-from ._hdeye import RenderDelegate, RenderIndex, RenderPass, SceneStore, clear_render_plan, write_exr, write_png_preview
+from ._hdeye import (
+    RenderDelegate,
+    RenderIndex,
+    RenderPass,
+    SceneStore,
+    StopFlag,
+    clear_render_plan,
+    write_exr,
+    write_png_preview,
+)
 from .aovs import AOV_CHANNELS
 from .camera_light import add_camera_light, follow_camera
 from .cryptomatte import HIT_AOV, header_attributes
@@ -85,6 +94,7 @@ class RenderSession:
             self.store.add_render_buffer(self._buffer_id(HIT_AOV), self.width, self.height, 3)
             self.crypto = CryptoCoverage(self.scene, self.crypto_layers, self.height, self.width)
         self.render_pass = RenderPass(self.index)
+        self.stop_flag = StopFlag()  # request_stop(): honoured between passes
         self.stats = None
         self.plan_overrides = plan_overrides
         self.last_plan = None  # the RenderPlan of the last frame planned (plan_overrides set)
@@ -155,19 +165,47 @@ class RenderSession:
             prim.GetAttribute("verticalAperture").Get(self.scene.time)
         return max(1, round(width * camera[1] / camera[0])) if camera[0] and camera[1] else width
 
-    def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None):
-        """Renders samples [first_sample, first_sample + spp) of a frame (buffers are cleared first), one sample
-        per pass; stops early once `time_limit` seconds (0: none) are spent, after at least one sample.
-        progress(samples_done, spp, seconds) is called after each pass. Returns a summary dict."""
-        self.scene.apply_stage_changes()  # edits made to the stage since the last frame (Usd.Notice.ObjectsChanged)
+    def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None, resume=False,
+               on_pass=None, pass_seconds=0.25, first_pass_stride=1):
+        """Renders samples [first_sample, first_sample + spp) of a frame through the delegate's progressive loop
+        (RenderPass.render): the stage's edits, the render plan, the materials and lights are gathered once, then
+        passes run until the samples are taken, `time_limit` seconds (0: none) are spent after the first pass, or
+        request_stop() is called from any thread. progress(samples_done, spp, seconds) and on_pass(PassProgress)
+        are called between passes on this thread; either returning False stops the render. pass_seconds: what a
+        pass aims at (0: one sample per pass). first_pass_stride (a power of two): the first pass renders the pixels
+        on a grid of that stride first, then the finer grids, with on_pass after each stage (PassProgress.stride > 1;
+        progress is not called): a coarse image of the whole frame sooner. resume: keep the buffers and continue
+        after the samples the last render took (a stage edit since then restarts instead). Returns a summary dict."""
+        start = clock.perf_counter()
+        changes = self.scene.apply_stage_changes()  # edits made to the stage since the last frame (ObjectsChanged)
         if time is not None:
             self.scene.set_time(time)
             if self.camera_light:
                 follow_camera(self.store, self._camera_to_world())
-        for aov in self.buffer_aovs:
-            self.index.clear_buffer(self._buffer_id(aov))
-        if self.crypto:
-            self.crypto.reset()
+        resumed = resume and self.stats is not None and time is None and not changes
+        if resumed:
+            first_sample = self.stats["first_sample"] + self.stats["samples_per_pixel"]
+        else:
+            self.clear_buffers()
+            self._apply_plan()
+        stats = self._run_passes(first_sample, spp, time_limit, progress, on_pass, pass_seconds, first_pass_stride)
+        seconds = clock.perf_counter() - start
+        render_start = seconds - stats.seconds  # sync and plan came first
+        done = stats.passes + (self.stats["samples_per_pixel"] if resumed else 0)
+        self.stats = {"samples_per_pixel": done, "seconds": seconds, "rays": stats.rays,
+                      "rays_per_second": stats.rays / seconds if seconds > 0 else 0.0,
+                      "samples_per_second": stats.samples / stats.seconds if stats.seconds > 0 else 0.0,
+                      "time_to_first_pixel": render_start + stats.first_pass_seconds if stats.passes else None,
+                      "time_to_preview": render_start + stats.preview_seconds if stats.preview_seconds else None,
+                      "non_finite_samples": stats.non_finite_samples, "stopped": stats.stopped,
+                      "time_limit_reached": stats.time_limit_reached,
+                      "first_sample": first_sample - (self.stats["samples_per_pixel"] if resumed else 0),
+                      "updated": dict(self.scene.last_update),
+                      "shutter": (self.scene.shutter.open, self.scene.shutter.close),
+                      "stage_changes": dict(changes)}
+        return self.stats
+
+    def _apply_plan(self):
         settings = self.delegate.settings
         if self.plan_overrides is not None:
             self.last_plan = self.plan()
@@ -175,34 +213,58 @@ class RenderSession:
         else:
             clear_render_plan(self.index)  # no plan: no eye keeps a switch from an earlier planned frame
             self.last_plan = None
+
+    def _run_passes(self, first_sample, spp, time_limit, progress, on_pass, pass_seconds, first_pass_stride):
+        """One call of the delegate's progressive loop; the callbacks run between its passes."""
+        settings = self.delegate.settings
+        settings.first_sample, settings.samples_per_pixel = first_sample, int(spp)
+        settings.time_limit_seconds = float(time_limit or 0.0)
         bindings = [(aov, self._buffer_id(aov)) for aov in self.buffer_aovs]
-        if self.crypto:
+        callback = None
+        if self.crypto:  # cryptomatte ranks each sample's first hit: one sample per pass, read before the next
             bindings.append((HIT_AOV, self._buffer_id(HIT_AOV)))
-        start, rays, done, non_finite = clock.perf_counter(), 0, 0, 0
-        while done < spp:
-            settings.first_sample, settings.samples_per_pixel = first_sample + done, 1
-            if self.crypto:  # the pass's own sample alone
-                self.index.clear_buffer(self._buffer_id(HIT_AOV))
-            try:
-                stats = self.render_pass.execute(self.camera_id, bindings)
-            except RuntimeError as e:  # bad prim data found at sync: already one line naming the prim
-                raise EyeRenderError(str(e)) from None
-            if self.crypto:
-                sums, counts = self.index.buffer_state(self._buffer_id(HIT_AOV))
-                self.crypto.add_pass(sums, counts, self.render_pass.prim_ids_by_index())
-            done, rays, non_finite = done + stats.passes, rays + stats.rays, non_finite + stats.non_finite_samples
-            elapsed = clock.perf_counter() - start
-            if progress:
-                progress(done, spp, elapsed)
-            if time_limit and elapsed >= time_limit:
-                break
-        seconds = clock.perf_counter() - start
-        self.stats = {"samples_per_pixel": done, "seconds": seconds, "rays": rays,
-                      "rays_per_second": rays / seconds if seconds > 0 else 0.0, "non_finite_samples": non_finite,
-                      "first_sample": first_sample, "updated": dict(self.scene.last_update),
-                      "shutter": (self.scene.shutter.open, self.scene.shutter.close),
-                      "stage_changes": dict(self.scene.last_changes)}
-        return self.stats
+            pass_seconds, first_pass_stride = 0, 1
+        if progress or on_pass or self.crypto:
+            def callback(p):
+                if self.crypto:
+                    sums, counts = self.index.buffer_state(self._buffer_id(HIT_AOV))
+                    self.crypto.add_pass(sums, counts, self.render_pass.prim_ids_by_index())
+                    self.index.clear_buffer(self._buffer_id(HIT_AOV))
+                keep_going = on_pass(p) if on_pass else None
+                if progress and p.stride == 1 and progress(p.samples_done, p.samples_total, p.seconds) is False:
+                    return False
+                return keep_going is not False
+        try:
+            return self.render_pass.render(self.camera_id, bindings, callback, self.stop_flag, pass_seconds,
+                                           first_pass_stride)
+        except RuntimeError as e:  # bad prim data found at sync: already one line naming the prim
+            raise EyeRenderError(str(e)) from None
+        finally:
+            settings.time_limit_seconds = 0.0
+            self.stop_flag.clear()
+
+    def clear_buffers(self):
+        """Empties every AOV buffer (sums and counts) and the cryptomatte coverage; between passes the render goes
+        on into empty buffers."""
+        for aov in self.buffer_aovs:
+            self.index.clear_buffer(self._buffer_id(aov))
+        if self.crypto:
+            self.index.clear_buffer(self._buffer_id(HIT_AOV))
+            self.crypto.reset()
+
+    def request_stop(self):
+        """Stops the running (or the next) render after its current pass; safe from any thread."""
+        self.stop_flag.request()
+
+    def header(self):
+        """The EXR header attributes of this frame's outputs: the render plan's JSON when the session plans, the time
+        to first pixel and the samples per second (the writers add each cryptomatte layer's metadata, named as its
+        channels are)."""
+        attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else {}
+        if self.stats and self.stats.get("time_to_first_pixel") is not None:
+            attributes["eyerender:timeToFirstPixel"] = f"{self.stats['time_to_first_pixel']:.4f} s"
+            attributes["eyerender:samplesPerSecond"] = f"{self.stats['samples_per_second']:.0f}"
+        return attributes
 
     def image(self, aov):
         """An AOV's pixels, float32 (height, width, components); a cryptomatte layer's ranked ids and coverage."""
@@ -231,11 +293,6 @@ class RenderSession:
         normal AOVs)."""
         write_images(path, {aov: self.image(aov) for aov in self.aovs}, exposure, attributes=self.header(),
                      color_correction=color_correction, denoise=denoise, manifests=self.manifests())
-
-    def header(self):
-        """The EXR header attributes of this frame's outputs: the render plan's JSON when the session plans (the
-        writers add each cryptomatte layer's metadata, named as its channels are)."""
-        return {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else None
 
     def manifests(self):
         """{cryptomatte layer: {name: id bits}} of the last frame."""

@@ -89,8 +89,8 @@ def _reference(args, stage_path, frame, make_session, progress):
     return session.image("color"), session.image("primId")[:, :, 0], path
 
 
-def _bar(args, label):
-    bar = ProgressBar(not args.quiet)
+def _bar(args, label, time_limit=0.0):
+    bar = ProgressBar(not args.quiet, time_limit)
     bar.label = label
     return bar
 
@@ -171,7 +171,7 @@ def _measure(args, budgets, make_session, overrides, ref, mask):
         for budget in budgets:
             imgs, spp, seconds = [], [], []
             for seed, session in zip(SEEDS, sessions):
-                bar = _bar(args, f"{mode} {budget:g} s seed {seed}")
+                bar = _bar(args, f"{mode} {budget:g} s seed {seed}", budget)
                 stats = session.render(spp=1 << 20, time_limit=budget, progress=bar)
                 bar.finish()
                 imgs.append(session.image("color"))

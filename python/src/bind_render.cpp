@@ -1,17 +1,61 @@
-// Rendering: the render settings, the render delegate that holds them, the render pass (run with the GIL released)
-// and what it reports.
+// Rendering: the render settings, the render delegate that holds them, the render pass (run with the GIL released,
+// taken back only for the pass callback) and what it reports.
 #include "bindings.h"
 
 #include "hdeye/hd/renderIndex.h"
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderDelegate.h"
 
+#include <nanobind/stl/function.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
 namespace hdeye::python {
+
+namespace {
+
+/// A stop request another thread can make while a render runs (the render reads it between passes).
+struct StopFlag {
+  std::atomic<bool> requested{false};
+};
+
+/// RenderPass.render: the progressive loop with the GIL released; the callback (a Python callable taking a
+/// PassProgress, returning False to stop) runs on this thread with the GIL taken back. An exception it raises stops
+/// the render and is raised again here.
+RenderStats RenderProgressively(RenderPass& pass, const PrimId& camera,
+                                const std::vector<std::pair<std::string, PrimId>>& bindings, nb::object callback,
+                                StopFlag* stop, double passSeconds, int firstPassStride) {
+  std::vector<AovBinding> b;
+  for (const auto& [aov, buffer] : bindings) b.push_back({aov, buffer});
+  ProgressiveControl control;
+  control.passSeconds = passSeconds;
+  control.firstPassStride = firstPassStride;
+  control.stop = stop ? &stop->requested : nullptr;
+  bool failed = false;
+  if (!callback.is_none())
+    control.onPass = [&](const PassProgress& progress) {
+      nb::gil_scoped_acquire gil;
+      try {
+        nb::object keepGoing = callback(progress);
+        return keepGoing.is_none() || nb::cast<bool>(keepGoing);
+      } catch (nb::python_error& e) {
+        e.restore();  // raised again below, once the render has returned
+        failed = true;
+        return false;
+      }
+    };
+  RenderStats stats;
+  {
+    nb::gil_scoped_release release;
+    stats = pass.Execute(camera, b, control);
+  }
+  if (failed) throw nb::python_error();
+  return stats;
+}
+
+}  // namespace
 
 void BindRender(nb::module_& m) {
   nb::class_<RenderSettings>(m, "RenderSettings")
@@ -70,7 +114,31 @@ void BindRender(nb::module_& m) {
       .def_ro("passes", &RenderStats::passes)
       .def_ro("non_finite_samples", &RenderStats::nonFiniteSamples)
       .def_ro("capped_walks", &RenderStats::cappedWalks, "sclera walks dropped at their step cap")
-      .def_ro("time_limit_reached", &RenderStats::timeLimitReached);
+      .def_ro("time_limit_reached", &RenderStats::timeLimitReached)
+      .def_ro("first_pass_seconds", &RenderStats::firstPassSeconds, "seconds to the end of the first pass")
+      .def_ro("preview_seconds", &RenderStats::previewSeconds,
+              "seconds to the first stage of a first pass in stages (first_pass_stride), 0 without")
+      .def_ro("stopped", &RenderStats::stopped, "a stop request or the callback ended the render early");
+
+  nb::class_<PassProgress>(m, "PassProgress")
+      .def_ro("samples_done", &PassProgress::samplesDone)
+      .def_ro("samples_total", &PassProgress::samplesTotal)
+      .def_ro("pass_samples", &PassProgress::passSamples)
+      .def_ro("seconds", &PassProgress::seconds)
+      .def_ro("first_pass_seconds", &PassProgress::firstPassSeconds)
+      .def_ro("stride", &PassProgress::stride,
+              "1, or during a first pass in stages: the pixels with x and y multiples of it have their sample")
+      .def_ro("preview_seconds", &PassProgress::previewSeconds);
+
+  nb::class_<StopFlag>(m, "StopFlag", "A stop request, set from any thread, honoured between passes.")
+      .def(nb::init<>())
+      .def("request", [](StopFlag& f) { f.requested = true; })
+      .def("clear", [](StopFlag& f) { f.requested = false; })
+      .def_prop_ro("requested", [](const StopFlag& f) { return f.requested.load(); });
+
+  m.def("next_pass_samples", &NextPassSamples, nb::arg("remaining"), nb::arg("last_pass"),
+        nb::arg("seconds_per_sample"), nb::arg("pass_seconds"), nb::arg("time_left"),
+        "The samples per pixel of the progressive loop's next pass (renderer.h NextPassSamples).");
 
   nb::class_<RenderDelegate>(m, "RenderDelegate")
       .def(nb::init<>())
@@ -96,6 +164,14 @@ void BindRender(nb::module_& m) {
           nb::arg("camera_id"), nb::arg("bindings"), nb::call_guard<nb::gil_scoped_release>(),
           "Syncs the index and renders settings.samples_per_pixel samples from settings.first_sample into the "
           "bound buffers (which accumulate). bindings: [(aov name, render buffer id)].")
+      .def("render", &RenderProgressively, nb::arg("camera_id"), nb::arg("bindings"),
+           nb::arg("callback").none() = nb::none(), nb::arg("stop").none() = nb::none(), nb::arg("pass_seconds") = 0.25,
+           nb::arg("first_pass_stride") = 1,
+           "Syncs the index once and renders settings.samples_per_pixel samples from settings.first_sample in "
+           "passes, stopping early at settings.time_limit_seconds, when `stop` is requested or when callback("
+           "PassProgress) returns False. The callback runs between passes on this thread; the GIL is released "
+           "while passes render. first_pass_stride (a power of two): the first pass renders a grid of this stride "
+           "first, then the finer ones, with the callback after each stage (PassProgress.stride).")
       .def("plan", &RenderPass::Plan, nb::arg("camera_id"), nb::arg("width"), nb::arg("height"), nb::arg("overrides"),
            nb::arg("rules") = PlanRules{}, nb::call_guard<nb::gil_scoped_release>(),
            "Syncs the index and returns the render plan for the camera and image size, without rendering.")

@@ -10,8 +10,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 using namespace hdeye;
 
@@ -154,6 +158,119 @@ TEST_CASE("a render under a time limit (one pass per sample) equals one without 
   CHECK_FALSE(limited.timeLimitReached);
   CHECK(s.Buffer("/color").Sums() == s.Buffer("/limited").Sums());
   CHECK(s.Buffer("/color").Counts() == s.Buffer("/limited").Counts());
+}
+
+TEST_CASE("a progressive render, its passes sized by the callback's loop, equals one pass bit for bit", "[render]") {
+  // The callback is called after every pass on the calling thread, with the samples done growing to the total; pass
+  // sizes follow NextPassSamples (1 first, then what fits passSeconds), and the buffers match a one-pass render. With
+  // a first pass in stages (stride 4, then 2, then 1: each pixel once), too.
+  for (const auto& [passSeconds, stride] : {std::pair{0.0, 1}, {1e-4, 1}, {10.0, 1}, {0.0, 4}, {10.0, 3}}) {
+    Scene s;
+    FurnaceScene(s, 0.7f, 16);
+    s.scene.AddRenderBuffer("/passes", 16, 16, 4);
+    RenderSettings& settings = s.delegate.Settings();
+    settings.samplesPerPixel = 9;
+    settings.firstSample = 2;
+    settings.threads = 2;
+    const RenderStats whole = s.Render("/color");
+    std::vector<int> done, sizes, strides;
+    ProgressiveControl control;
+    control.passSeconds = passSeconds;
+    control.firstPassStride = stride;
+    control.onPass = [&](const PassProgress& p) {
+      if (p.stride > 1) return strides.push_back(p.stride), true;  // a stage of the first pass
+      done.push_back(p.samplesDone), sizes.push_back(p.passSamples);
+      return true;
+    };
+    const RenderStats passes = s.pass.Execute("/cam", {{"color", "/passes"}}, control);
+    INFO("pass seconds " << passSeconds << ", first pass stride " << stride << ", " << done.size() << " passes");
+    CHECK(strides == (stride == 4 ? std::vector<int>{4, 2} : stride == 3 ? std::vector<int>{2} : std::vector<int>{}));
+    REQUIRE_FALSE(done.empty());
+    CHECK(sizes.front() == 1);
+    CHECK(done.back() == 9);
+    CHECK(std::is_sorted(done.begin(), done.end()));
+    for (std::size_t i = 1; i < sizes.size(); ++i) CHECK(sizes[i] <= 2 * sizes[i - 1]);
+    if (passSeconds == 0) CHECK(done.size() == 9);   // one sample per pass
+    if (passSeconds == 10) CHECK(done.size() <= 5);  // 1, 2, 4, 2 (doubling, capped by the samples left)
+    CHECK(passes.passes == 9);
+    CHECK_FALSE(passes.stopped);
+    CHECK(passes.firstPassSeconds > 0);
+    CHECK(passes.firstPassSeconds <= passes.seconds);
+    CHECK(whole.rays == passes.rays);
+    CHECK(s.Buffer("/color").Sums() == s.Buffer("/passes").Sums());
+    CHECK(s.Buffer("/color").Counts() == s.Buffer("/passes").Counts());
+  }
+}
+
+TEST_CASE("a first pass in stages renders the coarse grid's pixels first, and ends the stages before it stops",
+          "[render]") {
+  Scene s;
+  FurnaceScene(s, 0.7f, 10);
+  s.delegate.Settings().samplesPerPixel = 20;
+  const std::vector<double>& counts = s.Buffer("/color").Counts();
+  std::vector<std::vector<double>> seen;
+  ProgressiveControl control;
+  control.firstPassStride = 4;
+  control.onPass = [&](const PassProgress& p) {
+    seen.push_back(counts);
+    return p.stride > 1;  // asks to stop at every call: honoured only once the first pass is whole
+  };
+  const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}}, control);
+  REQUIRE(seen.size() == 3);  // stride 4, stride 2, the whole pass
+  int wrong = 0;
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) {
+      const std::size_t i = std::size_t(y * 10 + x);
+      wrong += seen[0][i] != double(x % 4 == 0 && y % 4 == 0);
+      wrong += seen[1][i] != double(x % 2 == 0 && y % 2 == 0);
+      wrong += seen[2][i] != 1.0;
+    }
+  CHECK(wrong == 0);
+  CHECK(stats.passes == 1);
+  CHECK(stats.stopped);
+  CHECK(stats.previewSeconds > 0);
+  CHECK(stats.previewSeconds <= stats.firstPassSeconds);
+}
+
+TEST_CASE("a stop request or a callback saying stop ends the render after a whole pass", "[render]") {
+  Scene s;
+  FurnaceScene(s, 0.7f, 8);
+  RenderSettings& settings = s.delegate.Settings();
+  settings.samplesPerPixel = 50;
+  SECTION("the callback returns false after the second pass") {
+    int calls = 0;
+    ProgressiveControl control;
+    control.passSeconds = 0;
+    control.onPass = [&](const PassProgress&) { return ++calls < 2; };
+    const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}}, control);
+    CHECK(calls == 2);
+    CHECK(stats.passes == 2);
+    CHECK(stats.stopped);
+  }
+  SECTION("the stop flag, already set, lets the first pass finish and no more") {
+    std::atomic<bool> stop{true};
+    ProgressiveControl control;
+    control.stop = &stop;
+    const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}}, control);
+    CHECK(stats.passes == 1);
+    CHECK(stats.stopped);
+  }
+  // Every pixel has the samples the passes took, no more and no less.
+  const std::vector<double>& counts = s.Buffer("/color").Counts();
+  CHECK(*std::min_element(counts.begin(), counts.end()) == *std::max_element(counts.begin(), counts.end()));
+  CHECK(counts.front() >= 1);
+}
+
+TEST_CASE("the pass schedule starts with one sample, grows at most twofold and respects the samples and time left",
+          "[render]") {
+  CHECK(NextPassSamples(100, 0, 0.0, 0.25, -1) == 1);       // the first image soonest
+  CHECK(NextPassSamples(100, 1, 0.001, 0.25, -1) == 2);     // 250 fit, but at most twice the last
+  CHECK(NextPassSamples(100, 64, 0.001, 0.25, -1) == 100);  // capped by the samples left
+  CHECK(NextPassSamples(1000, 64, 0.01, 0.25, -1) == 25);   // what fits a quarter second
+  CHECK(NextPassSamples(1000, 64, 0.01, 0.25, 0.05) == 5);  // what fits before the time limit
+  CHECK(NextPassSamples(1000, 64, 0.01, 0.25, 0.0) == 1);   // the limit reached: one sample
+  CHECK(NextPassSamples(1000, 8, 1.0, 0.25, -1) == 1);      // a slow sample: never below one
+  CHECK(NextPassSamples(0, 8, 0.01, 0.25, -1) == 0);
 }
 
 TEST_CASE("a path's random numbers do not depend on whether the camera drew its lens and time", "[render][sampler]") {

@@ -104,6 +104,29 @@ def test_frame_range_writes_one_file_per_frame(stage_file, tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["f.001.png", "f.002.png", "f.003.png", "scene.usda"]
 
 
+def test_a_log_gets_one_line_per_frame_and_the_summary_the_time_to_first_pixel(stage_file, tmp_path, capsys):
+    assert run(stage_file, tmp_path / "f.###.exr", "-f", "1:3", "-w", 8, "--spp", 2) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    frames = [line for line in lines if line.startswith("eyerecord: frame ")]
+    assert len(frames) == 3 and all("2 spp" in f and "first pixel" in f and "Msamples/s" in f for f in frames), lines
+    assert "3 frame(s) 8x8, 2 spp" in lines[-1] and "first pixel" in lines[-1] and "Msamples/s" in lines[-1]
+
+
+def test_the_progress_bar_on_a_terminal_shows_samples_time_and_time_left(monkeypatch, capsys):
+    from eyerender.console import ProgressBar
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    bar = ProgressBar(True)
+    bar.label = "render"
+    bar(8, 32, 2.0)
+    drawn = capsys.readouterr().err
+    assert drawn.startswith("\rrender [#######") and "8/32 spp" in drawn and "eta   6.0 s" in drawn, drawn
+    limited = ProgressBar(True, time_limit=10.0)
+    limited(8, 1 << 20, 2.0)  # under a time limit the time left is the limit's, and the sample count is open
+    drawn = capsys.readouterr().err
+    assert "8 spp" in drawn and "eta   8.0 s" in drawn, drawn
+
+
 def test_frame_syntax_and_placeholders():
     assert parse_frames("1:5x2,8") == [1, 3, 5, 8]
     assert parse_frames("1.5") == [1.5]

@@ -83,7 +83,8 @@ void SyncShutter(RenderIndex& index, const PrimId& cameraId, RenderParam* render
 
 }  // namespace
 
-RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings) {
+RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings,
+                                const ProgressiveControl& control) {
   SyncShutter(*index_, cameraId, index_->GetRenderDelegate()->GetRenderParam());
   index_->SyncAll();
   // The index was made with this delegate (HdEmbreeRenderPass reaches its render param the same way).
@@ -134,7 +135,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   renderer_.SetTextured(textured);
   renderer_.SetSceneVersion(committedVersion_);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
-                          BindBuffers(*index_, bindings));
+                          BindBuffers(*index_, bindings), control);
 }
 
 RenderPlan RenderPass::Plan(const PrimId& cameraId, int width, int height, const PlanOverrides& overrides,

@@ -1,7 +1,8 @@
 #pragma once
 // The render pass (HdRenderPass's role): a thin controller. Execute syncs the render index, commits
 // the Embree scene if any prim edited it, hands the renderer the camera view, the light list and
-// the bound AOV buffers, and returns what the renderer did.
+// the bound AOV buffers with the progressive control (passes, callback, stop flag), and returns what the
+// renderer did.
 #include "hdeye/plan/renderPlan.h"
 #include "hdeye/render/renderer.h"
 
@@ -23,9 +24,11 @@ class RenderPass {
  public:
   explicit RenderPass(RenderIndex* renderIndex) : index_(renderIndex) {}
 
-  /// Throws std::runtime_error with a one-line message for a missing camera or buffer, an unknown
-  /// AOV name, or a prim whose data is bad.
-  RenderStats Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings);
+  /// Syncs, gathers the materials and lights once, then renders in passes as `control` asks (renderer.h): the
+  /// delegate's one progressive loop. Throws std::runtime_error with a one-line message for a missing camera or
+  /// buffer, an unknown AOV name, or a prim whose data is bad.
+  RenderStats Execute(const PrimId& cameraId, const std::vector<AovBinding>& bindings,
+                      const ProgressiveControl& control = {});
 
   /// The render plan (renderPlan.h) for the camera and a width x height image, without rendering:
   /// syncs the index as Execute does, then measures and decides. Nothing is applied: the caller

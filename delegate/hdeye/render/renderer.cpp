@@ -952,13 +952,22 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
 
-/// Samples [firstSample, firstSample + samples) of every pixel in a range of tiles, each (pixel, sample) from its own
-/// random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
+/// The pixels a pass stage renders: those on the stride grid (x and y multiples of `stride`) that are not on the
+/// coarser grid of the stage before (0: none before). A first pass in stages 4, 2, 1 renders each pixel once.
+struct PixelGrid {
+  int stride = 1, coarser = 0;
+  bool Has(int x, int y) const {
+    return x % stride == 0 && y % stride == 0 && !(coarser && x % coarser == 0 && y % coarser == 0);
+  }
+};
+
+/// Samples [firstSample, firstSample + samples) of the grid's pixels in a range of tiles, each (pixel, sample) from its
+/// own random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
 /// per sample): its buffer entries stay in cache, where a pass over the whole image would fetch them again each time.
-void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, RTCScene scene,
-                 const CameraView& camera, const std::vector<RenderLight>& lights, const RenderSettings& settings,
-                 bool cutouts, bool textured, const AovBuffers& aovs, SharedCounts* counts,
-                 ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
+void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, const PixelGrid& grid,
+                 RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                 const RenderSettings& settings, bool cutouts, bool textured, const AovBuffers& aovs,
+                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
   const double aspect = double(width) / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
@@ -968,7 +977,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x)
-        for (int s = firstSample; s < firstSample + samples; ++s) {
+        for (int s = firstSample; s < firstSample + samples && grid.Has(x, y); ++s) {
           SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
           double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
           if (s != 0) rng.PixelJitter(&jx, &jy);
@@ -989,50 +998,133 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
   counts->Add(tracer.GetCounts());
 }
 
+/// Seconds since `start`.
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// What every pass of one Render call shares: the scene, the tile count, the thread arena, the counters.
+struct PassContext {
+  RTCScene scene;
+  const CameraView& camera;
+  const std::vector<RenderLight>& lights;
+  const RenderSettings& settings;
+  const AovBuffers& aovs;
+  bool cutouts, textured;
+  ChamberLightCaches* chamberCaches;
+  const eyelib::ZSobolKeyTable* sampleKeys;
+  int tiles;
+  tbb::task_arena* arena;
+  SharedCounts* counts;
+};
+
+/// Samples [firstSample, firstSample + samples) of the grid's pixels, on the arena's threads.
+void RenderPassSamples(const PassContext& c, int firstSample, int samples, const PixelGrid& grid = {}) {
+  c.arena->execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, c.tiles), [&](const tbb::blocked_range<int>& range) {
+      RenderTiles(range, firstSample, samples, grid, c.scene, c.camera, c.lights, c.settings, c.cutouts, c.textured,
+                  c.aovs, c.counts, c.chamberCaches, c.sampleKeys);
+    });
+  });
+}
+
+/// The first pass (one sample) in coarse-to-fine stages, strides control.firstPassStride, its half, ..., 1, with the
+/// callback after each stage but the last (PassProgress::stride; its return value waits for the pass's end: a
+/// render stops only between whole passes). Every pixel takes its sample once, so the image is as one stage's.
+/// Returns the seconds to the end of the first stage. Each stride is a multiple of the next (powers of two: a stride
+/// that is not one is rounded down to one), so no pixel is in two stages.
+double RenderFirstPassInStages(const PassContext& c, const ProgressiveControl& control, PassProgress progress,
+                               std::chrono::steady_clock::time_point start) {
+  int coarser = 0, first = 1;
+  while (first * 2 <= control.firstPassStride) first *= 2;
+  for (int stride = first; stride > 1; coarser = stride, stride /= 2) {
+    RenderPassSamples(c, c.settings.firstSample, 1, PixelGrid{stride, coarser});
+    progress.stride = stride;
+    progress.seconds = SecondsSince(start);
+    if (progress.previewSeconds == 0) progress.previewSeconds = progress.seconds;
+    if (control.onPass) control.onPass(progress);
+  }
+  RenderPassSamples(c, c.settings.firstSample, 1, PixelGrid{1, coarser});
+  return progress.previewSeconds;
+}
+
+void CopyCounts(const SharedCounts& counts, RenderStats* stats) {
+  stats->rays = counts.rays;
+  stats->nonFiniteSamples = counts.nonFinite;
+  stats->scleraWalks = counts.walks;
+  stats->teleportedWalks = counts.teleported;
+  stats->cappedWalks = counts.capped;
+  stats->invalidWalks = counts.invalid;
+}
+
 }  // namespace
 
+int NextPassSamples(int remaining, int lastPass, double secondsPerSample, double passSeconds, double timeLeft) {
+  if (remaining <= 0) return 0;
+  if (lastPass <= 0 || !(secondsPerSample > 0)) return 1;
+  const double target = timeLeft >= 0 ? std::min(passSeconds, timeLeft) : passSeconds;
+  const double fit = std::clamp(std::floor(target / secondsPerSample), 1.0, 2.0 * lastPass);
+  return std::min(int(fit), remaining);
+}
+
 RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
-                             const RenderSettings& settings, const AovBuffers& aovs) const {
+                             const RenderSettings& settings, const AovBuffers& aovs,
+                             const ProgressiveControl& control) const {
   CheckBuffers(aovs);
   const int width = aovs.color->Width(), height = aovs.color->Height();
   RenderStats stats;
   if (width == 0 || height == 0) return stats;
   const auto start = std::chrono::steady_clock::now();
-  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
   SharedCounts counts;
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
   chamberCaches_->BeginRender(lights, sceneVersion_);
   const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
+  const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
+  const PassContext context{scene,       camera, lights, settings, aovs, cutouts_, textured_, chamberCaches_.get(),
+                            &sampleKeys, tiles,  &arena, &counts};
 
-  // Without a time limit every pixel takes all its samples at once (RenderTiles); with one, one pass per sample
-  // index, so that the limit stops between whole passes and every pixel has the same samples. Either way a pixel's
-  // samples are added in sample order: the two give the same image bit for bit.
-  const bool limited = settings.timeLimitSeconds > 0;
-  const int samplesPerTask = limited ? 1 : settings.samplesPerPixel;
-  for (int pass = 0; pass < settings.samplesPerPixel; pass += samplesPerTask) {
-    const int s = settings.firstSample + pass;
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& range) {
-        RenderTiles(range, s, samplesPerTask, scene, camera, lights, settings, cutouts_, textured_, aovs, &counts,
-                    chamberCaches_.get(), &sampleKeys);
-      });
-    });
-    stats.passes += samplesPerTask;
-    stats.samples += std::int64_t(width) * height * samplesPerTask;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (limited && elapsed >= settings.timeLimitSeconds && pass + 1 < settings.samplesPerPixel) {
+  // Without a callback, a stop flag or a time limit every pixel takes all its samples at once (in cache); else pass
+  // after pass as NextPassSamples sizes them, stopping only between whole passes so every pixel has the same samples.
+  const bool progressive = control.Progressive(settings), limited = settings.timeLimitSeconds > 0;
+  PassProgress progress;
+  progress.samplesTotal = settings.samplesPerPixel;
+  double secondsPerSample = 0;
+  while (progress.samplesDone < settings.samplesPerPixel) {
+    const int remaining = settings.samplesPerPixel - progress.samplesDone;
+    const double timeLeft = limited ? std::max(0.0, settings.timeLimitSeconds - SecondsSince(start)) : -1.0;
+    const int samples =
+        progressive ? NextPassSamples(remaining, progress.passSamples, secondsPerSample, control.passSeconds, timeLeft)
+                    : remaining;
+    const auto passStart = std::chrono::steady_clock::now();
+    if (progress.samplesDone == 0 && progressive && control.firstPassStride > 1)
+      stats.previewSeconds = progress.previewSeconds = RenderFirstPassInStages(context, control, progress, start);
+    else
+      RenderPassSamples(context, settings.firstSample + progress.samplesDone, samples);
+    secondsPerSample = SecondsSince(passStart) / samples;
+    progress.samplesDone += samples;
+    progress.passSamples = samples;
+    progress.seconds = SecondsSince(start);
+    if (progress.firstPassSeconds == 0) progress.firstPassSeconds = progress.seconds;
+    stats.passes += samples;
+    stats.samples += std::int64_t(width) * height * samples;
+    const bool more = progress.samplesDone < settings.samplesPerPixel;
+    if (control.onPass && !control.onPass(progress) && more) {
+      stats.stopped = true;
+      break;
+    }
+    if (more && control.stop && control.stop->load()) {
+      stats.stopped = true;
+      break;
+    }
+    if (more && limited && SecondsSince(start) >= settings.timeLimitSeconds) {
       stats.timeLimitReached = true;
       break;
     }
   }
-  stats.rays = counts.rays;
-  stats.nonFiniteSamples = counts.nonFinite;
-  stats.scleraWalks = counts.walks;
-  stats.teleportedWalks = counts.teleported;
-  stats.cappedWalks = counts.capped;
-  stats.invalidWalks = counts.invalid;
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CopyCounts(counts, &stats);
+  stats.firstPassSeconds = progress.firstPassSeconds;
+  stats.seconds = SecondsSince(start);
   return stats;
 }
 

@@ -12,7 +12,9 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -64,14 +66,56 @@ struct RenderStats {
   /// Walks ended as eyelib::WalkStatus::Invalid (bad artist values, a boundary query the mesh boundary
   /// could not answer): the path is dropped; a bug or a bad asset if ever non-zero.
   std::int64_t invalidWalks = 0;
+  /// Seconds from the start of Render to the end of its first pass (every pixel has a sample): 0 if none ran.
+  double firstPassSeconds = 0;
+  /// Seconds to the first stage of a first pass in stages (ProgressiveControl::firstPassStride): 0 without stages.
+  double previewSeconds = 0;
+  bool stopped = false;  ///< a stop request or the pass callback ended the render before its samples
 };
+
+/// Where a progressive render stands after a pass, as the pass callback sees it.
+struct PassProgress {
+  int samplesDone = 0;          ///< samples per pixel completed by this Render call
+  int samplesTotal = 0;         ///< the samples per pixel it was asked for
+  int passSamples = 0;          ///< samples per pixel the last pass took
+  double seconds = 0;           ///< since Render started
+  double firstPassSeconds = 0;  ///< to the end of the first pass
+  /// While the first pass runs in stages (ProgressiveControl::firstPassStride): the pixels with x and y multiples of
+  /// `stride` have their sample (samplesDone is still 0). 1: the pass is whole.
+  int stride = 1;
+  double previewSeconds = 0;  ///< to the end of the first stage (0: the first pass ran in one stage)
+};
+
+/// How a render is split into passes and stopped between them. A pass takes its samples of every pixel (each pixel's
+/// in sample order), so any split gives the same image bit for bit; with neither a callback, a stop flag nor a time
+/// limit the render is one pass.
+struct ProgressiveControl {
+  /// Called between passes on the thread that called Render; returns false to stop (the samples taken are kept).
+  std::function<bool(const PassProgress&)> onPass;
+  const std::atomic<bool>* stop = nullptr;  ///< may be set from any thread: the render stops after the current pass
+  /// Seconds a pass aims at: the first pass takes one sample (the first full image soonest), each later one as many
+  /// as fit this long by the rate so far (at most twice the last, never past a time limit's estimate).
+  double passSeconds = 0.25;
+  /// A power of two > 1: the first pass renders the pixels on a grid of this stride first, then the finer grids
+  /// (the callback after each), so that a coarse image of the whole frame comes sooner. 1: one stage.
+  int firstPassStride = 1;
+  bool Progressive(const RenderSettings& settings) const { return onPass || stop || settings.timeLimitSeconds > 0; }
+};
+
+/// The samples per pixel of the next pass: `remaining` samples left, `lastPass` the size of the last (0: none yet),
+/// `secondsPerSample` the measured seconds of one sample per pixel, `timeLeft` seconds before a time limit (negative:
+/// none). A pure function, so the schedule can be tested alone.
+int NextPassSamples(int remaining, int lastPass, double secondsPerSample, double passSeconds, double timeLeft);
 
 class Renderer {
  public:
   /// Renders settings.samplesPerPixel samples per pixel, starting at settings.firstSample, into the
-  /// bound buffers (which must all have the colour buffer's size). `scene` must be committed.
+  /// bound buffers (which must all have the colour buffer's size), in passes as `control` asks, until the samples
+  /// are taken, settings.timeLimitSeconds is spent (after at least one pass) or a stop is asked for. `scene` must
+  /// be committed.
   RenderStats Render(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
-                     const RenderSettings& settings, const AovBuffers& aovs) const;
+                     const RenderSettings& settings, const AovBuffers& aovs,
+                     const ProgressiveControl& control = {}) const;
   /// Whether a material in the scene has an opacityThreshold (cut-outs): shadow rays then find what they
   /// meet instead of stopping at the first surface. Set by the render pass before Render.
   void SetCutouts(bool cutouts) { cutouts_ = cutouts; }
