@@ -105,7 +105,7 @@ def test_a_light_move_is_authored_in_the_session_layer_and_moves_the_light(view,
     ("pupil", "nan", "not a finite number"),
     ("pupil", 20, "outside"),
     ("pupil", "wide", "not a number"),
-    ("limbusInner", 0.95, "exceeds eye:limbusOuterRatio"),
+    ("limbusInner", 0.95, "outside its valid range (0, eye:limbusOuterRatio"),
     ("noSuchControl", 1, "no control"),
 ])
 def test_a_bad_edit_is_one_message_and_neither_reaches_the_stage_nor_stops_the_render(view, name, value, says):
