@@ -33,12 +33,13 @@ class HitNames:
             prim = binding = scene.stage.GetPrimAtPath(rprim) if Sdf.Path.IsValidPathString(rprim) else Usd.Prim()
         names = scene.instance_names.get(rprim)
         obj = names[instance] if names and 0 <= instance < len(names) else rprim
-        material = _material_name(bound_material(binding)) if binding else None
+        material = _material_name(bound_material(binding, scene.material_purposes)) if binding else None
         if subset >= 0 and binding:
             subsets = [s for s in UsdShade.MaterialBindingAPI(binding).GetMaterialBindSubsets()
                        if s.GetElementTypeAttr().Get() == UsdGeom.Tokens.face]
             if subset < len(subsets):
-                material = _material_name(bound_material(subsets[subset].GetPrim())) or material
+                subset_material = bound_material(subsets[subset].GetPrim(), scene.material_purposes)
+                material = _material_name(subset_material) or material
         return obj, material, self._asset(binding if binding else prim, obj)
 
     @staticmethod

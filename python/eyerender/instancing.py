@@ -229,7 +229,7 @@ class Instancing:
         if UsdGeom.Imageable(prim) and UsdGeom.Imageable(prim).ComputeVisibility(d.time) == UsdGeom.Tokens.invisible:
             with d.owning(prim.GetPath(), sources=[prim.GetPath()]):  # made visible: populated as its own group
                 return
-        material = bound_material(prim)
+        material = bound_material(prim, d.material_purposes)
         prototype = prim.GetPrototype()
         key = (prototype.GetPath().pathString, material.GetPath().pathString if material else "")
         group = self._native.get(key)

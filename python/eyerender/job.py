@@ -246,6 +246,15 @@ def image_options(stage, options):
     return width, height, camera, aovs
 
 
+def session_material_purposes(stage, options):
+    """The material binding purposes a session resolves, in order: the render settings prim's authored
+    materialBindingPurposes, else "preview" then all-purpose (materials.DEFAULT_BINDING_PURPOSES)."""
+    from .materials import DEFAULT_BINDING_PURPOSES
+    from .render_products import material_binding_purposes
+
+    return material_binding_purposes(stage, render_settings_path(stage, options)) or DEFAULT_BINDING_PURPOSES
+
+
 def session_purposes(stage, options):
     """The UsdGeom purposes a session renders: the options', else the render settings prim's authored
     includedPurposes, else proxy (usdrecord's --purposes default)."""
@@ -293,6 +302,7 @@ def open_session(stage, options, time=None):
     shutter = settings_override(stage, render_settings_path(stage, options), options.shutter)
     return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs,
                          purposes=session_purposes(stage, options),
+                         material_purposes=session_material_purposes(stage, options),
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
                          camera_light=options.camera_light,
@@ -304,5 +314,5 @@ def open_session(stage, options, time=None):
 __all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
-           "render_settings_path", "read_render_settings", "image_options", "session_purposes", "product_sessions",
-           "open_session"]
+           "render_settings_path", "read_render_settings", "image_options", "session_purposes",
+           "session_material_purposes", "product_sessions", "open_session"]

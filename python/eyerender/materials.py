@@ -24,11 +24,30 @@ from ._hdeye import MaterialParams, TextureColorSpace, TextureInput, TextureWrap
 from .errors import EyeRenderError
 from .textures import TextureWarning, resolve_texture
 
+# The material purposes bindings are resolved for, in order ("" the all-purpose binding) where the stage's render
+# settings name none: "preview" first, as Storm asks for a UsdPreviewSurface renderer.
+DEFAULT_BINDING_PURPOSES = ("preview", "")
 
-def bound_material(prim):
-    """The UsdShade.Material bound to prim for the "preview" purpose (a UsdPreviewSurface renderer's, as Storm
-    asks), else its all-purpose binding; an invalid Material where there is none."""
-    return UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(UsdShade.Tokens.preview)[0]
+
+def bound_material(prim, purposes=DEFAULT_BINDING_PURPOSES):
+    """The UsdShade.Material bound to prim for the first of `purposes` (UsdRender's materialBindingPurposes: an
+    ordered list, "" the all-purpose binding) that binds one, by UsdShade's resolution; an invalid Material where
+    none does."""
+    api = UsdShade.MaterialBindingAPI(prim)
+    for purpose in purposes:
+        material, relationship = api.ComputeBoundMaterial(purpose or UsdShade.Tokens.allPurpose)
+        if material and _binding_purpose(relationship) == purpose:
+            return material
+    return UsdShade.Material()
+
+
+def _binding_purpose(relationship):
+    """The material purpose of a binding relationship ("" for the all-purpose ones): material:binding[:purpose] or
+    material:binding:collection[:purpose]:name."""
+    parts = relationship.GetName().split(":") if relationship else []
+    if parts[2:3] == ["collection"]:
+        return parts[3] if len(parts) == 5 else ""
+    return parts[2] if len(parts) == 3 else ""
 
 
 # UsdPreviewSurface's defaults (its specification), for inputs with no authored value.

@@ -248,6 +248,17 @@ def included_purposes(stage, settings_path):
     return None if value is None else tuple(str(p) for p in value)
 
 
+def material_binding_purposes(stage, settings_path):
+    """The settings prim's authored materialBindingPurposes (material purposes in order, "" all-purpose), or None
+    when not authored (the renderer's own order then: materials.DEFAULT_BINDING_PURPOSES)."""
+    from pxr import UsdRender
+
+    prim = stage.GetPrimAtPath(settings_path) if settings_path else None
+    settings = UsdRender.Settings(prim) if prim else None
+    value = _authored(settings.GetMaterialBindingPurposesAttr()) if settings else None
+    return None if value is None else tuple(str(p) for p in value)
+
+
 def data_window_pixels(window, width, height):
     """NDC (xmin, ymin, xmax, ymax), y up, as pixel bounds (x0, y0, x1, y1) inclusive, rows top down (EXR's): the
     pixels whose centres lie inside it (UsdRender's dataWindowNDC), at least one."""

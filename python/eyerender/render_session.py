@@ -23,6 +23,7 @@ from .camera_light import add_camera_light, follow_camera
 from .cryptomatte import HIT_AOV, header_attributes
 from .cryptomatte import TYPES as CRYPTO_TYPES
 from .errors import EyeRenderError
+from .materials import DEFAULT_BINDING_PURPOSES
 from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
 from .plan import PlanOverrides, plan_json
 from .shutter import ShutterOverride, resolve_shutter
@@ -41,10 +42,12 @@ class RenderSession:
 
     def __init__(self, stage, *, width, height=None, camera=None, aovs=("color",), purposes=("proxy",),
                  refine_level=2, cornea_model=None, time=Usd.TimeCode.Default(), settings=None, plan_overrides=None,
-                 camera_light=False, strict=False, flatten_instances=False, dome_light_visible=False, shutter=None):
+                 camera_light=False, strict=False, flatten_instances=False, dome_light_visible=False, shutter=None,
+                 material_purposes=DEFAULT_BINDING_PURPOSES):
         """width, height: pixels (height None: from the camera's aperture ratio); camera: a prim path or a prim
         name (usdrecord's --camera), None for main_cam, else the stage's first camera, else a camera framing the
         stage; purposes: UsdGeom purposes rendered besides "default" (eyerecord's and usdrecord's default: proxy);
+        material_purposes: the material binding purposes resolved, in order ("" all-purpose);
         aovs: names from AOV_CHANNELS ("color" is always rendered); settings: RenderSettings attribute
         overrides (seed, threads, max_depth, mis, mnee_all_solutions); plan_overrides: a PlanOverrides (eyerender.plan)
         turns on the render plan: before each frame it decides what the eyes need (what the overrides leave open),
@@ -71,7 +74,7 @@ class RenderSession:
             setattr(self.delegate.settings, name, value)
         self.scene = UsdSceneDelegate(stage, self.store, time=time, purposes=purposes, refine_level=refine_level,
                                       cornea_model=cornea_model, strict=strict,
-                                      flatten_instances=flatten_instances)
+                                      flatten_instances=flatten_instances, material_purposes=material_purposes)
         self.scene.populate()
         self.camera_id = self._choose_camera(camera, purposes, width, height)
         self.shutter_override = shutter if isinstance(shutter, ShutterOverride) or shutter is None else \

@@ -59,8 +59,10 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
     """Populates a SceneStore from a Usd.Stage (see the module doc)."""
 
     def __init__(self, stage, store, *, time=Usd.TimeCode.Default(), purposes=("proxy",), refine_level=2,
-                 cornea_model=None, strict=False, flatten_instances=False):
-        """purposes: the UsdGeom purposes to render ("default" is always included); refine_level: Catmull-Clark
+                 cornea_model=None, strict=False, flatten_instances=False,
+                 material_purposes=materials.DEFAULT_BINDING_PURPOSES):
+        """purposes: the UsdGeom purposes to render ("default" is always included); material_purposes: the material
+        binding purposes, in order ("" all-purpose; UsdRender's materialBindingPurposes); refine_level: Catmull-Clark
         refinement level for subdivision meshes (usdrecord's --complexity); cornea_model: overrides every eye's
         eye:corneaModel ("ellipsoidCone" or "paraboloid") for A/B renders; strict: a texture that cannot be read
         fails populate() (EyeRenderError) instead of being a warning; flatten_instances: every instance as its
@@ -68,6 +70,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
         self.stage, self.store = stage, store
         self.time = Usd.TimeCode(time)
         self.purposes = tuple(dict.fromkeys(("default",) + tuple(purposes)))
+        self.material_purposes = tuple(material_purposes)
         self.refine_level = refine_level
         self.cornea_model = cornea_model
         self.strict = strict
@@ -787,7 +790,7 @@ class UsdSceneDelegate(stage_notices.StageFollowing):
 
     def _bind_material(self, prim):
         """(material id, st primvar name) of prim's bound material, adding the material on first use."""
-        material = materials.bound_material(prim)
+        material = materials.bound_material(prim, self.material_purposes)
         if not material:
             return "", "st"
         path = material.GetPath().pathString
