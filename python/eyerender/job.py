@@ -57,6 +57,7 @@ class SessionOptions:
     camera_light: bool = True
     strict: bool = False
     shutter: Optional[tuple[float, float]] = None
+    pixel_aspect: Optional[float] = None  # a pixel's width over its height (None: the render settings prim's, or 1)
 
     def __post_init__(self):
         for name, value in self.normalised().items():
@@ -284,11 +285,11 @@ def product_sessions(stage, options, warn):
         camera = options.camera or product.camera
         width, height = (options.width, options.height) if options.width else \
             (product.width, options.height or product.height)
-        groups.setdefault((camera, width, height), []).append(product)
-    return [(dataclasses.replace(options, camera=camera, width=width, height=height,
+        groups.setdefault((camera, width, height, product.pixel_aspect), []).append(product)
+    return [(dataclasses.replace(options, camera=camera, width=width, height=height, pixel_aspect=aspect,
                                  aovs=tuple(dict.fromkeys(a for p in group for a in p.aovs)),
                                  render_settings_prim=settings_path, render_pass_prim=None), group)
-            for (camera, width, height), group in groups.items()]
+            for (camera, width, height, aspect), group in groups.items()]
 
 
 def open_session(stage, options, time=None):
@@ -296,17 +297,19 @@ def open_session(stage, options, time=None):
     usdrecord's time without --frames; DEFAULT_TIME: the default time)."""
     from pxr import Usd
 
+    from .render_products import pixel_aspect_ratio
     from .render_session import RenderSession
 
     width, height, camera, aovs = image_options(stage, options)
     shutter = settings_override(stage, render_settings_path(stage, options), options.shutter)
+    aspect = options.pixel_aspect or pixel_aspect_ratio(stage, render_settings_path(stage, options))
     return RenderSession(stage, width=width, height=height, camera=camera, aovs=aovs,
                          purposes=session_purposes(stage, options),
                          material_purposes=session_material_purposes(stage, options),
                          refine_level=options.refine_level, cornea_model=options.cornea_model,
                          time=Usd.TimeCode(time) if time is not None else Usd.TimeCode(stage.GetStartTimeCode()),
                          camera_light=options.camera_light,
-                         settings=dict(options.settings),
+                         settings={**dict(options.settings), "pixel_aspect_ratio": aspect},
                          plan_overrides=plan_overrides(options.plan, stage, options.refine_level),
                          strict=options.strict, shutter=shutter)
 

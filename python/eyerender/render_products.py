@@ -67,7 +67,7 @@ class RenderVarSpec:
 class RenderProductSpec:
     """One product: `name` (the file, '#' frame placeholders), `path` (its prim), `camera` (prim path or None),
     `width`/`height` (pixels; None: the session's), `data_window` (NDC xmin, ymin, xmax, ymax; None: all),
-    `multipart`, and its `vars` in order."""
+    `multipart`, `pixel_aspect` (a pixel's width over its height), and its `vars` in order."""
     path: str
     name: str
     vars: tuple[RenderVarSpec, ...]
@@ -76,6 +76,7 @@ class RenderProductSpec:
     height: Optional[int] = None
     data_window: Optional[tuple[float, float, float, float]] = None
     multipart: bool = False
+    pixel_aspect: float = 1.0
 
     @property
     def aovs(self):
@@ -203,10 +204,12 @@ def read_product(stage, settings, product, warn):
     resolution = _authored(product.GetResolutionAttr()) or settings.GetResolutionAttr().Get()
     window = _data_window(product) if product.GetDataWindowNDCAttr().HasAuthoredValue() else _data_window(settings)
     multipart = product.GetPrim().GetAttribute(MULTIPART_ATTRIBUTE)
+    aspect = _pixel_aspect(product, warn) if product.GetPixelAspectRatioAttr().HasAuthoredValue() else \
+        _pixel_aspect(settings, warn)
     return RenderProductSpec(str(path), product_name_pattern(name), specs,
                              camera=_camera(product) or _camera(settings),
                              width=int(resolution[0]), height=int(resolution[1]), data_window=window,
-                             multipart=bool(multipart and multipart.Get()))
+                             multipart=bool(multipart and multipart.Get()), pixel_aspect=aspect)
 
 
 def read_products(stage, settings_path, warn):
@@ -217,25 +220,38 @@ def read_products(stage, settings_path, warn):
     settings = UsdRender.Settings(stage.GetPrimAtPath(settings_path)) if stage.GetPrimAtPath(settings_path) else None
     if not settings:
         raise EyeRenderError(f"{settings_path}: no RenderSettings prim there")
-    _warn_unhonoured(settings, warn)
     products = []
     for target in settings.GetProductsRel().GetTargets():
         product = UsdRender.Product(stage.GetPrimAtPath(target))
         if not product:
             warn(f"{settings_path}: products target {target} is not a RenderProduct: not written")
             continue
-        _warn_unhonoured(product, warn)
         spec = read_product(stage, settings, product, warn)
         if spec is not None:
             products.append(spec)
     return products
 
 
-def _warn_unhonoured(base, warn):
-    """One warning for a settings or product value the renderer does not honour: non-square pixels."""
+def _pixel_aspect(base, warn=None):
+    """A settings or product prim's authored pixelAspectRatio (a pixel's width over its height), 1 when not authored;
+    one that is not a positive finite number is one warning and 1."""
     aspect = _authored(base.GetPixelAspectRatioAttr())
-    if aspect is not None and abs(float(aspect) - 1.0) > 1e-6:
-        warn(f"{base.GetPath()}: pixelAspectRatio {float(aspect):g} is not supported: square pixels rendered")
+    if aspect is None:
+        return 1.0
+    if not (math.isfinite(float(aspect)) and float(aspect) > 0):
+        if warn:
+            warn(f"{base.GetPath()}: pixelAspectRatio {float(aspect):g} is not a positive number: square pixels")
+        return 1.0
+    return float(aspect)
+
+
+def pixel_aspect_ratio(stage, settings_path, warn=None):
+    """The pixelAspectRatio of the UsdRender.Settings prim at `settings_path` (1 without one, or not authored)."""
+    from pxr import UsdRender
+
+    prim = stage.GetPrimAtPath(settings_path) if settings_path else None
+    settings = UsdRender.Settings(prim) if prim else None
+    return _pixel_aspect(settings, warn) if settings else 1.0
 
 
 def included_purposes(stage, settings_path):

@@ -166,7 +166,8 @@ class RenderSession:
             return width
         camera = prim.GetAttribute("horizontalAperture").Get(self.scene.time), \
             prim.GetAttribute("verticalAperture").Get(self.scene.time)
-        return max(1, round(width * camera[1] / camera[0])) if camera[0] and camera[1] else width
+        aspect = self.delegate.settings.pixel_aspect_ratio  # non-square pixels: fewer rows for the same film
+        return max(1, round(width * aspect * camera[1] / camera[0])) if camera[0] and camera[1] else width
 
     def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None, resume=False,
                on_pass=None, pass_seconds=0.25, first_pass_stride=1):

@@ -84,6 +84,8 @@ void BindRender(nb::module_& m) {
               "filter textures over each ray's footprint (off: finest level, point sampled)")
       .def_rw("texture_footprint_scale", &RenderSettings::textureFootprintScale,
               "the camera's ray cone as a fraction of a pixel")
+      .def_rw("pixel_aspect_ratio", &RenderSettings::pixelAspectRatio,
+              "a pixel's width over its height (UsdRender's pixelAspectRatio; 1: square)")
       .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
               "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
       .def_rw("time_strata", &RenderSettings::timeStrata,

@@ -65,3 +65,26 @@ def test_a_purpose_list_that_binds_nothing_gives_no_material(tmp_path):
     assert not bound_material(card, ("unknownPurpose",))
     assert bound_material(card, ("unknownPurpose", "full")).GetPath() == "/World/Looks/full"
     assert bound_material(card).GetPath() == "/World/Looks/preview"
+
+
+def test_pixel_aspect_ratio_stretches_the_film_over_the_pixels(tmp_path):
+    # A card's edge seen through 2:1 pixels: each pixel of the 16-wide image covers what two of the 32-wide image with
+    # square pixels cover, so its alpha is their mean (to the samples' noise).
+    def render(width, aspect):
+        path = tmp_path / f"edge_{width}.usda"
+        stage = card_stage(path)
+        UsdGeom.Xformable(stage.GetPrimAtPath("/World/card")).AddTranslateOp().Set(Gf.Vec3d(47.3, 0, 0))
+        settings = UsdRender.Settings(stage.GetPrimAtPath("/Render/settings"))
+        settings.GetResolutionAttr().Set(Gf.Vec2i(width, 8))
+        if aspect != 1:
+            settings.CreatePixelAspectRatioAttr(aspect)
+        stage.GetRootLayer().Save()
+        out = tmp_path / f"edge_{width}.exr"
+        assert main([str(path), str(out), "--spp", "64", "-q"]) == 0
+        return eyerender.read_exr(str(out))["A"].astype(np.float64)
+
+    square, wide = render(32, 1.0), render(16, 2.0)
+    assert wide.shape == (8, 16)
+    paired = 0.5 * (square[:, 0::2] + square[:, 1::2])
+    assert 0.2 < wide.mean() < 0.8  # the edge is in view
+    assert np.abs(wide - paired).max() < 0.05, np.abs(wide - paired).max()

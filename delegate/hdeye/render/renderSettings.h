@@ -64,6 +64,9 @@ struct RenderSettings {
   /// The camera's ray cone as a fraction of a pixel (docs/textures.md measures the choice). Below 1 the
   /// texture filter overlaps the pixel filter (the jittered samples) less, so converged images blur less.
   double textureFootprintScale = 0.5;
+  /// A pixel's width over its height (UsdRender's pixelAspectRatio): the image covers the camera's film as if it
+  /// were width x pixelAspectRatio pixels wide. Positive and finite; 1: square pixels.
+  double pixelAspectRatio = 1;
   /// Motion blur: 0 draws each camera path's time uniformly over the camera's shutter (one more sample dimension);
   /// N > 0 renders N discrete times, the centres of N equal strata of the shutter, sample s at stratum s mod N (the
   /// accumulation-buffer method: the image is the average of N sharp images, which tests check exactly). Unused

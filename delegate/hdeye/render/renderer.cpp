@@ -946,8 +946,8 @@ struct SharedCounts {
 /// RenderSettings::textureFootprintScale. Through one lens point the cone narrows to the pixel at the focus distance;
 /// the lens's blur comes from the lens samples, not from the footprint.
 RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, double y, int width, int height,
-                  double lensU, double lensV, double footprintScale) {
-  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, double(width) / height, lensU, lensV);
+                  double aspect, double lensU, double lensV, double footprintScale) {
+  const WorldRay next = camera.GenerateRay((x + 1) / width, y / height, aspect, lensU, lensV);
   return {footprintScale * glm::length(next.origin - ray.origin),
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
@@ -970,7 +970,10 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
                  SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
-  const double aspect = double(width) / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
+  // The film's aspect: non-square pixels (RenderSettings::pixelAspectRatio) stretch it.
+  const double par =
+      std::isfinite(settings.pixelAspectRatio) && settings.pixelAspectRatio > 0 ? settings.pixelAspectRatio : 1;
+  const double aspect = double(width) * par / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
   const Shutter shutter = camera.GetShutter();
   Tracer tracer(scene, lights, settings, cutouts, shutter, chamberCaches);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
@@ -988,10 +991,10 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
           const double lensU = lens ? rng.FromTop(0) : 0.5, lensV = lens ? rng.FromTop(1) : 0.5;
           const WorldRay ray = view.GenerateRay((x + jx) * invWidth, (y + jy) * invHeight, aspect, lensU, lensV);
           // Only texture lookups read the cone (and only when filtering): without them it is never computed.
-          const RayCone cone =
-              textured && settings.textureFiltering
-                  ? PixelCone(view, ray, x + jx, y + jy, width, height, lensU, lensV, settings.textureFootprintScale)
-                  : RayCone{};
+          const RayCone cone = textured && settings.textureFiltering
+                                   ? PixelCone(view, ray, x + jx, y + jy, width, height, aspect, lensU, lensV,
+                                               settings.textureFootprintScale)
+                                   : RayCone{};
           if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
         }
   }
