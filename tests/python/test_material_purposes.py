@@ -73,7 +73,8 @@ def test_pixel_aspect_ratio_stretches_the_film_over_the_pixels(tmp_path):
     def render(width, aspect):
         path = tmp_path / f"edge_{width}.usda"
         stage = card_stage(path)
-        UsdGeom.Xformable(stage.GetPrimAtPath("/World/card")).AddTranslateOp().Set(Gf.Vec3d(47.3, 0, 0))
+        card = UsdGeom.Xformable(stage.GetPrimAtPath("/World/card"))
+        card.AddTranslateOp().Set(Gf.Vec3d(50.37, 0, 0))  # its left edge just right of the view's centre
         settings = UsdRender.Settings(stage.GetPrimAtPath("/Render/settings"))
         settings.GetResolutionAttr().Set(Gf.Vec2i(width, 8))
         if aspect != 1:
