@@ -8,8 +8,9 @@ UsdSkel.BakeSkinning does, so a skinned stage renders as its baked copy.
   baked points are, with GfMatrix4d::Transform's arithmetic (double sums, float result).
 - Rigid bindings (constant jointIndices / jointWeights, SkinningQuery.IsRigidlyDeformed): the prim's points stay,
   its transform is SkinningQuery.ComputeSkinnedTransform x skeleton-to-world. This covers Xforms bound to a joint
-  (an analytic eye on a head joint); prims below a rigid binding that UsdSkel does not skin itself (cameras,
-  Xforms) follow it.
+  (an analytic eye on a head joint: skel_xform_binding.py, binding properties inherited as UsdSkel inherits them);
+  prims below a rigid binding that UsdSkel does not skin itself (cameras, Xforms authoring no binding property)
+  follow it.
 - Eye meshes skinned per vertex can ask for a moving frame (`follow_dominant_joint`): the transform follows the
   joint that carries most weight (geomBindTransform x that joint's skinning transform x skeleton-to-world) and the
   points are the skinned points in that frame, so the eye's analytic cornea moves with the head and, at the bind
@@ -22,9 +23,10 @@ never raises: the prim gets one warning naming it and renders unskinned (its aut
 import math
 
 import numpy as np
-from pxr import Gf, Tf, Usd, UsdGeom, UsdSkel, Vt
+from pxr import Tf, Usd, UsdGeom, UsdSkel, Vt
 
 from .eyes import is_eye
+from .skel_xform_binding import XformSkinningQuery, binds_itself
 
 PREDICATE = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
 
@@ -80,71 +82,6 @@ def _call(what, prim, function, *args):
     if result is None or result is False:
         raise SkinningError(f"{prim.GetPath()}: {what} failed")
     return result
-
-
-class XformSkinningQuery:
-    """The part of UsdSkel.SkinningQuery a rigid binding needs, for an Xform (an analytic eye on a head joint):
-    UsdSkel binds only boundable prims, so this reads the Xform's SkelBindingAPI (constant jointIndices /
-    jointWeights, geomBindTransform, skel:joints, skinningMethod) and skins its transform with UsdSkel's own
-    UsdSkel.SkinTransform. BakeSkinning and usdview leave such an Xform in place."""
-
-    def __init__(self, prim, skel_query):
-        self._prim, self._api, self._skel_query = prim, UsdSkel.BindingAPI(prim), skel_query
-
-    def GetPrim(self):
-        return self._prim
-
-    def GetJointIndicesPrimvar(self):
-        return self._api.GetJointIndicesPrimvar()
-
-    def GetJointWeightsPrimvar(self):
-        return self._api.GetJointWeightsPrimvar()
-
-    def GetGeomBindTransformAttr(self):
-        return self._api.GetGeomBindTransformAttr()
-
-    def GetGeomBindTransform(self, time):
-        value = self._api.GetGeomBindTransformAttr().Get(time)
-        return value if value is not None else Gf.Matrix4d(1)
-
-    def GetJointOrder(self):
-        return self._api.GetJointsAttr().Get()
-
-    def GetSkinningMethodAttr(self):
-        return self._api.GetSkinningMethodAttr()
-
-    def GetInterpolation(self):
-        return self.GetJointIndicesPrimvar().GetInterpolation()
-
-    def GetNumInfluencesPerComponent(self):
-        return self.GetJointIndicesPrimvar().GetElementSize()
-
-    def HasJointInfluences(self):
-        return self.GetJointIndicesPrimvar().HasAuthoredValue() and self.GetJointWeightsPrimvar().HasAuthoredValue()
-
-    def IsRigidlyDeformed(self):
-        return self.GetInterpolation() == UsdGeom.Tokens.constant
-
-    def HasBlendShapes(self):
-        return False
-
-    def GetTimeSamplesInInterval(self, interval):
-        """Time samples in `interval` (Gf.Interval) of the binding's inputs, as UsdSkel.SkinningQuery gives them."""
-        attrs = [self.GetJointIndicesPrimvar().GetAttr(), self.GetJointWeightsPrimvar().GetAttr(),
-                 self.GetGeomBindTransformAttr()]
-        return sorted({t for a in attrs if a for t in a.GetTimeSamplesInInterval(interval)})
-
-    def ComputeJointInfluences(self, time):
-        return self.GetJointIndicesPrimvar().Get(time), self.GetJointWeightsPrimvar().Get(time)
-
-    def ComputeSkinnedTransform(self, xforms, time):
-        order = self.GetJointOrder()
-        if order:
-            by_name = dict(zip(self._skel_query.GetJointOrder(), xforms))
-            xforms = Vt.Matrix4dArray([by_name[name] for name in order])
-        indices, weights = self.ComputeJointInfluences(time)
-        method = self._api.GetSkinningMethodAttr().Get() or UsdSkel.Tokens.classicLinear
-        return UsdSkel.SkinTransform(method, self.GetGeomBindTransform(time), xforms, indices, weights)
 
 
 class SkinnedPrim:
@@ -522,21 +459,25 @@ class StageSkinning:
                         skinned.follow_dominant_joint()
                     self.targets[prim.GetPath()] = skinned
         for prim in Usd.PrimRange(root_prim, PREDICATE):
-            if prim.GetPath() in self.targets or not self._has_joint_influences(prim):
+            if prim.GetPath() in self.targets:
                 continue
-            if prim.IsA(UsdGeom.Xformable) and not prim.IsA(UsdGeom.Boundable) and self._add_xform(prim, cache):
+            xform = prim.IsA(UsdGeom.Xformable) and not prim.IsA(UsdGeom.Boundable)
+            if xform and binds_itself(prim) and self._add_xform(prim, cache):
+                continue
+            if not self._has_joint_influences(prim):
                 continue
             if not any(w.startswith(f"{prim.GetPath()}:") for w in self.warnings):
                 self.warnings.append(f"{prim.GetPath()}: {self._why_not_bound(prim)} (rendered unskinned)")
 
     def _add_xform(self, prim, cache):
-        """Adds an Xform rigidly bound to a joint (XformSkinningQuery); False when it has no skeleton."""
+        """Adds an Xform rigidly bound to a joint (XformSkinningQuery, its binding properties inherited as UsdSkel
+        inherits them); False when it has no skeleton or no joint influences."""
         skeleton = UsdSkel.BindingAPI(prim).GetInheritedSkeleton()
         skel_query = cache.GetSkelQuery(skeleton) if skeleton else None
-        if not skel_query:
+        query = XformSkinningQuery(prim, skel_query) if skel_query else None
+        if query is None or not query.HasJointInfluences():
             return False
         try:
-            query = XformSkinningQuery(prim, skel_query)
             if not query.IsRigidlyDeformed():
                 raise SkinningError(f"{prim.GetPath()}: an Xform can only be bound rigidly (constant jointIndices)")
             self.targets[prim.GetPath()] = SkinnedPrim(query, skel_query)
