@@ -19,6 +19,7 @@ from .job import (
     AOV_NAMES,
     CHAMBER_ESTIMATORS,
     COMPLEXITY_REFINE_LEVELS,
+    DEFAULT_SPP,
     PURPOSES,
     check_output_extension,
     frame_outputs,
@@ -159,7 +160,7 @@ def samples_per_pixel(args):
     for name in ("imageWidth", "imageHeight"):
         if getattr(args, name) is not None and getattr(args, name) < 1:
             raise EyeRenderError(f"--{name} {getattr(args, name)}: must be at least 1 pixel")
-    return args.spp or (1 << 20 if args.time_limit else 32)
+    return args.spp or (1 << 20 if args.time_limit else DEFAULT_SPP)
 
 
 def render_locally(args, spp):

@@ -11,17 +11,17 @@ import os
 from typing import Optional
 
 from .aovs import AOV_NAMES
+from .defaults import DEFAULT_SPP, DEFAULT_WIDTH
 from .errors import EyeRenderError
 from .frames import check_placeholder_precision, has_placeholder, output_path, parse_frames
+from .output_files import OUTPUT_EXTENSIONS
 from .shutter import parse_shutter_arguments, settings_override
 
 # usdrecord's --complexity names; the level is the Catmull-Clark refinement (Storm's mapping).
 COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
-DEFAULT_WIDTH = 960  # pixels, when neither the options nor a render settings prim give one
 PURPOSES = ("default", "render", "proxy", "guide")  # UsdGeom's
 CHAMBER_ESTIMATORS = ("path", "cache", "controlVariate")  # RenderSettings.chamber_estimator's values
 DEFAULT_TIME = float("nan")  # Usd.TimeCode.Default().GetValue(): usdrecord's --defaultTime
-OUTPUT_EXTENSIONS = (".exr", ".png")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -314,7 +314,7 @@ def open_session(stage, options, time=None):
                          strict=options.strict, shutter=shutter)
 
 
-__all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_WIDTH", "PURPOSES",
+__all__ = ["AOV_NAMES", "CHAMBER_ESTIMATORS", "COMPLEXITY_REFINE_LEVELS", "DEFAULT_SPP", "DEFAULT_WIDTH", "PURPOSES",
            "DEFAULT_TIME", "SessionOptions", "session_options", "parse_purposes", "output_patterns", "frame_outputs",
            "check_output_extension", "frames_to_render", "plan_options", "plan_overrides", "open_stage",
            "render_settings_path", "read_render_settings", "image_options", "session_purposes",

@@ -11,6 +11,8 @@ import re
 
 from .console import describe_written
 
+OUTPUT_EXTENSIONS = (".exr", ".png")  # what an output path may end in (case aside)
+
 # usdrecord's --colorCorrectionMode values, for PNG outputs (EXRs always hold linear values): sRGB encodes the
 # colour with the sRGB transfer curve; disabled writes the linear values as they are (clamped to [0, 1]);
 # openColorIO has no OCIO configuration to read here and encodes sRGB, like OCIO's default sRGB display.
@@ -61,4 +63,5 @@ def partial_failure(message, written):
     return f"wrote {describe_written(written)}, then: {message}" if written else message
 
 
-__all__ = ["COLOR_CORRECTION_MODES", "stale_temp_files", "remove_stale_temp_files", "partial_failure"]
+__all__ = ["COLOR_CORRECTION_MODES", "OUTPUT_EXTENSIONS", "stale_temp_files", "remove_stale_temp_files",
+           "partial_failure"]

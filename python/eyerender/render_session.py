@@ -22,9 +22,10 @@ from .aovs import AOV_CHANNELS
 from .camera_light import add_camera_light, follow_camera
 from .cryptomatte import HIT_AOV, header_attributes
 from .cryptomatte import TYPES as CRYPTO_TYPES
+from .defaults import DEFAULT_SPP
 from .errors import EyeRenderError
 from .materials import DEFAULT_BINDING_PURPOSES
-from .output_files import COLOR_CORRECTION_MODES, remove_stale_temp_files
+from .output_files import COLOR_CORRECTION_MODES, OUTPUT_EXTENSIONS, remove_stale_temp_files
 from .plan import PlanOverrides, plan_json
 from .shutter import ShutterOverride, resolve_shutter
 from .usd_scene_delegate import UsdSceneDelegate
@@ -169,7 +170,7 @@ class RenderSession:
         aspect = self.delegate.settings.pixel_aspect_ratio  # non-square pixels: fewer rows for the same film
         return max(1, round(width * aspect * camera[1] / camera[0])) if camera[0] and camera[1] else width
 
-    def render(self, time=None, spp=64, time_limit=0.0, first_sample=0, progress=None, resume=False,
+    def render(self, time=None, spp=DEFAULT_SPP, time_limit=0.0, first_sample=0, progress=None, resume=False,
                on_pass=None, pass_seconds=0.25, first_pass_stride=1):
         """Renders samples [first_sample, first_sample + spp) of a frame through the delegate's progressive loop
         (RenderPass.render): the stage's edits, the render plan, the materials and lights are gathered once, then
@@ -334,7 +335,7 @@ def write_images(path, images, exposure=0.0, attributes=None, color_correction="
     if color_correction not in COLOR_CORRECTION_MODES:
         raise EyeRenderError(f"color correction '{color_correction}' is not one of {', '.join(COLOR_CORRECTION_MODES)}")
     ext = os.path.splitext(path)[1].lower()
-    if ext not in (".exr", ".png"):
+    if ext not in OUTPUT_EXTENSIONS:
         raise EyeRenderError(f"output {path}: extension must be .exr or .png")
     remove_stale_temp_files(path)
     denoised = None
