@@ -46,9 +46,8 @@ ImagePart PartOf(const std::string& name, const std::vector<PlaneArg>& planes, i
   return part;
 }
 
-}  // namespace
-
-void BindImage(nb::module_& m) {
+/// The renderer's own EXR and PNG files (imageWriter.h): writing them atomically, reading them back.
+void BindExr(nb::module_& m) {
   m.def(
       "write_exr",
       [](const std::string& path, const std::vector<std::pair<std::string, InArray<float, nb::ndim<2>>>>& planes,
@@ -115,6 +114,10 @@ void BindImage(nb::module_& m) {
         return out;
       },
       nb::arg("path"), "Every channel of an EXR as {name: float32 (height, width)}.");
+}
+
+/// Any image OpenImageIO handles, as stored (for tools and tests).
+void BindOiioImages(nb::module_& m) {
   m.def(
       "write_image",
       [](const std::string& path, const nb::ndarray<const float, nb::c_contig, nb::device::cpu, nb::ndim<3>>& pixels,
@@ -156,6 +159,13 @@ void BindImage(nb::module_& m) {
                                                           owner);
       },
       nb::arg("path"), "An image's pixels as float32 (height, width, channels), as stored (no colour transform).");
+}
+
+}  // namespace
+
+void BindImage(nb::module_& m) {
+  BindExr(m);
+  BindOiioImages(m);
 }
 
 }  // namespace hdeye::python

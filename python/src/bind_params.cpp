@@ -53,9 +53,8 @@ MaterialInput MaterialInputNamed(const std::string& name) {
   throw std::invalid_argument("'" + name + "' is not a texturable UsdPreviewSurface input");
 }
 
-}  // namespace
-
-void BindParams(nb::module_& m) {
+/// CameraParams and the lens aperture it gives.
+void BindCameraParams(nb::module_& m) {
   nb::enum_<eyelib::CorneaModel>(m, "CorneaModel")
       .value("ellipsoidCone", eyelib::CorneaModel::EllipsoidCone)
       .value("paraboloid", eyelib::CorneaModel::Paraboloid);
@@ -74,7 +73,10 @@ void BindParams(nb::module_& m) {
       .def_rw("shutter_open", &CameraParams::shutterOpen, "frames relative to the frame")
       .def_rw("shutter_close", &CameraParams::shutterClose, "frames relative to the frame (== open: sharp)");
   m.def("lens_aperture_diameter", &LensApertureDiameter, "scene units (0: pinhole)");
+}
 
+/// LightParams with its shaping (UsdLuxShapingAPI) and IES profiles.
+void BindLightParams(nb::module_& m) {
   nb::class_<LightShaping> shaping(m, "LightShaping");
   shaping.def(nb::init<>())
       .def_rw("enabled", &LightShaping::enabled)
@@ -117,7 +119,10 @@ void BindParams(nb::module_& m) {
       .def_rw("light_link_excludes", &LightParams::lightLinkExcludes, "rprim ids this light does not illuminate")
       .def_rw("shadow_link_excludes", &LightParams::shadowLinkExcludes, "rprim ids casting no shadow for it");
   Vec3Property<LightParams, &LightParams::color>(light, "color");
+}
 
+/// MaterialParams (UsdPreviewSurface) with its textured inputs by name.
+void BindMaterialParams(nb::module_& m) {
   nb::class_<MaterialParams> material(m, "MaterialParams");
   material.def(nb::init<>())
       .def(
@@ -142,7 +147,10 @@ void BindParams(nb::module_& m) {
   Vec3Property<MaterialParams, &MaterialParams::diffuseColor>(material, "diffuse_color");
   Vec3Property<MaterialParams, &MaterialParams::emissiveColor>(material, "emissive_color");
   Vec3Property<MaterialParams, &MaterialParams::specularColor>(material, "specular_color");
+}
 
+/// EyeParams (the EyeAPI schema's attributes), the chamber's through ChamberProperty.
+void BindEyeParams(nb::module_& m) {
   nb::class_<EyeParams> eye(m, "EyeParams");
   ChamberProperty<eyelib::CorneaModel, &eyelib::ChamberParams::model>(eye, "cornea_model");
   ChamberProperty<double, &eyelib::ChamberParams::irisDepth>(eye, "iris_depth", "mm below the corneal apex");
@@ -177,6 +185,15 @@ void BindParams(nb::module_& m) {
               "off: the projection is the model frame along the gaze (modelTransform x scale 7.54 mm)")
       .def_rw("reprojection", &EyeParams::reprojection,
               "eye meshes: re-project hits onto the analytic model (off: the affine-frame comparison baseline)");
+}
+
+}  // namespace
+
+void BindParams(nb::module_& m) {
+  BindCameraParams(m);
+  BindLightParams(m);
+  BindMaterialParams(m);
+  BindEyeParams(m);
 }
 
 }  // namespace hdeye::python

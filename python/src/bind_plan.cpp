@@ -13,7 +13,10 @@
 
 namespace hdeye::python {
 
-void BindPlan(nb::module_& m) {
+namespace {
+
+/// What the plan is given: the user's overrides and the planner's thresholds.
+void BindPlanInputs(nb::module_& m) {
   nb::class_<PlanOverrides>(m, "PlanOverrides",
                             "What the user set explicitly (flags, render settings, authored schema values): wins over "
                             "the render plan. None: the planner decides.")
@@ -49,7 +52,10 @@ void BindPlan(nb::module_& m) {
       .def_rw("refine_max_level", &PlanRules::refineMaxLevel, "Catmull-Clark level")
       .def_rw("float_hit_error_mm", &PlanRules::floatHitErrorMm, "mm")
       .def_rw("float_max_error_pixels", &PlanRules::floatMaxErrorPixels, "pixels");
+}
 
+/// The plan's enumerations (light kinds, strategies, sclera models) and their names.
+void BindPlanEnums(nb::module_& m) {
   nb::enum_<LightType>(m, "LightType", "The light kinds the delegate renders.")
       .value("SPHERE", LightType::Sphere)
       .value("DISTANT", LightType::Distant)
@@ -69,7 +75,10 @@ void BindPlan(nb::module_& m) {
         "The plan's name of a strategy, sclera model or light kind (\"mnee\", \"randomWalk\", \"dome\", ...).");
   m.def("to_string", nb::overload_cast<ScleraModel>(&ToString), nb::arg("value"));
   m.def("to_string", nb::overload_cast<LightType>(&ToString), nb::arg("value"));
+}
 
+/// The plan's per-eye parts: each light as the eye sees it, the eye's facts and decisions, the meshes' levels.
+void BindPlanParts(nb::module_& m) {
   nb::class_<LightFacts>(m, "LightFacts", "One light as one eye sees it, and what the eye does with it.")
       .def_ro("light", &LightFacts::light, "the light's prim id")
       .def_ro("kind", &LightFacts::kind)
@@ -109,7 +118,10 @@ void BindPlan(nb::module_& m) {
       .def_ro("scene_level", &MeshPlan::sceneLevel, "the --complexity level")
       .def_ro("refine_level", &MeshPlan::refineLevel, "the level it renders")
       .def_ro("why", &MeshPlan::why);
+}
 
+/// The plan itself, applying it, and clearing it from an index.
+void BindRenderPlan(nb::module_& m) {
   nb::class_<RenderPlan>(m, "RenderPlan", "What the render plan decided, per eye, with reasons.")
       .def_ro("width", &RenderPlan::width)
       .def_ro("height", &RenderPlan::height)
@@ -138,6 +150,15 @@ void BindPlan(nb::module_& m) {
   m.def(
       "clear_render_plan", [](RenderIndex& index) { ClearRenderPlan(&index); }, nb::arg("index"),
       "Resets every eye of the index to unplanned: renders use the settings' global switches.");
+}
+
+}  // namespace
+
+void BindPlan(nb::module_& m) {
+  BindPlanInputs(m);
+  BindPlanEnums(m);
+  BindPlanParts(m);
+  BindRenderPlan(m);
 }
 
 }  // namespace hdeye::python

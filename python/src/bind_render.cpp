@@ -55,9 +55,8 @@ RenderStats RenderProgressively(RenderPass& pass, const PrimId& camera,
   return stats;
 }
 
-}  // namespace
-
-void BindRender(nb::module_& m) {
+/// RenderSettings, field by field (the settings a render pass reads).
+void BindRenderSettings(nb::module_& m) {
   nb::class_<RenderSettings>(m, "RenderSettings")
       .def(nb::init<>())
       .def_rw("samples_per_pixel", &RenderSettings::samplesPerPixel)
@@ -108,7 +107,10 @@ void BindRender(nb::module_& m) {
               "eyes: MNEE estimates averaged at a path's first iris vertex")
       .def_rw("chamber_splits", &RenderSettings::chamberSplits,
               "eyes: chamber walks continued from a path's first iris vertex");
+}
 
+/// What a render reports: its stats, the progress between passes, the stop flag, the pass schedule.
+void BindRenderProgress(nb::module_& m) {
   nb::class_<RenderStats>(m, "RenderStats")
       .def_ro("samples", &RenderStats::samples)
       .def_ro("rays", &RenderStats::rays)
@@ -141,7 +143,10 @@ void BindRender(nb::module_& m) {
   m.def("next_pass_samples", &NextPassSamples, nb::arg("remaining"), nb::arg("last_pass"),
         nb::arg("seconds_per_sample"), nb::arg("pass_seconds"), nb::arg("time_left"),
         "The samples per pixel of the progressive loop's next pass (renderer.h NextPassSamples).");
+}
 
+/// The render delegate and the render pass that renders (and plans) through it.
+void BindRenderPass(nb::module_& m) {
   nb::class_<RenderDelegate>(m, "RenderDelegate")
       .def(nb::init<>())
       .def_prop_ro(
@@ -179,6 +184,14 @@ void BindRender(nb::module_& m) {
            "Syncs the index and returns the render plan for the camera and image size, without rendering.")
       .def("prim_ids_by_index", &RenderPass::PrimIdsByIndex,
            "The rprim id of each primIndex (the primId and hitId AOVs' values) of the last execute, in order.");
+}
+
+}  // namespace
+
+void BindRender(nb::module_& m) {
+  BindRenderSettings(m);
+  BindRenderProgress(m);
+  BindRenderPass(m);
 }
 
 }  // namespace hdeye::python

@@ -97,11 +97,12 @@ RenderBuffer& BufferOf(RenderIndex& index, const PrimId& id) {
   return *buffer;
 }
 
-}  // namespace
+using IndexClass = nb::class_<RenderIndex>;
+using StoreClass = nb::class_<InMemorySceneDelegate>;
 
-void BindScene(nb::module_& m) {
-  nb::class_<RenderIndex>(m, "RenderIndex")
-      .def(nb::init<RenderDelegate*>(), nb::keep_alive<1, 2>())
+/// The render index's prims: syncing them, their ids and dirty bits, what meshes and instancers did.
+void BindIndexPrims(IndexClass& c) {
+  c.def(nb::init<RenderDelegate*>(), nb::keep_alive<1, 2>())
       .def("sync_all", &RenderIndex::SyncAll)
       .def("rprim_ids",
            [](const RenderIndex& index) {
@@ -149,10 +150,14 @@ void BindScene(nb::module_& m) {
             if (!instancer) throw std::invalid_argument("no instancer " + id);
             return instancer->SyncCount();
           },
-          "How many times an instancer was synced.")
-      .def(
-          "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
-          "A render buffer's per-pixel means, float32 (height, width, components).")
+          "How many times an instancer was synced.");
+}
+
+/// The render index's buffers: resolved pixels, clearing and merging, and the raw state farm workers exchange.
+void BindIndexBuffers(IndexClass& c) {
+  c.def(
+       "resolved", [](RenderIndex& index, const PrimId& id) { return Resolved(BufferOf(index, id)); },
+       "A render buffer's per-pixel means, float32 (height, width, components).")
       .def("clear_buffer", [](RenderIndex& index, const PrimId& id) { BufferOf(index, id).Clear(); })
       .def("merge_buffer", [](RenderIndex& index, const PrimId& into, RenderIndex& other,
                               const PrimId& from) { BufferOf(index, into).Merge(BufferOf(other, from)); })
@@ -172,10 +177,11 @@ void BindScene(nb::module_& m) {
                                          {counts.data(), counts.data() + counts.size()});
           },
           "Adds a state from buffer_state (of a render of other samples of the same frame): exact merging.");
+}
 
-  nb::class_<InMemorySceneDelegate>(m, "SceneStore",
-                                    "The scene as the delegate pulls it (InMemorySceneDelegate); Set* mark dirty bits.")
-      .def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
+/// The scene store's geometry: meshes, instancers, eye meshes, curves and points.
+void BindStoreGeometry(StoreClass& c) {
+  c.def(nb::init<RenderIndex*>(), nb::keep_alive<1, 2>())
       .def(
           "add_mesh",
           [](InMemorySceneDelegate& s, const PrimId& id, const Indices& counts, const Indices& indices,
@@ -236,9 +242,13 @@ void BindScene(nb::module_& m) {
           [](InMemorySceneDelegate& s, const PrimId& id, const Points& points, const Matrix& transform,
              const PrimId& material) { s.AddPoints(id, ToPoints(points), ToMatrix(transform), material); },
           nb::arg("id"), nb::arg("points"), nb::arg("transform"), nb::arg("material_id") = "",
-          "Points rendered as spheres; widths (diameters) through set_primvar.")
-      .def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
-                                  const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
+          "Points rendered as spheres; widths (diameters) through set_primvar.");
+}
+
+/// The scene store's other prims (analytic eyes, cameras, lights, materials, buffers) and edits of mesh topology.
+void BindStorePrimsAndTopology(StoreClass& c) {
+  c.def("add_analytic_eye", [](InMemorySceneDelegate& s, const PrimId& id, const EyeParams& eye,
+                               const Matrix& transform) { s.AddAnalyticEye(id, eye, ToMatrix(transform)); })
       .def("add_camera", [](InMemorySceneDelegate& s, const PrimId& id, const CameraParams& p,
                             const Matrix& transform) { s.AddCamera(id, p, ToMatrix(transform)); })
       .def("add_light", [](InMemorySceneDelegate& s, const PrimId& id, const std::string& type, const LightParams& p,
@@ -290,9 +300,13 @@ void BindScene(nb::module_& m) {
             s.SetGeomSubsets(id, out);
           },
           nb::arg("id"), nb::arg("subsets"),
-          "Per-face materials: (material id, face indices) per subset; the first subset naming a face wins.")
-      .def("set_transform",
-           [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
+          "Per-face materials: (material id, face indices) per subset; the first subset naming a face wins.");
+}
+
+/// The scene store's transforms and motion samples (transforms, points, instancers over the shutter).
+void BindStoreMotion(StoreClass& c) {
+  c.def("set_transform",
+        [](InMemorySceneDelegate& s, const PrimId& id, const Matrix& m) { s.SetTransform(id, ToMatrix(m)); })
       .def(
           "set_transform_samples",
           [](InMemorySceneDelegate& s, const PrimId& id, const std::vector<float>& times,
@@ -323,8 +337,12 @@ void BindScene(nb::module_& m) {
             s.SetInstanceTransformSamples(id, times, out);
           },
           nb::arg("id"), nb::arg("times"), nb::arg("transforms"),
-          "Motion samples of an instancer's transforms: times (frames, ascending), one (m, 4, 4) float64 array each.")
-      .def("set_visible", &InMemorySceneDelegate::SetVisible)
+          "Motion samples of an instancer's transforms: times (frames, ascending), one (m, 4, 4) float64 array each.");
+}
+
+/// The scene store's per-prim values: visibility, primvars, parameters, material bindings, removal.
+void BindStoreValues(StoreClass& c) {
+  c.def("set_visible", &InMemorySceneDelegate::SetVisible)
       .def("set_primvar",
            [](InMemorySceneDelegate& s, const PrimId& id, const std::string& name, const std::string& interpolation,
               const InArray<float, nb::ndim<2>>& values) {
@@ -340,6 +358,20 @@ void BindScene(nb::module_& m) {
       .def("set_eye_params", &InMemorySceneDelegate::SetEyeParams)
       .def("set_material_id", &InMemorySceneDelegate::SetMaterialId)
       .def("remove_prim", &InMemorySceneDelegate::RemovePrim);
+}
+
+}  // namespace
+
+void BindScene(nb::module_& m) {
+  IndexClass index(m, "RenderIndex");
+  BindIndexPrims(index);
+  BindIndexBuffers(index);
+  StoreClass store(m, "SceneStore",
+                   "The scene as the delegate pulls it (InMemorySceneDelegate); Set* mark dirty bits.");
+  BindStoreGeometry(store);
+  BindStorePrimsAndTopology(store);
+  BindStoreMotion(store);
+  BindStoreValues(store);
 }
 
 }  // namespace hdeye::python

@@ -289,156 +289,172 @@ glm::dvec3 EmittedRadiance(const RenderLight& l, const glm::dvec3& y, const glm:
   return radiance * EmissionShaping(l, emitDir);
 }
 
+namespace {
+
+/// A sphere light (or, delta, a point) sampled from p: the cone it subtends, or its centre when that cone is too
+/// narrow.
+void SampleSphereLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2, LightSample* s) {
+  const glm::dvec3 toC = l.position - p;
+  const double d = glm::length(toC);
+  if (!std::isfinite(d)) return;
+  if (l.delta) {  // a point: intensity / d^2 from its one direction
+    if (!(d > 0)) return;
+    s->dir = toC / d;
+    s->distance = d;
+    s->radiance = l.radiance * EmissionShaping(l, -s->dir) / (d * d);
+    if (!std::isfinite(s->radiance.x + s->radiance.y + s->radiance.z)) {  // too near
+      *s = LightSample{};
+      return;
+    }
+    s->pdf = 1;
+    s->delta = true;
+    return;
+  }
+  if (!(d > l.radius)) return;  // inside the light: not sampled
+  // The cone's 1 - cos = sin^2 / (1 + cos) (OneMinusCosFromSin2) and its pdf 1 / (2 pi (1 - cos)) as two
+  // divisions side by side, after the one reciprocal of d that also makes the unit direction.
+  const double invD = 1 / d, sinT = l.radius * invD, sin2 = sinT * sinT;
+  const double onePlusCos = 1 + std::sqrt(std::max(0.0, 1 - sin2));
+  const double cone = sin2 / onePlusCos, pdf = onePlusCos / (2 * kPi * sin2);
+  // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
+  if (!(cone > 0) || !std::isfinite(pdf)) return;
+  s->pdf = pdf;
+  const glm::dvec3 w = toC * invD;
+  if (sin2 < kPointLimitSin2) {
+    s->dir = w;
+    s->distance = d;
+    s->radiance = l.radiance * EmissionShaping(l, -s->dir);
+    s->pointLimit = true;
+    return;
+  }
+  s->dir = SampleConeAbout(w, cone, u1, u2);
+  // Distance to the sphere along dir (the near root).
+  const double b = glm::dot(s->dir, toC), c = d * d - l.radius * l.radius;
+  s->distance = b - std::sqrt(std::max(0.0, b * b - c));
+  s->radiance = l.radiance * EmissionShaping(l, -s->dir);
+}
+
+/// A distant light sampled: its cone of directions (delta: its one direction).
+void SampleDistantLight(const RenderLight& l, double u1, double u2, LightSample* s) {
+  if (l.delta) {  // a parallel beam: its irradiance from one direction
+    s->dir = l.direction, s->distance = kInf, s->radiance = l.radiance, s->pdf = 1, s->delta = true;
+    return;
+  }
+  s->dir = SampleConeAbout(l.direction, 1 - l.cosHalfAngle, u1, u2);
+  s->distance = kInf;
+  s->radiance = l.radiance;
+  s->pdf = UniformConePdf(l.cosHalfAngle);
+}
+
+/// A dome light sampled: by its image's luminance x sin(theta), or uniformly over the sphere for a constant dome.
+void SampleDomeLight(const RenderLight& l, double u1, double u2, LightSample* s) {
+  if (l.dome) {
+    // Importance sampling by luminance x sin(theta) over the lat-long image.
+    double pdfUv = 0;
+    const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
+    const glm::dvec3 local = LatLongToDirection(uv);
+    s->pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
+    if (!(s->pdf > 0) || !std::isfinite(s->pdf)) {
+      *s = LightSample{};
+      return;
+    }
+    s->dir = glm::normalize(l.domeToWorld * local);
+    s->distance = kInf;
+    s->radiance = DomeRadiance(l, uv);
+    return;
+  }
+  // Uniform sphere (a constant dome gains nothing from importance sampling).
+  const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z));
+  double sinPhi, cosPhi;
+  SinCos2Pi(u2, &sinPhi, &cosPhi);
+  s->dir = {r * cosPhi, r * sinPhi, z};
+  s->distance = kInf;
+  s->radiance = l.radiance;
+  s->pdf = 1 / (4 * kPi);
+}
+
+/// A cylinder light (or, delta, a line) sampled from p: a point on its axis, then on the arc of the side p sees.
+void SampleCylinderLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2, LightSample* s) {
+  if (!(l.halfLength > 0)) return;
+  const double along = (2 * u1 - 1) * l.halfLength;
+  glm::dvec3 q = l.position + along * l.axisU;
+  double pdfArea = 0;
+  glm::dvec3 normal(0);
+  if (!l.delta) {
+    // A point on the arc of the side p sees (CylinderAreaPdf): the half-angle acos(r / rho) about the
+    // direction from the axis towards p.
+    pdfArea = CylinderAreaPdf(l, p);
+    if (!(pdfArea > 0)) return;  // inside the light, or a zero radius: nothing to sample
+    const glm::dvec3 toP = p - l.position, perp = toP - glm::dot(toP, l.axisU) * l.axisU;
+    const double rho = glm::length(perp), phi = (2 * u2 - 1) * std::acos(l.radius / rho);
+    const glm::dvec3 e1 = perp / rho, e2 = glm::cross(l.axisU, e1);
+    normal = std::cos(phi) * e1 + std::sin(phi) * e2;
+    q += l.radius * normal;
+  }
+  const glm::dvec3 toQ = q - p;
+  s->distance = glm::length(toQ);
+  if (!(s->distance > 0) || !std::isfinite(s->distance)) {
+    *s = LightSample{};
+    return;
+  }
+  s->dir = toQ / s->distance;
+  if (l.delta) {  // a line: one point of it stands for its whole length (EmittedRadiance)
+    s->radiance = EmittedRadiance(l, q, -s->dir) / (s->distance * s->distance);
+    if (!std::isfinite(s->radiance.x + s->radiance.y + s->radiance.z)) {  // on the line
+      *s = LightSample{};
+      return;
+    }
+    s->pdf = 1;
+    s->delta = true;
+    return;
+  }
+  s->pdf = AreaToSolidAngle(pdfArea, s->distance, glm::dot(-s->dir, normal));
+  if (!std::isfinite(s->pdf)) {
+    *s = LightSample{};
+    return;
+  }
+  if (s->pdf > 0) s->radiance = l.radiance * EmissionShaping(l, -s->dir);
+}
+
+/// A rect or disk light sampled from p: a uniform point on its area.
+void SamplePlanarLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2, LightSample* s) {
+  if (!(PlanarArea(l) > 0)) return;  // a zero width, height or radius emits nothing
+  glm::dvec3 q;
+  glm::dvec3 radiance = l.radiance;
+  if (l.type == LightType::Rect) {
+    q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
+    radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
+  } else {
+    const double r = l.radius * std::sqrt(u1);
+    double sinPhi, cosPhi;
+    SinCos2Pi(u2, &sinPhi, &cosPhi);
+    q = l.position + r * (cosPhi * l.axisU + sinPhi * l.axisV);
+  }
+  const glm::dvec3 toQ = q - p;
+  s->distance = glm::length(toQ);
+  if (!(s->distance > 0) || !std::isfinite(s->distance)) return;
+  s->dir = toQ / s->distance;
+  s->pdf = AreaToSolidAngle(1 / PlanarArea(l), s->distance, glm::dot(-s->dir, l.direction));
+  if (!std::isfinite(s->pdf)) {  // too small to sample from here: it overflows
+    *s = LightSample{};
+    return;
+  }
+  if (s->pdf > 0) s->radiance = radiance * EmissionShaping(l, -s->dir);
+}
+
+}  // namespace
+
 LightSample SampleLight(const RenderLight& l, const glm::dvec3& p, double u1, double u2) {
-  // Every exit returns `s` itself (cleared where nothing is sampled), so it is built in the caller's slot: a
+  // The samplers fill `s` in place (cleared where nothing is sampled), so it is built in the caller's slot: a
   // `return LightSample{}` among them made it a stack copy, read back with loads straddling its stores.
   LightSample s;
   switch (l.type) {
-    case LightType::Sphere: {
-      const glm::dvec3 toC = l.position - p;
-      const double d = glm::length(toC);
-      if (!std::isfinite(d)) return s;
-      if (l.delta) {  // a point: intensity / d^2 from its one direction
-        if (!(d > 0)) return s;
-        s.dir = toC / d;
-        s.distance = d;
-        s.radiance = l.radiance * EmissionShaping(l, -s.dir) / (d * d);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // too near
-          s = LightSample{};
-          return s;
-        }
-        s.pdf = 1;
-        s.delta = true;
-        return s;
-      }
-      if (!(d > l.radius)) return s;  // inside the light: not sampled
-      // The cone's 1 - cos = sin^2 / (1 + cos) (OneMinusCosFromSin2) and its pdf 1 / (2 pi (1 - cos)) as two
-      // divisions side by side, after the one reciprocal of d that also makes the unit direction.
-      const double invD = 1 / d, sinT = l.radius * invD, sin2 = sinT * sinT;
-      const double onePlusCos = 1 + std::sqrt(std::max(0.0, 1 - sin2));
-      const double cone = sin2 / onePlusCos, pdf = onePlusCos / (2 * kPi * sin2);
-      // A zero radius (or one whose cone underflows) emits nothing: UsdLux intensity is radiance.
-      if (!(cone > 0) || !std::isfinite(pdf)) return s;
-      s.pdf = pdf;
-      const glm::dvec3 w = toC * invD;
-      if (sin2 < kPointLimitSin2) {
-        s.dir = w;
-        s.distance = d;
-        s.radiance = l.radiance * EmissionShaping(l, -s.dir);
-        s.pointLimit = true;
-        return s;
-      }
-      s.dir = SampleConeAbout(w, cone, u1, u2);
-      // Distance to the sphere along dir (the near root).
-      const double b = glm::dot(s.dir, toC), c = d * d - l.radius * l.radius;
-      s.distance = b - std::sqrt(std::max(0.0, b * b - c));
-      s.radiance = l.radiance * EmissionShaping(l, -s.dir);
-      return s;
-    }
-    case LightType::Distant:
-      if (l.delta) {  // a parallel beam: its irradiance from one direction
-        s.dir = l.direction, s.distance = kInf, s.radiance = l.radiance, s.pdf = 1, s.delta = true;
-        return s;
-      }
-      s.dir = SampleConeAbout(l.direction, 1 - l.cosHalfAngle, u1, u2);
-      s.distance = kInf;
-      s.radiance = l.radiance;
-      s.pdf = UniformConePdf(l.cosHalfAngle);
-      return s;
-    case LightType::Dome: {
-      if (l.dome) {
-        // Importance sampling by luminance x sin(theta) over the lat-long image.
-        double pdfUv = 0;
-        const glm::dvec2 uv = l.dome->distribution.Sample(u1, u2, &pdfUv);
-        const glm::dvec3 local = LatLongToDirection(uv);
-        s.pdf = UvToSolidAngle(pdfUv, std::cos(kPi * (uv.y - 0.5)));
-        if (!(s.pdf > 0) || !std::isfinite(s.pdf)) {
-          s = LightSample{};
-          return s;
-        }
-        s.dir = glm::normalize(l.domeToWorld * local);
-        s.distance = kInf;
-        s.radiance = DomeRadiance(l, uv);
-        return s;
-      }
-      // Uniform sphere (a constant dome gains nothing from importance sampling).
-      const double z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z));
-      double sinPhi, cosPhi;
-      SinCos2Pi(u2, &sinPhi, &cosPhi);
-      s.dir = {r * cosPhi, r * sinPhi, z};
-      s.distance = kInf;
-      s.radiance = l.radiance;
-      s.pdf = 1 / (4 * kPi);
-      return s;
-    }
-    case LightType::Cylinder: {
-      if (!(l.halfLength > 0)) return s;
-      const double along = (2 * u1 - 1) * l.halfLength;
-      glm::dvec3 q = l.position + along * l.axisU;
-      double pdfArea = 0;
-      glm::dvec3 normal(0);
-      if (!l.delta) {
-        // A point on the arc of the side p sees (CylinderAreaPdf): the half-angle acos(r / rho) about the
-        // direction from the axis towards p.
-        pdfArea = CylinderAreaPdf(l, p);
-        if (!(pdfArea > 0)) return s;  // inside the light, or a zero radius: nothing to sample
-        const glm::dvec3 toP = p - l.position, perp = toP - glm::dot(toP, l.axisU) * l.axisU;
-        const double rho = glm::length(perp), phi = (2 * u2 - 1) * std::acos(l.radius / rho);
-        const glm::dvec3 e1 = perp / rho, e2 = glm::cross(l.axisU, e1);
-        normal = std::cos(phi) * e1 + std::sin(phi) * e2;
-        q += l.radius * normal;
-      }
-      const glm::dvec3 toQ = q - p;
-      s.distance = glm::length(toQ);
-      if (!(s.distance > 0) || !std::isfinite(s.distance)) {
-        s = LightSample{};
-        return s;
-      }
-      s.dir = toQ / s.distance;
-      if (l.delta) {  // a line: one point of it stands for its whole length (EmittedRadiance)
-        s.radiance = EmittedRadiance(l, q, -s.dir) / (s.distance * s.distance);
-        if (!std::isfinite(s.radiance.x + s.radiance.y + s.radiance.z)) {  // on the line
-          s = LightSample{};
-          return s;
-        }
-        s.pdf = 1;
-        s.delta = true;
-        return s;
-      }
-      s.pdf = AreaToSolidAngle(pdfArea, s.distance, glm::dot(-s.dir, normal));
-      if (!std::isfinite(s.pdf)) {
-        s = LightSample{};
-        return s;
-      }
-      if (s.pdf > 0) s.radiance = l.radiance * EmissionShaping(l, -s.dir);
-      return s;
-    }
+    case LightType::Sphere: SampleSphereLight(l, p, u1, u2, &s); break;
+    case LightType::Distant: SampleDistantLight(l, u1, u2, &s); break;
+    case LightType::Dome: SampleDomeLight(l, u1, u2, &s); break;
+    case LightType::Cylinder: SampleCylinderLight(l, p, u1, u2, &s); break;
     case LightType::Rect:
-    case LightType::Disk: {
-      if (!(PlanarArea(l) > 0)) return s;  // a zero width, height or radius emits nothing
-      glm::dvec3 q;
-      glm::dvec3 radiance = l.radiance;
-      if (l.type == LightType::Rect) {
-        q = l.position + (2 * u1 - 1) * l.axisU + (2 * u2 - 1) * l.axisV;
-        radiance = RectRadiance(l, 2 * u1 - 1, 2 * u2 - 1);
-      } else {
-        const double r = l.radius * std::sqrt(u1);
-        double sinPhi, cosPhi;
-        SinCos2Pi(u2, &sinPhi, &cosPhi);
-        q = l.position + r * (cosPhi * l.axisU + sinPhi * l.axisV);
-      }
-      const glm::dvec3 toQ = q - p;
-      s.distance = glm::length(toQ);
-      if (!(s.distance > 0) || !std::isfinite(s.distance)) return s;
-      s.dir = toQ / s.distance;
-      s.pdf = AreaToSolidAngle(1 / PlanarArea(l), s.distance, glm::dot(-s.dir, l.direction));
-      if (!std::isfinite(s.pdf)) {  // too small to sample from here: it overflows
-        s = LightSample{};
-        return s;
-      }
-      if (s.pdf > 0) s.radiance = radiance * EmissionShaping(l, -s.dir);
-      return s;
-    }
+    case LightType::Disk: SamplePlanarLight(l, p, u1, u2, &s); break;
   }
   return s;
 }

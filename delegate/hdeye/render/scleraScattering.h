@@ -4,7 +4,7 @@
 // however it is turned, and hands back a world-space exit. The renderer supplies the eyeball's boundary as a
 // world-space closest-hit callback; EyeMeshBoundary builds that callback from an eye mesh's own Embree scene.
 //
-// Called by the renderer (renderer.cpp, Tracer::ScleraWalk) for eye-mesh hits the eye shading classifies
+// Called by the renderer (tracerScleraWalk.cpp, Tracer::ScleraWalk) for eye-mesh hits the eye shading classifies
 // as sclera (and the sclera share of the limbus blend); docs/limbal_arc.md describes the integration.
 #include "hdeye/render/eyeGeometry.h"
 

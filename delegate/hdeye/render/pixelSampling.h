@@ -1,0 +1,47 @@
+#pragma once
+// The pixels of a pass: each (pixel, sample) of a range of tiles traced from its own random stream and added to the
+// AOV buffers. Internal to the renderer: renderer.cpp splits a render into passes over these.
+#include "hdeye/render/renderer.h"
+#include "hdeye/render/tracer.h"
+
+#include <tbb/blocked_range.h>
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace hdeye {
+
+/// Pixels per side of a tile, the unit of work a thread takes.
+constexpr int kTile = 16;
+
+/// The counters every tile's tracer adds to, shared across threads.
+struct SharedCounts {
+  std::atomic<std::int64_t> rays{0}, nonFinite{0}, walks{0}, teleported{0}, capped{0}, invalid{0};
+  void Add(const Tracer::Counts& c) {
+    rays += c.rays, walks += c.walks, teleported += c.teleportedWalks, capped += c.cappedWalks;
+    invalid += c.invalidWalks;
+  }
+};
+
+/// The pixels a pass stage renders: those on the stride grid (x and y multiples of `stride`) that are not on the
+/// coarser grid of the stage before (0: none before). A first pass in stages 4, 2, 1 renders each pixel once.
+struct PixelGrid {
+  int stride = 1, coarser = 0;
+  bool Has(int x, int y) const {
+    return x % stride == 0 && y % stride == 0 && !(coarser && x % coarser == 0 && y % coarser == 0);
+  }
+};
+
+/// Throws std::invalid_argument unless a colour buffer is bound and every bound buffer has its size.
+void CheckBuffers(const AovBuffers& aovs);
+
+/// Samples [firstSample, firstSample + samples) of the grid's pixels in a range of tiles, each (pixel, sample) from its
+/// own random stream. A pixel's samples are taken one after another (in sample order, so its sums are those of one pass
+/// per sample): its buffer entries stay in cache, where a pass over the whole image would fetch them again each time.
+void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, const PixelGrid& grid,
+                 RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
+                 const RenderSettings& settings, bool cutouts, bool textured, const AovBuffers& aovs,
+                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys);
+
+}  // namespace hdeye

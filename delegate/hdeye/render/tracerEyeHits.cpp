@@ -1,0 +1,156 @@
+// The tracer at an eye: the eye's switches, MNEE's light choice and chamber cache, the cornea's reflected branch.
+#include "hdeye/render/tracer.h"
+
+#include <atomic>
+#include <optional>
+
+namespace hdeye {
+
+namespace {
+
+/// The switches one eye renders with: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else
+/// the render settings' and the eye's own EyeParams::limbalArc.
+struct EyeSwitches {
+  bool mnee = true, allSolutions = false;
+  const std::vector<bool>* mneeLights = nullptr;  ///< null: MNEE counts every light
+  int maxChamberEvents = 64;
+  bool scleraScattering = true, limbalArc = true;
+};
+
+EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye,
+                               const RenderSettings& settings) {
+  if (options.planned)
+    return {
+        options.mnee,     options.allSolutions, &options.mneeLights, options.maxChamberEvents, options.scleraScattering,
+        options.limbalArc};
+  static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
+  return {settings.mnee, settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents, settings.scleraScattering,
+          eye.limbalArc};
+}
+
+}  // namespace
+
+const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const EyeLighting& lighting) {
+  LastMneePick& last = lastMneePick_;
+  if (last.ctx != &ctx || last.receiver != lighting.receiver || last.mask != lighting.mneeLights) {
+    EyeLighting still = lighting;
+    still.lights = &sourceLights_;
+    last = {&ctx, lighting.receiver, lighting.mneeLights, MneeLightPick(*EyeOf(ctx), still)};
+  }
+  return last.pick;
+}
+
+std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
+                                                               const EyeLighting& lighting) {
+  // Successive eye hits are mostly the same eye's: the last cache is kept so that they skip the shared map's
+  // lock and key (and, under an open shutter, moving the lights to the opening and back).
+  const EyeGeometry& still = shutter_.IsOpen() ? *EyeOf(ctx) : eye;
+  LastChamberCache& last = lastChamberCache_;
+  if (last.cache && last.ctx == &ctx && last.receiver == lighting.receiver && last.frame == still.canonicalToWorld)
+    return last.cache;
+  const int rings = ctx.eyeOptions.planned ? ctx.eyeOptions.chamberCacheRings : 0;
+  // The build's shadow rays, on whichever thread joins it: a tracer of that thread's own, at this path's time.
+  std::atomic<std::int64_t> buildRays{0};
+  const auto perThread = [&](eyelib::FunctionRef<void(const EyeLighting&)> body) {
+    Tracer here(scene_, sourceLights_, settings_, cutouts_, shutter_);
+    here.SetTime(time_);
+    const auto transmittance = [&here](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
+      return here.Transmittance(here.lights_[k], o, d, t);
+    };
+    EyeLighting own = lighting;
+    own.lights = &here.lights_;
+    own.transmittance = transmittance;
+    body(own);
+    buildRays += here.counts_.rays;
+  };
+  std::shared_ptr<const eyelib::IrisChamberCache> cache;
+  if (!shutter_.IsOpen()) {
+    cache = chamberCaches_->Get(&ctx, eye, lighting, rings, perThread);
+  } else {
+    const double pathTime = time_;
+    SetTime(shutter_.open);
+    const std::optional<EyeGeometry> atOpen =
+        still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
+    cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting, rings, perThread);
+    SetTime(pathTime);
+  }
+  counts_.rays += buildRays;
+  last = {&ctx, lighting.receiver, still.canonicalToWorld, cache};
+  return cache;
+}
+
+EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& rng, SurfaceHit* hit, PathState* path,
+                       PathSample* sample) {
+  const auto random = [&rng] { return rng.Next(); };
+  const GeometryContext& ctx = *hit->context;
+  const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
+  EyeLighting& lighting = path->eyeLighting;
+  lighting.mnee = switches.mnee;
+  lighting.allSolutions = switches.allSolutions;
+  lighting.mneeLights = switches.mneeLights;
+  lighting.maxChamberEvents = switches.maxChamberEvents;
+  lighting.irisLightSplits = settings_.irisLightSplits;
+  lighting.chamberSplits = settings_.chamberSplits;
+  lighting.receiver = hit->primIndex;
+  lighting.chamberEstimator = settings_.chamberEstimator;
+  lighting.splitAtEntry = path->splitsAtCornea && path->specular;
+  lighting.mneePick = lighting.mnee ? &MneePickOf(ctx, lighting) : nullptr;
+  const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
+  lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
+  const EyeEvent ev = ctx.eye
+                          ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
+                          : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
+                                             path->d, lighting, random);
+  const bool firstEyeEvent = path->part == kNonEye && !ev.passThrough;
+  if (firstEyeEvent)
+    path->SwitchPart(ev.kind == EyeEvent::Sclera ? kSclera : ev.reflectedAtEntry ? kGlint : kIris, sample);
+  sample->L += path->beta * ev.radiance;
+  sample->irisMnee += path->beta * ev.radiance;
+  if (ev.reflection.weight > 0) {
+    path->splitsAtCornea = false;
+    path->SwitchPart(path->part, sample);
+    TraceCorneaReflection(ev.reflection, firstEyeEvent ? kGlint : path->part, depth, *hit, *path, rng, sample);
+    path->lMark = sample->L;  // what the branch gathered is in its own part
+  }
+  if (ev.kind == EyeEvent::Continue) {
+    path->beta *= ev.weight;
+    path->cone = path->cone.AfterBounce(hit->t, true);
+    path->SetRay(ev.origin, ev.dir);
+    if (!ev.passThrough) {
+      path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
+      if (path->skipMnee) path->skipMneeOf = lighting;
+    }
+    return EyeOutcome::Continue;
+  }
+  if (ev.kind == EyeEvent::Absorbed) return EyeOutcome::End;
+  ShadeScleraSurface(eye, ev, path->d, path->cone, hit);
+  if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
+  // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
+  // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
+  if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
+    return EnterSclera(eye, switches.limbalArc, random, hit, path, sample);
+  return EyeOutcome::ShadeSurface;
+}
+
+void Tracer::TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart part, int depth, const SurfaceHit& hit,
+                           const PathState& path, SampleStream& rng, PathSample* sample) {
+  PathState branch = path;
+  branch.part = part;
+  branch.lMark = sample->L;
+  branch.beta *= reflection.weight;
+  branch.cone = path.cone.AfterBounce(hit.t, true);
+  branch.SetRay(reflection.origin, reflection.dir);
+  branch.SetSpecular();
+  TracePath(&branch, depth + 1, rng, sample);
+}
+
+void Tracer::ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,
+                        SurfaceHit* hit) const {
+  if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
+  if (!ev.scleraOnSurface || !eye.scleraUsesMaterial)
+    hit->albedo = ev.scleraAlbedo;
+  else
+    hit->albedo = TexturedAlbedo(*hit->material, hit->albedo, SiteOf(*hit, d, cone));
+  hit->albedo = glm::clamp(hit->albedo, glm::dvec3(0), glm::dvec3(1));  // an albedo above 1 adds energy
+}
+}  // namespace hdeye
