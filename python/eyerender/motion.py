@@ -36,7 +36,7 @@ CURVED_MOTION_SAMPLES = 5
 # Frames: an authored time sample this close to a shutter end is that end (frame + open is rounded: 1.1 + 0.1 is
 # not 1.2), so a key on the end is read exactly, not interpolated a rounding error past it.
 TIME_EPSILON = 1e-9
-# Between two samples the renderer interpolates (points linearly; transforms rigidly, render/motion.h: translation
+# Between two samples the renderer interpolates (points linearly; transforms rigidly, params/motion.h: translation
 # and stretch linearly, rotation by slerp). Where USD's own value halfway between two samples is farther from that
 # interpolation than this fraction of the prim's whole path over the shutter (an orbit or a head turn carrying a
 # child along an arc, a skinned lid turning about the eye, Euler angles turning about two axes), the segment is
@@ -205,7 +205,7 @@ def points_step(a, b):
 
 
 def _rigid_parts(m):
-    """A USD matrix (numpy (4, 4), row vectors) as render/motion.h's T R U: (rotation as a Gf.Quatd, U (3, 3) upper
+    """A USD matrix (numpy (4, 4), row vectors) as params/motion.h's T R U: (rotation as a Gf.Quatd, U (3, 3) upper
     triangular, translation (3,)), for column vectors."""
     q, u = np.linalg.qr(m[:3, :3].T)
     signs = np.where(np.diag(u) < 0, -1.0, 1.0)  # Gram-Schmidt's positive diagonal

@@ -1,7 +1,7 @@
 // The parameters a scene delegate hands the render delegate: camera, light, material, eye (mm in the canonical frame).
 #include "bindings.h"
 
-#include "hdeye/render/params.h"
+#include "hdeye/params/primParams.h"
 
 #include <nanobind/stl/array.h>
 #include <nanobind/stl/string.h>

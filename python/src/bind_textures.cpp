@@ -2,7 +2,7 @@
 // scene delegate runs before binding a file (texture_problem).
 #include "bindings.h"
 
-#include "hdeye/render/params.h"
+#include "hdeye/params/primParams.h"
 #include "hdeye/render/texture.h"
 
 #include <nanobind/stl/array.h>

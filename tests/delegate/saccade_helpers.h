@@ -1,7 +1,7 @@
 #pragma once
 // The saccade the motion-blur tests and bench_motion_blur render: an analytic eye (mm) turning about its eyeball's
 // centre, and a key light on a circle about the eye in the plane of the turn.
-#include "hdeye/render/params.h"
+#include "hdeye/params/primParams.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

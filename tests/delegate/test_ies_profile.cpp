@@ -1,6 +1,6 @@
 // IES LM-63 profiles: the parser's formats and refusals, the lookup's symmetry cases and interpolation, and the
 // mean intensity shaping:ies:normalize divides by, against closed forms. Files are authored in the tests.
-#include "hdeye/render/iesProfile.h"
+#include "hdeye/params/iesProfile.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
-// Rigid transform interpolation over the shutter (render/motion.h): decomposition, slerp edge cases, bad samples,
+// Rigid transform interpolation over the shutter (params/motion.h): decomposition, slerp edge cases, bad samples,
 // Embree's time steps.
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 
 #include <catch2/catch.hpp>
 

@@ -4,7 +4,7 @@
 // one prototype scene from it, so memory grows with the prototypes, not with the instances. Nested instancing
 // reaches it flattened: every instance transform is already the product down to world space.
 #include "hdeye/hd/prim.h"
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 
 #include <memory>
 #include <string>

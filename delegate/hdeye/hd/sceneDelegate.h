@@ -3,8 +3,8 @@
 // scene delegate implements it through the bindings; InMemorySceneDelegate implements it for C++
 // programs and tests.
 #include "hdeye/hd/types.h"
-#include "hdeye/render/params.h"
-#include "hdeye/render/timeSampled.h"
+#include "hdeye/params/primParams.h"
+#include "hdeye/params/timeSampled.h"
 
 #include <string>
 #include <vector>

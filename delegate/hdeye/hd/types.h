@@ -1,7 +1,7 @@
 #pragma once
 // Value types of the scene side: prim ids and mesh topology (the math aliases and the per-prim parameters
-// the renderer also reads are in render/params.h).
-#include "hdeye/render/params.h"
+// the renderer also reads are in params/primParams.h).
+#include "hdeye/params/primParams.h"
 
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 // A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
 // transform; the render pass turns lights into the renderer's world-space light list.
 #include "hdeye/hd/prim.h"
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 #include "hdeye/render/renderLight.h"
 
 #include <memory>

@@ -1,7 +1,7 @@
 #pragma once
 // Whether a mesh is an open surface: some edge belongs to one face only. Points are welded by exact position
 // first, so the duplicated seam points DCC exports write for UV seams do not make a closed mesh look open.
-#include "hdeye/render/params.h"
+#include "hdeye/params/primParams.h"
 
 #include <vector>
 

@@ -3,7 +3,7 @@
 // and how they hand a transform motion to an Embree instance. A prim whose samples do not move over an open shutter,
 // or any prim under a closed one, stays a single-step (static) geometry: motion costs nothing where there is none.
 #include "hdeye/hd/sceneDelegate.h"
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 
 #include <embree3/rtcore.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // What every Sync receives (HdEmbreeRenderParam's role): the one door through which prims edit the
 // Embree scene, which also bumps the scene version so render passes know to restart.
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 #include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>

@@ -1,8 +1,8 @@
 #pragma once
 // A camera as the renderer sees it: its parameters and camera-to-world transform, and the rays it shoots
 // (perspective or orthographic, looking down its local -z axis; a thin lens when CameraParams::fStop > 0).
-#include "hdeye/render/motion.h"
-#include "hdeye/render/params.h"
+#include "hdeye/params/motion.h"
+#include "hdeye/params/primParams.h"
 
 #include <memory>
 

@@ -2,8 +2,8 @@
 // An eye as the renderer sees it: the analytic anterior chamber in the canonical frame (mm, apex at
 // the origin, gaze +z) and the similarity transform to world space. The one place where world and
 // canonical coordinates meet.
-#include "hdeye/render/motion.h"
-#include "hdeye/render/params.h"
+#include "hdeye/params/motion.h"
+#include "hdeye/params/primParams.h"
 #include "hdeye/render/texture.h"
 
 #include <eyelib/anterior_chamber.h>

@@ -1,7 +1,7 @@
 #pragma once
 // Lights that move over the shutter: each path sees every light where it is at the path's time (position, axes and
 // the radiance a `normalize`d light's world-space size sets), rebuilt from its parameters and its transform then.
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 #include "hdeye/render/renderLight.h"
 
 #include <memory>

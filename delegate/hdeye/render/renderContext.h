@@ -1,9 +1,9 @@
 #pragma once
 // What the renderer knows of a piece of geometry (HdEmbreePrototypeContext's role), stored as Embree
 // geometry user data. The renderer sees these, never prim classes.
+#include "hdeye/params/motion.h"
+#include "hdeye/params/primParams.h"
 #include "hdeye/render/eyeRenderOptions.h"
-#include "hdeye/render/motion.h"
-#include "hdeye/render/params.h"
 #include "hdeye/render/texture.h"
 
 #include <embree3/rtcore.h>

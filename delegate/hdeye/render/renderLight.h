@@ -1,8 +1,8 @@
 #pragma once
 // Lights as the renderer sees them, in world space, with sampling and evaluation (each sampling
 // routine has its pdf beside it). Radiance in the scene's radiometric units.
+#include "hdeye/params/primParams.h"
 #include "hdeye/render/distribution2d.h"
-#include "hdeye/render/params.h"
 #include "hdeye/render/texture.h"
 
 #include <glm/glm.hpp>

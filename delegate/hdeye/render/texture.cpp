@@ -118,19 +118,6 @@ struct TextureThread {};  // only ever a reinterpreted OIIO::TextureSystem::Pert
 
 TextureThread* CurrentTextureThread() { return reinterpret_cast<TextureThread*>(System()->get_perthread_info()); }
 
-TextureParams TextureParams::Image(std::string file, TextureWrap wrapT) {
-  TextureParams p;
-  p.file = std::move(file);
-  p.wrapS = TextureWrap::Repeat;
-  p.wrapT = wrapT;
-  return p;
-}
-
-bool TextureParams::operator==(const TextureParams& o) const {
-  return file == o.file && wrapS == o.wrapS && wrapT == o.wrapT && colorSpace == o.colorSpace && scale == o.scale &&
-         bias == o.bias && fallback == o.fallback;
-}
-
 std::shared_ptr<const Texture> Texture::Open(const TextureParams& params) {
   std::shared_ptr<Texture> texture(new Texture());
   texture->params_ = params;

@@ -75,7 +75,7 @@ void Tracer::SetTime(double time) {
 }
 
 bool Tracer::SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsdf, const PreviewSurfaceAt& bsdfAt,
-                        const glm::dvec3& origin, int depth, SampleStream& rng, PathState* path) const {
+                                const glm::dvec3& origin, int depth, SampleStream& rng, PathState* path) const {
   const double uLobe = rng.Next();
   double uDir1, uDir2;
   rng.Next2D(&uDir1, &uDir2);

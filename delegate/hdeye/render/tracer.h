@@ -4,9 +4,9 @@
 // shadow rays (tracerShadowRays.cpp), light sampling and the lights a ray meets (tracerLightSampling.cpp), eye hits
 // and the cornea's branch (tracerEyeHits.cpp) and the sclera's random walk (tracerScleraWalk.cpp). Internal to the
 // renderer (renderer.cpp and pixelSampling.cpp drive it).
+#include "hdeye/params/motion.h"
 #include "hdeye/render/chamberLightCache.h"
 #include "hdeye/render/materialShading.h"
-#include "hdeye/render/motion.h"
 #include "hdeye/render/movingLights.h"
 #include "hdeye/render/pathState.h"
 #include "hdeye/render/previewSurface.h"
@@ -214,6 +214,7 @@ class Tracer {
     std::vector<double> pick;
   } lastMneePick_;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
-  mutable Counts counts_;};
+  mutable Counts counts_;
+};
 
 }  // namespace hdeye

@@ -40,8 +40,9 @@ const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const 
   return last.pick;
 }
 
-std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
-                                                               const EyeLighting& lighting) {
+std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const GeometryContext& ctx,
+                                                                       const EyeGeometry& eye,
+                                                                       const EyeLighting& lighting) {
   // Successive eye hits are mostly the same eye's: the last cache is kept so that they skip the shared map's
   // lock and key (and, under an open shutter, moving the lights to the opening and back).
   const EyeGeometry& still = shutter_.IsOpen() ? *EyeOf(ctx) : eye;
@@ -69,8 +70,7 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
   } else {
     const double pathTime = time_;
     SetTime(shutter_.open);
-    const std::optional<EyeGeometry> atOpen =
-        still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
+    const std::optional<EyeGeometry> atOpen = still.motion ? std::optional(still.AtTime(shutter_.open)) : std::nullopt;
     cache = chamberCaches_->Get(&ctx, atOpen ? *atOpen : still, lighting, rings, perThread);
     SetTime(pathTime);
   }
@@ -80,7 +80,7 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
 }
 
 EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& rng, SurfaceHit* hit, PathState* path,
-                       PathSample* sample) {
+                               PathSample* sample) {
   const auto random = [&rng] { return rng.Next(); };
   const GeometryContext& ctx = *hit->context;
   const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
@@ -133,7 +133,7 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
 }
 
 void Tracer::TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart part, int depth, const SurfaceHit& hit,
-                           const PathState& path, SampleStream& rng, PathSample* sample) {
+                                   const PathState& path, SampleStream& rng, PathSample* sample) {
   PathState branch = path;
   branch.part = part;
   branch.lMark = sample->L;
@@ -145,7 +145,7 @@ void Tracer::TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart p
 }
 
 void Tracer::ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,
-                        SurfaceHit* hit) const {
+                                SurfaceHit* hit) const {
   if (!ev.scleraOnSurface) hit->n = glm::dot(ev.normal, d) > 0 ? -ev.normal : ev.normal;
   if (!ev.scleraOnSurface || !eye.scleraUsesMaterial)
     hit->albedo = ev.scleraAlbedo;

@@ -16,8 +16,9 @@ double PowerHeuristic(double a, double b) {
 
 }  // namespace
 
-bool Tracer::HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
-              double* pdf, const EyeLighting* skipMneeOf, bool skipDomes, int fromPrim) const {
+bool Tracer::HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance,
+                      glm::dvec3* radiance, double* pdf, const EyeLighting* skipMneeOf, bool skipDomes,
+                      int fromPrim) const {
   double best = kInf;
   bool found = false;
   for (std::size_t k = 0; k < lights_.size(); ++k) {
@@ -48,7 +49,7 @@ glm::dvec3 Tracer::LightsMet(const PathState& path, double maxDistance, bool hid
 }
 
 glm::dvec3 Tracer::SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf, const glm::dvec3& origin,
-                    const glm::dvec3& beta, SampleStream& rng) const {
+                            const glm::dvec3& beta, SampleStream& rng) const {
   const double uPick = rng.Next();
   double u1, u2;
   rng.Next2D(&u1, &u2);

@@ -6,8 +6,8 @@
 
 namespace hdeye {
 
-EyeOutcome Tracer::EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::FunctionRef<double()> random, SurfaceHit* hit,
-                       PathState* path, PathSample* sample) const {
+EyeOutcome Tracer::EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::FunctionRef<double()> random,
+                               SurfaceHit* hit, PathState* path, PathSample* sample) const {
   const ScleraStep step = ScleraWalk(eye, *hit, path->d, hit->albedo, limbalArc, random);
   if (step.kind == ScleraStep::Ended) return EyeOutcome::End;
   if (step.kind == ScleraStep::Reflected) {  // a delta lobe: lights it meets count in full
@@ -33,8 +33,9 @@ EyeOutcome Tracer::EnterSclera(const EyeGeometry& eye, bool limbalArc, eyelib::F
   return EyeOutcome::ShadeSurface;
 }
 
-Tracer::ScleraStep Tracer::ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d, const glm::dvec3& albedo,
-                      bool limbalArc, eyelib::FunctionRef<double()> random) const {
+Tracer::ScleraStep Tracer::ScleraWalk(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& d,
+                                      const glm::dvec3& albedo, bool limbalArc,
+                                      eyelib::FunctionRef<double()> random) const {
   ScleraStep step;
   const double ior = eye.chamber.CorneaIor();
   // Fresnel against the shading normal (smooth highlights); which side is inside, against the
@@ -86,13 +87,12 @@ void Tracer::CountWalk(const ScleraExit& exit, std::int64_t queries) const {
 }
 
 glm::dvec3 Tracer::ExitShadingNormal(const GeometryContext& ctx, const MeshCrossing& crossing,
-                                    const glm::dvec3& outward) {
+                                     const glm::dvec3& outward) {
   if (!ctx.vertexNormals || !ctx.triangleVertices || crossing.triangle == RTC_INVALID_GEOMETRY_ID ||
       3 * std::size_t(crossing.triangle) + 2 >= ctx.triangleVertices->size())
     return outward;
   const int* tri = &(*ctx.triangleVertices)[3 * std::size_t(crossing.triangle)];
-  const WorldNormal shading(ctx.normalToWorld,
-                            InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
+  const WorldNormal shading(ctx.normalToWorld, InterpolateAtTriangle(*ctx.vertexNormals, tri, crossing.u, crossing.v));
   return shading.Valid() && glm::dot(shading.v, outward) > 0 ? shading.v / shading.length : outward;
 }
 }  // namespace hdeye

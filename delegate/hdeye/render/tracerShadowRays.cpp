@@ -1,8 +1,8 @@
 // The tracer's shadow rays: what fraction of a light passes the surfaces, thin walls and cut-outs on the way.
 #include "hdeye/render/tracer.h"
 
-#include "hdeye/render/thinWalls.h"
 #include <limits>
+#include "hdeye/render/thinWalls.h"
 
 namespace hdeye {
 

@@ -17,7 +17,6 @@ const SurfaceMaterial& MaterialAt(const GeometryContext& context, unsigned part)
   return context.surface;
 }
 
-
 }  // namespace
 
 bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
@@ -114,7 +113,7 @@ glm::dvec3 Tracer::VertexNormalAt(const GeometryContext& ctx, const int* tri, do
 }
 
 StFrame Tracer::TriangleStFrameAt(const GeometryContext& ctx, const glm::dmat3& normalToWorld,
-                                 std::size_t firstCorner) {
+                                  std::size_t firstCorner) {
   const int* tri = &(*ctx.triangleVertices)[firstCorner];
   const glm::dmat3 toWorld = glm::inverse(glm::transpose(normalToWorld));  // the instance's linear part
   const auto& pts = *ctx.points;

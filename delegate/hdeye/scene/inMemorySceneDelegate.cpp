@@ -1,9 +1,9 @@
 #include "hdeye/scene/inMemorySceneDelegate.h"
 
 #include "hdeye/hd/renderIndex.h"
+#include "hdeye/params/motion.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
-#include "hdeye/render/motion.h"
 
 #include <cmath>
 #include <stdexcept>

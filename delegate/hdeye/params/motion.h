@@ -6,8 +6,8 @@
 // a linear blend of matrices would shrink it. For the usual translate-rotate-scale transforms U is the diagonal
 // scale and R the rotation of the polar decomposition; with shear the two decompositions differ, and this one is
 // Embree's, so analytic eyes, lights and cameras move exactly as the instances Embree intersects.
-#include "hdeye/render/params.h"
-#include "hdeye/render/timeSampled.h"
+#include "hdeye/params/primParams.h"
+#include "hdeye/params/timeSampled.h"
 
 #include <glm/gtc/quaternion.hpp>
 

@@ -1,4 +1,4 @@
-#include "hdeye/render/motion.h"
+#include "hdeye/params/motion.h"
 
 #include <algorithm>
 #include <cmath>

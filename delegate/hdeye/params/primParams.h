@@ -2,8 +2,8 @@
 // What the renderer is given of cameras, lights, materials and eyes: the parameters a scene delegate returns
 // (hd/sceneDelegate.h) and the prims hand on to the renderer. World units are whatever the scene uses (USD:
 // usually cm or m); eyes carry their own transform into eyelib's canonical millimetre frame.
-#include "hdeye/render/iesProfile.h"
-#include "hdeye/render/texture.h"
+#include "hdeye/params/iesProfile.h"
+#include "hdeye/params/textureParams.h"
 
 #include <eyelib/anterior_chamber.h>
 

@@ -1,4 +1,4 @@
-#include "hdeye/render/iesProfile.h"
+#include "hdeye/params/iesProfile.h"
 
 #include <algorithm>
 #include <cctype>
