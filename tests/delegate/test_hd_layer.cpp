@@ -62,9 +62,10 @@ class TinyScene final : public hdeye::SceneDelegate {
 
 }  // namespace
 
-TEST_CASE("the Hydra clones sync prims without the renderer: a camera pulls its parameters, an instancer its "
-          "instances, and a clean index syncs nothing again",
-          "[hd]") {
+TEST_CASE(
+    "the Hydra clones sync prims without the renderer: a camera pulls its parameters, an instancer its "
+    "instances, and a clean index syncs nothing again",
+    "[hd]") {
   CameraOnlyDelegate delegate;
   hdeye::RenderIndex index(&delegate);
   TinyScene scene(&index);
