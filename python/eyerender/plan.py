@@ -8,7 +8,7 @@ setting (--no-mnee, --mnee, --mnee-all-solutions), the planner.
 import json
 import math
 
-from ._hdeye import LightStrategy, PlanOverrides, PlanRules, RenderPlan, ScleraModel, to_string
+from ._hdeye import LightStrategy, PlanOverrides, PlanRules, RenderPlan, to_string
 from .eyes import is_eye
 
 PLAN_ATTRIBUTE = "eyerender:plan"  # the EXR header attribute holding the plan's JSON
@@ -74,24 +74,29 @@ def _light_json(light):
                     ("why", json.dumps(light.why, ensure_ascii=False))))
 
 
+def _switch_pairs(switches):
+    """An EyeSwitches record as (key, encoded value) pairs: one key per switch, the record's own names."""
+    return (("mnee", _bool(switches.mnee)), ("mneeAllSolutions", _bool(switches.mnee_all_solutions)),
+            ("scleraScattering", _bool(switches.sclera_scattering)), ("limbalArc", _bool(switches.limbal_arc)))
+
+
 def _eye_json(eye):
-    # What the renderer reads for this eye (EyeRenderOptions), in the plan's words.
+    # What the renderer reads for this eye (EyeRenderOptions: the eye's switches and the rest), in the plan's words.
     mnee_lights = [json.dumps(light.light) for light in eye.lights if light.strategy == LightStrategy.MNEE]
     mnee_lights = "[" + ", ".join(mnee_lights) + "]"
-    walk = eye.sss == ScleraModel.RANDOM_WALK
-    applied = _object((("mnee", _bool(eye.mnee)), ("mneeLights", mnee_lights),
-                       ("allSolutions", _bool(eye.mnee_all_solutions)), ("maxChamberEvents", str(eye.chamber_events)),
-                       ("chamberCacheRings", str(eye.chamber_cache_rings)), ("scleraScattering", _bool(walk)),
-                       ("limbalArc", _bool(eye.limbal_arc)),
-                       ("refineLevel", str(eye.refine_level))))
+    switches = eye.switches
+    applied = _object((*_switch_pairs(switches), ("mneeLights", mnee_lights),
+                       ("maxChamberEvents", str(eye.chamber_events)),
+                       ("chamberCacheRings", str(eye.chamber_cache_rings)), ("refineLevel", str(eye.refine_level))))
     return _object((("prim", json.dumps(eye.prim)), ("geometry", json.dumps(eye.geometry)),
                     ("pixels", _num(eye.pixels, 6)), ("inView", _bool(eye.in_view)),
                     ("behindCamera", _bool(eye.behind_camera)), ("viewAngleDeg", _num(eye.view_angle_deg)),
                     ("limbusPixels", _num(eye.limbus_pixels)), ("blurPixels", _num(eye.blur_pixels)),
-                    ("resolvedPixels", _num(eye.resolved_pixels, 6)), ("mnee", _bool(eye.mnee)),
-                    ("mneeAllSolutions", _bool(eye.mnee_all_solutions)), ("chamberEvents", str(eye.chamber_events)),
+                    ("resolvedPixels", _num(eye.resolved_pixels, 6)), ("mnee", _bool(switches.mnee)),
+                    ("mneeAllSolutions", _bool(switches.mnee_all_solutions)),
+                    ("chamberEvents", str(eye.chamber_events)),
                     ("chamberCacheRings", str(eye.chamber_cache_rings)), ("sss", json.dumps(to_string(eye.sss))),
-                    ("limbalArc", _bool(eye.limbal_arc)),
+                    ("limbalArc", _bool(switches.limbal_arc)),
                     ("refineLevel", str(eye.refine_level)),
                     ("precision", '"double"'),  # the renderer's only eye arithmetic
                     ("pixelFootprintMm", _num(eye.pixel_footprint_mm)),
@@ -109,8 +114,7 @@ def _mesh_json(mesh):
 def plan_json(plan):
     """The plan as the JSON object `eyerecord --plan` prints and EXRs carry (docs/render_plan.md). "application"
     is always "perEye": ApplyRenderPlan with the render index gives each eye its own decisions."""
-    applied = _object((("mnee", _bool(plan.mnee)), ("mneeAllSolutions", _bool(plan.mnee_all_solutions)),
-                       ("scleraScattering", _bool(plan.sclera_scattering))))
+    applied = _object(_switch_pairs(plan.switches))
     return _object((("version", "1"), ("camera", json.dumps(plan.camera)), ("width", str(plan.width)),
                     ("height", str(plan.height)), ("application", '"perEye"'), ("applied", applied),
                     ("why", _reasons(plan.why)), ("eyes", "[" + ", ".join(_eye_json(e) for e in plan.eyes) + "]"),

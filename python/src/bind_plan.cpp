@@ -100,12 +100,17 @@ void BindPlanParts(nb::module_& m) {
       .def_ro("blur_pixels", &EyePlan::blurPixels, "circle of confusion at the iris, pixels (0: in focus)")
       .def_ro("resolved_pixels", &EyePlan::resolvedPixels, "pixels / max(1, blur_pixels)")
       .def_ro("lights", &EyePlan::lights)
-      .def_ro("mnee", &EyePlan::mnee)
-      .def_ro("mnee_all_solutions", &EyePlan::mneeAllSolutions)
+      .def_ro("switches", &EyePlan::switches, "the switches the plan gives the eye (EyeSwitches)")
+      .def_prop_ro(
+          "mnee", [](const EyePlan& e) { return e.switches.mnee; }, "switches.mnee")
+      .def_prop_ro(
+          "mnee_all_solutions", [](const EyePlan& e) { return e.switches.mneeAllSolutions; },
+          "switches.mnee_all_solutions")
       .def_ro("chamber_events", &EyePlan::chamberEvents)
       .def_ro("chamber_cache_rings", &EyePlan::chamberCacheRings, "rings of the chamber-light cache's grid")
       .def_ro("sss", &EyePlan::sss)
-      .def_ro("limbal_arc", &EyePlan::limbalArc)
+      .def_prop_ro(
+          "limbal_arc", [](const EyePlan& e) { return e.switches.limbalArc; }, "switches.limbal_arc")
       .def_ro("refine_level", &EyePlan::refineLevel, "planned Catmull-Clark level; -1 for analytic eyes")
       .def_ro("pixel_footprint_mm", &EyePlan::pixelFootprintMm, "mm of the eye per pixel")
       .def_ro("float_would_suffice", &EyePlan::floatWouldSuffice)
@@ -140,12 +145,20 @@ void BindRenderPlan(nb::module_& m) {
           },
           nb::arg("settings"), nb::arg("index").none() = nb::none(),
           "Applies the plan: with the render index, each eye rprim gets its own switches (MNEE per light, all "
-          "solutions, chamber bound, sclera walk, limbal arc); the settings' global switches (mnee, "
-          "mnee_all_solutions, sclera_scattering) become the defaults for eyes without a plan. Without the index, "
+          "solutions, chamber bound, sclera walk, limbal arc); the plan's global switches become the settings' "
+          "eye_switches, the defaults for eyes without a plan. Without the index, "
           "only the global switches.")
-      .def_ro("mnee", &RenderPlan::mnee)
-      .def_ro("mnee_all_solutions", &RenderPlan::mneeAllSolutions)
-      .def_ro("sclera_scattering", &RenderPlan::scleraScattering);
+      .def_ro("switches", &RenderPlan::switches,
+              "the global switches (EyeSwitches) apply sets as the settings' eye_switches: the defaults for eyes "
+              "without a plan")
+      .def_prop_ro(
+          "mnee", [](const RenderPlan& p) { return p.switches.mnee; }, "switches.mnee")
+      .def_prop_ro(
+          "mnee_all_solutions", [](const RenderPlan& p) { return p.switches.mneeAllSolutions; },
+          "switches.mnee_all_solutions")
+      .def_prop_ro(
+          "sclera_scattering", [](const RenderPlan& p) { return p.switches.scleraScattering; },
+          "switches.sclera_scattering");
 
   m.def(
       "clear_render_plan", [](RenderIndex& index) { ClearRenderPlan(&index); }, nb::arg("index"),

@@ -6,6 +6,7 @@
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderDelegate.h"
 
+#include <nanobind/operators.h>
 #include <nanobind/stl/function.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
@@ -55,10 +56,34 @@ RenderStats RenderProgressively(RenderPass& pass, const PrimId& camera,
   return stats;
 }
 
+/// A RenderSettings property that is the switch `field` of its eye_switches (the same record, not a copy).
+template <bool EyeSwitches::*field>
+void EyeSwitchProperty(nb::class_<RenderSettings>& c, const char* name, const char* doc) {
+  c.def_prop_rw(
+      name, [](const RenderSettings& s) { return s.eyeSwitches.*field; },
+      [](RenderSettings& s, bool value) { s.eyeSwitches.*field = value; }, doc);
+}
+
+/// EyeSwitches: the eye's render switches, one record with one name per switch (eyeSwitches.h).
+void BindEyeSwitches(nb::module_& m) {
+  nb::class_<EyeSwitches>(m, "EyeSwitches",
+                          "The eye's render switches: one record that the settings, each eye's plan and the plan's "
+                          "globals carry (eyeSwitches.h).")
+      .def(nb::init<>())
+      .def_rw("mnee", &EyeSwitches::mnee, "MNEE for the iris's direct light (off: path tracing through the cornea)")
+      .def_rw("mnee_all_solutions", &EyeSwitches::mneeAllSolutions, "MNEE searches every refraction path")
+      .def_rw("sclera_scattering", &EyeSwitches::scleraScattering,
+              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
+      .def_rw("limbal_arc", &EyeSwitches::limbalArc,
+              "eye meshes: the limbal-arc teleportation cylinder (settings: where the eye's eye:limbalArc asks too)")
+      .def(nb::self == nb::self)
+      .def(nb::self != nb::self);
+}
+
 /// RenderSettings, field by field (the settings a render pass reads).
 void BindRenderSettings(nb::module_& m) {
-  nb::class_<RenderSettings>(m, "RenderSettings")
-      .def(nb::init<>())
+  nb::class_<RenderSettings> settings(m, "RenderSettings");
+  settings.def(nb::init<>())
       .def_rw("samples_per_pixel", &RenderSettings::samplesPerPixel)
       .def_rw("time_limit_seconds", &RenderSettings::timeLimitSeconds)
       .def_rw("seed", &RenderSettings::seed)
@@ -66,8 +91,8 @@ void BindRenderSettings(nb::module_& m) {
       .def_rw("max_depth", &RenderSettings::maxDepth)
       .def_rw("first_sample", &RenderSettings::firstSample)
       .def_rw("mis", &RenderSettings::mis)
-      .def_rw("mnee", &RenderSettings::mnee)
-      .def_rw("mnee_all_solutions", &RenderSettings::mneeAllSolutions)
+      .def_rw("eye_switches", &RenderSettings::eyeSwitches,
+              "the switches of eyes no render plan was applied to (a plan sets its global switches here)")
       .def_prop_rw(
           "chamber_estimator", [](const RenderSettings& s) { return ChamberEstimatorName(s.chamberEstimator); },
           [](RenderSettings& s, const std::string& name) {
@@ -85,8 +110,6 @@ void BindRenderSettings(nb::module_& m) {
               "the camera's ray cone as a fraction of a pixel")
       .def_rw("pixel_aspect_ratio", &RenderSettings::pixelAspectRatio,
               "a pixel's width over its height (UsdRender's pixelAspectRatio; 1: square)")
-      .def_rw("sclera_scattering", &RenderSettings::scleraScattering,
-              "eye meshes: random-walk sclera subsurface scattering (off: Lambertian sclera)")
       .def_rw("time_strata", &RenderSettings::timeStrata,
               "motion blur: 0 a continuous time per path; N the centres of N shutter strata (sample s at s mod N)")
       .def_prop_rw(
@@ -107,6 +130,9 @@ void BindRenderSettings(nb::module_& m) {
               "eyes: MNEE estimates averaged at a path's first iris vertex")
       .def_rw("chamber_splits", &RenderSettings::chamberSplits,
               "eyes: chamber walks continued from a path's first iris vertex");
+  EyeSwitchProperty<&EyeSwitches::mnee>(settings, "mnee", "eye_switches.mnee");
+  EyeSwitchProperty<&EyeSwitches::mneeAllSolutions>(settings, "mnee_all_solutions", "eye_switches.mnee_all_solutions");
+  EyeSwitchProperty<&EyeSwitches::scleraScattering>(settings, "sclera_scattering", "eye_switches.sclera_scattering");
 }
 
 /// What a render reports: its stats, the progress between passes, the stop flag, the pass schedule.
@@ -189,6 +215,7 @@ void BindRenderPass(nb::module_& m) {
 }  // namespace
 
 void BindRender(nb::module_& m) {
+  BindEyeSwitches(m);
   BindRenderSettings(m);
   BindRenderProgress(m);
   BindRenderPass(m);

@@ -96,7 +96,7 @@ struct DeformedEyeScene : RenderStack {
     delegate.Settings().seed = seed;
     // The sclera's random walk costs 6-10x the whole iris render here and adds nothing to the irisMnee
     // AOV these scenes read: the sclera shades as a diffuse surface.
-    delegate.Settings().scleraScattering = false;
+    delegate.Settings().eyeSwitches.scleraScattering = false;
     for (const char* b : {"/color", "/iris"}) Buffer(b).Clear();
     return pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}});
   }

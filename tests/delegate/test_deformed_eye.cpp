@@ -475,7 +475,7 @@ TEST_CASE("deformed eye furnace: a white, stretched and sheared eye mesh in a un
     s.scene.AddEyeMesh("/eye", ball.topology, deformed, white);
     s.scene.SetPrimvar("/eye", "rest", ball.Rest());
     s.delegate.Settings().maxDepth = 16;
-    s.delegate.Settings().mneeAllSolutions = true;
+    s.delegate.Settings().eyeSwitches.mneeAllSolutions = true;
     const RenderStats stats = s.Render(96);
     double sum = 0;
     int n = 0;

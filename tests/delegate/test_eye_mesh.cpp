@@ -142,7 +142,7 @@ TEST_CASE("eye mesh sclera shades as sclera: scleraColor, or the bound material'
     if (material) s.scene.AddMaterial("/scleraMaterial", m);
     s.scene.AddEyeMesh("/eye", topology, points, eye, Matrix4d(1.0), material ? "/scleraMaterial" : "");
     // The Lambertian sclera (the random-walk sclera's furnace is in test_limbal_arc.cpp).
-    s.delegate.Settings().scleraScattering = false;
+    s.delegate.Settings().eyeSwitches.scleraScattering = false;
     const RenderStats stats = s.Render(64);
     const glm::dvec3 expected = material ? glm::dvec3(m.diffuseColor) : glm::dvec3(eye.scleraColor);
     glm::dvec3 sum(0), albedoWorst(0);
@@ -298,10 +298,10 @@ TEST_CASE("eye mesh furnace: a closed white eye mesh in a uniform dome returns t
   s.LightByDome();
   s.scene.AddEyeMesh("/eye", topology, points, white);
   s.delegate.Settings().maxDepth = 16;
-  s.delegate.Settings().mneeAllSolutions = true;
+  s.delegate.Settings().eyeSwitches.mneeAllSolutions = true;
   // A Lambertian sclera of albedo 1 conserves exactly; the random walk's albedo-1 medium absorbs a little
   // (single-scattering albedo 0.9989: 0.9857 here), audited in test_limbal_arc.cpp.
-  s.delegate.Settings().scleraScattering = false;
+  s.delegate.Settings().eyeSwitches.scleraScattering = false;
   const RenderStats stats = s.Render(128);
   double sum = 0;
   for (int y = 0; y < 20; ++y)

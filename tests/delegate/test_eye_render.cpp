@@ -45,7 +45,7 @@ TEST_CASE("eye furnace: a closed, white eye in a uniform dome returns the dome (
     s.scene.AddLight("/dome", primTypes::kDomeLight, dome);
     s.delegate.Settings().samplesPerPixel = 256;
     s.delegate.Settings().maxDepth = 16;
-    s.delegate.Settings().mneeAllSolutions = all;
+    s.delegate.Settings().eyeSwitches.mneeAllSolutions = all;
     const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}});
     double sum = 0;
     int n = 0;

@@ -85,7 +85,7 @@ TEST_CASE("the cornea's Fresnel choice at a camera path's entry picks the path's
   EyeLighting lighting;
   lighting.lights = &lights;
   lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
-  lighting.mnee = true;
+  lighting.switches.mnee = true;
   lighting.maxChamberEvents = 1;  // the first iris vertex's light alone
   // A camera ray 60 degrees off the gaze at the cornea: F is about 16 %.
   const double a = 60 * eyelib::paper::kPi / 180;

@@ -282,7 +282,7 @@ TEST_CASE("energy audit: a closed sclera under a uniform dome, limbal arc on and
       eye.scleraMeanFreePath = glm::vec3(1.0f);
       eye.limbalArc = variant == 0;
       ArcScene s(24, eye, true);
-      s.delegate.Settings().scleraScattering = variant != 2;
+      s.delegate.Settings().eyeSwitches.scleraScattering = variant != 2;
       s.delegate.Settings().maxDepth = 16;
       const RenderStats st = s.Render(48);
       CHECK(st.nonFiniteSamples == 0);
@@ -334,7 +334,7 @@ TEST_CASE("the limbal arc: under a side light the shadowed limbus is lit only th
     EyeParams eye;
     eye.limbalArc = arc;
     ArcScene s(40, eye, false, 75 * kPi / 180);
-    s.delegate.Settings().scleraScattering = scattering;
+    s.delegate.Settings().eyeSwitches.scleraScattering = scattering;
     Row row;
     row.stats = s.Render(24);
     int n = 0;

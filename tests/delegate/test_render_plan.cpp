@@ -110,9 +110,9 @@ TEST_CASE("a small key light seen through the cornea gets MNEE", "[plan]") {
   const EyePlan& e = OnlyEye(plan);
   INFO(Describe(plan));
   CHECK(e.lights[0].strategy == LightStrategy::Mnee);
-  CHECK(e.mnee);
-  CHECK(plan.mnee);
-  CHECK_FALSE(e.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
+  CHECK(e.switches.mnee);
+  CHECK(plan.switches.mnee);
+  CHECK_FALSE(e.switches.mneeAllSolutions);  // 45 deg: no caustic fold worth a 7-seed search
 }
 
 TEST_CASE("the chamber walk is not cut (sweep chamber: a bound saves no time), and a flag sets it per eye", "[plan]") {
@@ -166,8 +166,8 @@ TEST_CASE("a grazing key gets all solutions from 200 px, as sweep allsol-size me
   INFO(large.pixels << " px: " << large.why.at("mneeAllSolutions"));
   REQUIRE(small.pixels < 200);
   REQUIRE(large.pixels >= 200);
-  CHECK_FALSE(small.mneeAllSolutions);
-  CHECK(large.mneeAllSolutions);
+  CHECK_FALSE(small.switches.mneeAllSolutions);
+  CHECK(large.switches.mneeAllSolutions);
   CHECK(large.why.at("mneeAllSolutions").find("allsol-size") != std::string::npos);
 }
 
@@ -180,12 +180,12 @@ TEST_CASE("a dome light alone is left to BSDF sampling with MIS: no MNEE", "[pla
   CHECK(e.lights[0].kind == LightType::Dome);
   CHECK(e.lights[0].solidAngleSr == Approx(4 * kPi));
   CHECK(e.lights[0].strategy == LightStrategy::Bsdf);
-  CHECK_FALSE(e.mnee);
-  CHECK_FALSE(plan.mnee);
+  CHECK_FALSE(e.switches.mnee);
+  CHECK_FALSE(plan.switches.mnee);
   RenderSettings settings;
-  REQUIRE(settings.mnee);
+  REQUIRE(settings.eyeSwitches.mnee);
   ApplyRenderPlan(plan, &settings);
-  CHECK_FALSE(settings.mnee);
+  CHECK_FALSE(settings.eyeSwitches.mnee);
 }
 
 TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, applied per light", "[plan]") {
@@ -197,7 +197,7 @@ TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, applied
   CHECK(e.lights[0].light == "/dome");
   CHECK(e.lights[0].strategy == LightStrategy::Bsdf);
   CHECK(e.lights[1].strategy == LightStrategy::Mnee);
-  CHECK(e.mnee);
+  CHECK(e.switches.mnee);
   CHECK(e.why.at("mnee").find("pending") == std::string::npos);
   CHECK(e.why.at("mnee").find("applied per light") != std::string::npos);
   // The renderer's mask follows the render's light order (the index's), whatever order it is given in.
@@ -214,14 +214,14 @@ TEST_CASE("an eye a few pixels wide gets the small-eye decisions of the rules", 
   INFO("eye " << e.pixels << " px");
   REQUIRE(e.pixels < 3);
   CHECK(e.inView);
-  CHECK(e.mnee);  // sweep 1: MNEE stays ahead of path tracing down to 1.6 px for a small key
+  CHECK(e.switches.mnee);  // sweep 1: MNEE stays ahead of path tracing down to 1.6 px for a small key
   PlanRules cut;
   cut.mneeMinPixels = 8;  // the rule, when set, does cut
   const EyePlan& c = OnlyEye(s.pass.Plan("/cam", 64, 64, {}, cut));
-  CHECK_FALSE(c.mnee);
+  CHECK_FALSE(c.switches.mnee);
   CHECK(c.lights[0].why.find("px <") != std::string::npos);
   CHECK(e.sss == ScleraModel::Diffuse);  // about 1 px: under PlanRules::sssMinPixels
-  CHECK_FALSE(e.limbalArc);
+  CHECK_FALSE(e.switches.limbalArc);
   CHECK(e.refineLevel == 0);
 }
 
@@ -233,8 +233,8 @@ TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk 
   INFO(Describe(plan));
   CHECK(e.limbusPixels > PlanRules{}.sssMinLimbusPixels);
   CHECK(e.sss == ScleraModel::RandomWalk);
-  CHECK(e.limbalArc);
-  CHECK(plan.scleraScattering);
+  CHECK(e.switches.limbalArc);
+  CHECK(plan.switches.scleraScattering);
   CHECK(e.refineLevel ==
         PlanRules{}.refineMaxLevel);  // large on screen: the planner's cap (sweep refine), under the ceiling 3
   CHECK(e.refineLevel == 2);
@@ -243,7 +243,7 @@ TEST_CASE("a side light on a visible limbus of an eye mesh gets the sclera walk 
   frontal.SphereLight("/key", 2, 5);
   const EyePlan& f = OnlyEye(frontal.Plan(512));
   CHECK(f.sss == ScleraModel::RandomWalk);
-  CHECK(f.limbalArc);  // sweep sclera: front-lit, dropping the cylinder still cost 2-17% of the eye's light
+  CHECK(f.switches.limbalArc);  // sweep sclera: front-lit, dropping the cylinder still cost 2-17% of the eye's light
 }
 
 TEST_CASE("an analytic eye has no sclera volume to walk", "[plan]") {
@@ -251,7 +251,7 @@ TEST_CASE("an analytic eye has no sclera volume to walk", "[plan]") {
   s.SphereLight("/key", 2, 60);
   const EyePlan& e = OnlyEye(s.Plan(512));
   CHECK(e.sss == ScleraModel::None);
-  CHECK_FALSE(e.limbalArc);
+  CHECK_FALSE(e.switches.limbalArc);
   CHECK(e.refineLevel == -1);
 }
 
@@ -267,9 +267,9 @@ TEST_CASE("an eye behind the camera or out of view gets neither MNEE nor sclera 
   CHECK(b.behindCamera);
   CHECK_FALSE(b.inView);
   CHECK(b.pixels == 0);
-  CHECK_FALSE(b.mnee);
+  CHECK_FALSE(b.switches.mnee);
   CHECK(b.sss == ScleraModel::Diffuse);
-  CHECK_FALSE(plan.mnee);
+  CHECK_FALSE(plan.switches.mnee);
 
   // The camera moved 200 mm to the side, still looking down -z: the eye is in front but outside the frame.
   Scene aside(40, /*mesh=*/false, Translate(200, 0, 40));
@@ -277,7 +277,7 @@ TEST_CASE("an eye behind the camera or out of view gets neither MNEE nor sclera 
   const EyePlan& a = OnlyEye(aside.Plan(64));
   CHECK_FALSE(a.behindCamera);
   CHECK_FALSE(a.inView);
-  CHECK_FALSE(a.mnee);
+  CHECK_FALSE(a.switches.mnee);
   CHECK(a.lights[0].why.find("out of view") != std::string::npos);
 }
 
@@ -287,7 +287,7 @@ TEST_CASE("a light below the rim plane cannot reach the iris", "[plan]") {
   const EyePlan& e = OnlyEye(s.Plan(64));
   CHECK_FALSE(e.lights[0].reachesIris);
   CHECK(e.lights[0].strategy == LightStrategy::None);
-  CHECK_FALSE(e.mnee);
+  CHECK_FALSE(e.switches.mnee);
 }
 
 TEST_CASE("explicit flags and authored values win over the planner, and the reasons say so", "[plan]") {
@@ -298,19 +298,19 @@ TEST_CASE("explicit flags and authored values win over the planner, and the reas
   flags.mneeAllSolutions = true;
   const RenderPlan plan = s.Plan(64, flags);
   const EyePlan& e = OnlyEye(plan);
-  CHECK(e.mnee);  // the dome alone would get none
+  CHECK(e.switches.mnee);  // the dome alone would get none
   CHECK(e.lights[0].why.rfind("flag", 0) == 0);
-  CHECK(e.mneeAllSolutions);
+  CHECK(e.switches.mneeAllSolutions);
   CHECK(e.why.at("mneeAllSolutions").rfind("flag", 0) == 0);
-  CHECK(plan.mnee);
-  CHECK(plan.mneeAllSolutions);
+  CHECK(plan.switches.mnee);
+  CHECK(plan.switches.mneeAllSolutions);
 
   Scene off(40);
   off.SphereLight("/key", 2, 45);
   PlanOverrides noMnee;
   noMnee.mnee = false;
-  CHECK_FALSE(OnlyEye(off.Plan(64, noMnee)).mnee);
-  CHECK_FALSE(off.Plan(64, noMnee).mnee);
+  CHECK_FALSE(OnlyEye(off.Plan(64, noMnee)).switches.mnee);
+  CHECK_FALSE(off.Plan(64, noMnee).switches.mnee);
 
   Scene arc(60, /*mesh=*/true);
   arc.SphereLight("/key", 2, 60);
@@ -318,14 +318,14 @@ TEST_CASE("explicit flags and authored values win over the planner, and the reas
   authored.limbalArc = true;                    // a flag says on ...
   authored.authored["/Eye"].limbalArc = false;  // ... the artist authored off on this eye: the artist wins
   const EyePlan& a = OnlyEye(arc.Plan(512, authored));
-  CHECK_FALSE(a.limbalArc);
+  CHECK_FALSE(a.switches.limbalArc);
   CHECK(a.why.at("limbalArc").rfind("authored", 0) == 0);
 
   PlanOverrides noWalk;
   noWalk.scleraScattering = false;
   const RenderPlan flat = arc.Plan(512, noWalk);
   CHECK(OnlyEye(flat).sss == ScleraModel::Diffuse);
-  CHECK_FALSE(flat.scleraScattering);
+  CHECK_FALSE(flat.switches.scleraScattering);
 
   PlanOverrides ceiling;
   ceiling.refineLevelCeiling = 1;
@@ -340,7 +340,7 @@ TEST_CASE("several eyes are each applied their own plan, and nothing says pendin
   REQUIRE(plan.eyes.size() == 2);
   CHECK(Describe(plan).find("pending") == std::string::npos);
   for (const EyePlan& e : plan.eyes) {
-    CHECK(e.mnee);
+    CHECK(e.switches.mnee);
     CHECK(e.RenderOptions(RenderLightOrder(s.index)).mneeLights == std::vector<bool>{true});  // MNEE for /key
   }
   const auto lines = plan.SummaryLines();
@@ -426,13 +426,13 @@ TEST_CASE("a small eye mesh keeps the sclera walk and the limbal arc even when i
   REQUIRE(e.pixels > PlanRules{}.sssMinPixels);
   REQUIRE(e.limbusPixels < 1);
   CHECK(e.sss == ScleraModel::RandomWalk);
-  CHECK(e.limbalArc);
+  CHECK(e.switches.limbalArc);
   CHECK(e.why.at("limbalArc").find("sweep sclera") != std::string::npos);
   // The band rule still works when a user sets it.
   PlanRules band;
   band.sssMinLimbusPixels = 1.5;
   const EyePlan b = OnlyEye(s.pass.Plan("/cam", 64, 64, {}, band));
-  CHECK_FALSE(b.limbalArc);
+  CHECK_FALSE(b.switches.limbalArc);
   CHECK(b.why.at("limbalArc").find("limbus band") != std::string::npos);
 }
 
@@ -489,12 +489,12 @@ TEST_CASE("two eyes in one frame render each with its own plan: MNEE on the near
   rules.mneeMinPixels = 10;
   const RenderPlan plan = s.pass.Plan("/cam", kSize, kSize, {}, rules);
   INFO(Describe(plan));
-  REQUIRE(EyeNamed(plan, "/Eye").mnee);
-  REQUIRE_FALSE(EyeNamed(plan, "/Far").mnee);
+  REQUIRE(EyeNamed(plan, "/Eye").switches.mnee);
+  REQUIRE_FALSE(EyeNamed(plan, "/Far").switches.mnee);
   RenderSettings& settings = s.delegate.Settings();
   settings.samplesPerPixel = 16;
   ApplyRenderPlan(plan, &s.index, &settings);
-  REQUIRE(settings.mnee);  // the global default is on (one eye needs it): the far eye must not take it
+  REQUIRE(settings.eyeSwitches.mnee);  // the global default is on (one eye needs it): the far eye must not take it
   RenderStats stats = RenderBuffers(s);
   const EyeMeans near = MeansOver(s, "/Eye", kSize), far = MeansOver(s, "/Far", kSize);
   std::printf("two eyes, per eye: near %d px irisMnee %.4g, far %d px irisMnee %.4g\n", near.pixels, near.iris,
@@ -542,7 +542,7 @@ TEST_CASE(
     settings.samplesPerPixel = 256;
     settings.maxDepth = 16;
     ApplyRenderPlan(plan, &s.index, &settings);
-    settings.mnee = !viaMnee;  // the global default says the opposite: the eye's own switch must win
+    settings.eyeSwitches.mnee = !viaMnee;  // the global default says the opposite: the eye's own switch must win
     const RenderStats stats = RenderBuffers(s);
     means[viaMnee] = MeansOver(s, "/Eye", kSize);
     std::printf("per-light furnace, dome by %s: mean %.4f over %d eye pixels, irisMnee %.4f (%.1f s)\n",
@@ -613,11 +613,12 @@ TEST_CASE("an eye mesh walks its sclera by its own plan, whatever the global swi
   RenderSettings& settings = s.delegate.Settings();
   settings.samplesPerPixel = 4;
   ApplyRenderPlan(plan, &s.index, &settings);
-  settings.scleraScattering = false;
+  settings.eyeSwitches.scleraScattering = false;
   const RenderStats walked = RenderBuffers(s);
   plan.eyes[0].sss = ScleraModel::Diffuse;
+  plan.eyes[0].switches.scleraScattering = false;
   ApplyRenderPlan(plan, &s.index, &settings);
-  settings.scleraScattering = true;
+  settings.eyeSwitches.scleraScattering = true;
   const RenderStats flat = RenderBuffers(s);
   INFO("walks: plan randomWalk " << walked.scleraWalks << ", plan diffuse " << flat.scleraWalks);
   CHECK(walked.scleraWalks > 0);
@@ -634,7 +635,7 @@ TEST_CASE("a tiny eye mesh gets a Lambertian sclera, no limbal arc and refine le
   INFO("eye " << e.pixels << " px; sssMinPixels " << rules.sssMinPixels);
   REQUIRE(e.pixels < rules.sssMinPixels);
   CHECK(e.sss == ScleraModel::Diffuse);
-  CHECK_FALSE(e.limbalArc);
+  CHECK_FALSE(e.switches.limbalArc);
   CHECK(e.refineLevel == 0);
   CHECK(e.why.at("sss").find("sweep sclera") != std::string::npos);
   CHECK(e.why.at("refineLevel").find("sweep refine") != std::string::npos);
@@ -650,7 +651,7 @@ TEST_CASE(
   const EyePlan e = OnlyEye(s.Plan(1024, overrides));
   INFO(e.pixels << " px; why: " << e.why.at("refineLevel"));
   CHECK(e.sss == ScleraModel::RandomWalk);
-  CHECK(e.limbalArc);
+  CHECK(e.switches.limbalArc);
   CHECK(e.refineLevel == 2);  // the planner's level would be higher: the ceiling holds it
   CHECK(e.why.at("refineLevel").find("ceiling") != std::string::npos);
   // Sweep sclera: without the cylinder a front-lit close-up loses 16% of the eye's light: the arc stays on.
@@ -658,7 +659,7 @@ TEST_CASE(
   frontal.SphereLight("/key", 2, 15);
   const EyePlan f = OnlyEye(frontal.Plan(512));
   CHECK(f.sss == ScleraModel::RandomWalk);
-  CHECK(f.limbalArc);
+  CHECK(f.switches.limbalArc);
 }
 
 TEST_CASE("the refine ceiling wins over the planner at any size, down to level 0", "[plan]") {
@@ -697,7 +698,7 @@ TEST_CASE("an authored eye:limbalArc wins on a tiny eye and on a large one", "[p
   on.authored["/Eye"].limbalArc = true;
   const EyePlan t = OnlyEye(tiny.Plan(64, on));
   CHECK(t.sss == ScleraModel::Diffuse);
-  CHECK(t.limbalArc);  // the artist's value, even with no walk for it to change
+  CHECK(t.switches.limbalArc);  // the artist's value, even with no walk for it to change
   CHECK(t.why.at("limbalArc").rfind("authored", 0) == 0);
   Scene large(60, /*mesh=*/true);
   large.SphereLight("/key", 2, 70);
@@ -705,7 +706,7 @@ TEST_CASE("an authored eye:limbalArc wins on a tiny eye and on a large one", "[p
   off.authored["/Eye"].limbalArc = false;
   const EyePlan l = OnlyEye(large.Plan(512, off));
   CHECK(l.sss == ScleraModel::RandomWalk);
-  CHECK_FALSE(l.limbalArc);
+  CHECK_FALSE(l.switches.limbalArc);
 }
 
 TEST_CASE("the precision decision states float's measured error against the eye's pixel footprint", "[plan]") {

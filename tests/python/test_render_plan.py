@@ -111,7 +111,7 @@ def test_a_dome_and_a_key_are_applied_per_light_and_the_json_says_so():
     (eye,) = plan["eyes"]
     assert {light["light"]: light["strategy"] for light in eye["lights"]} == {"/World/dome": "bsdf",
                                                                              "/World/key1": "mnee"}
-    assert eye["applied"] == {"mnee": True, "mneeLights": ["/World/key1"], "allSolutions": False,
+    assert eye["applied"] == {"mnee": True, "mneeLights": ["/World/key1"], "mneeAllSolutions": False,
                               "maxChamberEvents": 64, "chamberCacheRings": eye["chamberCacheRings"],
                               "scleraScattering": False, "limbalArc": eye["limbalArc"],
                               "refineLevel": eye["refineLevel"]}

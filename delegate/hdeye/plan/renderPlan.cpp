@@ -286,7 +286,7 @@ Decision<bool> DecideMnee(EyePlan* e, const std::string& hidden, const PlanRules
 /// All-solutions MNEE: only where second refraction paths carry measurable light (sweeps 3 and allsol-size).
 Decision<bool> DecideAllSolutions(const EyePlan& e, const PlanRules& rules, const PlanOverrides& ov) {
   if (ov.mneeAllSolutions) return {*ov.mneeAllSolutions, std::string("flag: ") + (*ov.mneeAllSolutions ? "on" : "off")};
-  if (!e.mnee) return {false, "no MNEE"};
+  if (!e.switches.mnee) return {false, "no MNEE"};
   const LightFacts* grazing = nullptr;
   for (const LightFacts& l : e.lights)
     if (l.strategy == LightStrategy::Mnee && l.angleOffGazeDeg >= rules.allSolutionsMinAngleDeg) grazing = &l;
@@ -412,12 +412,13 @@ template <class T, class U> void Record(EyePlan* e, T* field, const char* name, 
 
 void DecideEye(EyePlan* e, const PlanRules& rules, const PlanOverrides& ov) {
   const std::string hidden = HiddenReason(*e);
-  Record(e, &e->mnee, "mnee", DecideMnee(e, hidden, rules, ov));
-  Record(e, &e->mneeAllSolutions, "mneeAllSolutions", DecideAllSolutions(*e, rules, ov));
+  Record(e, &e->switches.mnee, "mnee", DecideMnee(e, hidden, rules, ov));
+  Record(e, &e->switches.mneeAllSolutions, "mneeAllSolutions", DecideAllSolutions(*e, rules, ov));
   Record(e, &e->chamberEvents, "chamberEvents", DecideChamberEvents(rules, ov));
   Record(e, &e->chamberCacheRings, "chamberCacheRings", DecideChamberCacheRings(*e, rules));
   Record(e, &e->sss, "sss", DecideSclera(*e, hidden, rules, ov));
-  Record(e, &e->limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
+  e->switches.scleraScattering = e->sss == ScleraModel::RandomWalk;
+  Record(e, &e->switches.limbalArc, "limbalArc", DecideLimbalArc(*e, rules, ov));
   Record(e, &e->refineLevel, "refineLevel", DecideRefineLevel(*e, rules, ov));
   e->pixelFootprintMm = e->resolvedPixels > 0 ? eyelib::paper::kRimRadius * 2 / e->resolvedPixels
                                               : std::numeric_limits<double>::infinity();
@@ -471,36 +472,39 @@ void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides) {
                                 ? ""
                                 : " (default for eyes without a plan: on if any eye needs it; each planned eye "
                                   "renders with its own)";
+  EyeSwitches& s = plan->switches;
   if (overrides.mnee) {
-    plan->mnee = *overrides.mnee;
+    s.mnee = *overrides.mnee;
     plan->why["mnee"] = "flag";
   } else if (plan->eyes.empty()) {
-    plan->mnee = false;
+    s.mnee = false;
     plan->why["mnee"] = "no eyes";
   } else {
-    plan->mnee = AnyEye(*plan, [](const EyePlan& e) { return e.mnee; });
+    s.mnee = AnyEye(*plan, [](const EyePlan& e) { return e.switches.mnee; });
     plan->why["mnee"] = "from the eyes' plans" + scope;
   }
   if (overrides.mneeAllSolutions) {
-    plan->mneeAllSolutions = *overrides.mneeAllSolutions;
+    s.mneeAllSolutions = *overrides.mneeAllSolutions;
     plan->why["mneeAllSolutions"] = "flag";
   } else {
-    plan->mneeAllSolutions = plan->mnee && AnyEye(*plan, [](const EyePlan& e) { return e.mneeAllSolutions; });
+    s.mneeAllSolutions = s.mnee && AnyEye(*plan, [](const EyePlan& e) { return e.switches.mneeAllSolutions; });
     plan->why["mneeAllSolutions"] = plan->eyes.empty() ? "no eyes" : "from the eyes' plans" + scope;
   }
   if (overrides.scleraScattering) {
-    plan->scleraScattering = *overrides.scleraScattering;
+    s.scleraScattering = *overrides.scleraScattering;
     plan->why["scleraScattering"] = "flag";
   } else {
-    plan->scleraScattering = AnyEye(*plan, [](const EyePlan& e) { return e.sss == ScleraModel::RandomWalk; });
+    s.scleraScattering = AnyEye(*plan, [](const EyePlan& e) { return e.switches.scleraScattering; });
     plan->why["scleraScattering"] = plan->eyes.empty() ? "no eyes" : "from the eye meshes' plans" + scope;
   }
+  // The limbal arc has no global decision: an eye without a plan follows its own eye:limbalArc, unless a flag says.
+  s.limbalArc = overrides.limbalArc.value_or(true);
 }
 
 EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) const {
   EyeRenderOptions o;
   o.planned = true;
-  o.mnee = mnee;
+  o.switches = switches;
   o.mneeLights.reserve(lightOrder.size());
   for (const PrimId& id : lightOrder) {
     const auto l = std::find_if(lights.begin(), lights.end(), [&](const LightFacts& f) { return f.light == id; });
@@ -508,11 +512,8 @@ EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) c
     // so a path leaving the iris still counts it if it finds it -- the partition stays complete.
     o.mneeLights.push_back(l == lights.end() ? true : l->strategy == LightStrategy::Mnee);
   }
-  o.allSolutions = mneeAllSolutions;
   o.maxChamberEvents = chamberEvents;
   o.chamberCacheRings = chamberCacheRings;
-  o.scleraScattering = sss == ScleraModel::RandomWalk;
-  o.limbalArc = limbalArc;
   o.refineLevel = refineLevel;  // -1 for analytic eyes: nothing to refine
   return o;
 }
@@ -552,11 +553,7 @@ void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings*
   ApplyRenderPlan(plan, settings);
 }
 
-void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) {
-  settings->mnee = plan.mnee;
-  settings->mneeAllSolutions = plan.mneeAllSolutions;
-  settings->scleraScattering = plan.scleraScattering;
-}
+void ApplyRenderPlan(const RenderPlan& plan, RenderSettings* settings) { settings->eyeSwitches = plan.switches; }
 
 void ClearRenderPlan(RenderIndex* index) {
   // Unplanned eye meshes go back to the scene's level (--complexity), re-refining if the plan had lowered it.
@@ -577,10 +574,10 @@ std::vector<std::string> RenderPlan::SummaryLines() const {
                        (e.behindCamera ? " (behind camera)"
                         : e.inView     ? ""
                                        : " (out of view)") +
-                       ", mnee " + (e.mnee ? "on [" + mneeLights + "]" : std::string("off")) + ", all solutions " +
-                       (e.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) + ", limbal arc " +
-                       (e.limbalArc ? "on" : "off") + ", chamber " + std::to_string(e.chamberEvents) + ", cache " +
-                       std::to_string(e.chamberCacheRings) + " rings";
+                       ", mnee " + (e.switches.mnee ? "on [" + mneeLights + "]" : std::string("off")) +
+                       ", all solutions " + (e.switches.mneeAllSolutions ? "on" : "off") + ", sss " + ToString(e.sss) +
+                       ", limbal arc " + (e.switches.limbalArc ? "on" : "off") + ", chamber " +
+                       std::to_string(e.chamberEvents) + ", cache " + std::to_string(e.chamberCacheRings) + " rings";
     if (e.refineLevel >= 0) line += ", subdiv " + std::to_string(e.refineLevel);
     lines.push_back(line);
   }

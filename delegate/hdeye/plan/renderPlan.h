@@ -151,15 +151,15 @@ struct EyePlan {
   double resolvedPixels = 0;
   std::vector<LightFacts> lights;
 
-  bool mnee = false;  ///< MNEE for at least one light
-  bool mneeAllSolutions = false;
+  /// The eye's switches (eyeSwitches.h), as ApplyRenderPlan gives them to the eye: mnee (MNEE for at least one
+  /// light), mneeAllSolutions, scleraScattering (sss is RandomWalk) and limbalArc (the teleportation cylinder).
+  EyeSwitches switches{false, false, false, false};
   /// Chamber events followed per path (the walk's bound inside the anterior chamber): applied as
   /// EyeRenderOptions::maxChamberEvents.
   int chamberEvents = 64;
   int chamberCacheRings = 32;  ///< rings of the chamber-light cache's grid (EyeRenderOptions::chamberCacheRings)
-  ScleraModel sss = ScleraModel::Diffuse;
-  bool limbalArc = false;  ///< the teleportation cylinder in the sclera walk
-  int refineLevel = -1;    ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
+  ScleraModel sss = ScleraModel::Diffuse;  ///< the sclera's model, as reported (switches.scleraScattering: RandomWalk)
+  int refineLevel = -1;                    ///< eye meshes: planned Catmull-Clark level; -1 analytic (no mesh)
   /// Millimetres of the eye per resolved pixel: the 15.08 mm iris circle over `resolvedPixels` (the blur disk
   /// widens it; infinite when not projected).
   double pixelFootprintMm = 0;
@@ -180,11 +180,11 @@ struct RenderPlan {
   std::vector<EyePlan> eyes;
   /// Every non-eye subdivision mesh's level by its size on screen (meshRefinePlan.h); applied with the eyes.
   std::vector<MeshPlan> meshes;
-  /// The global switches ApplyRenderPlan also sets: on if any eye's plan needs the feature. They are the
-  /// defaults for eyes the plan does not cover (none, when the plan was made for the scene it is applied
-  /// to); every planned eye renders with its own switches.
-  bool mnee = true, mneeAllSolutions = false;
-  bool scleraScattering = false;           ///< RenderSettings::scleraScattering (eye meshes' sclera walk)
+  /// The global switches ApplyRenderPlan sets as RenderSettings::eyeSwitches: on if any eye's plan needs the
+  /// feature (limbalArc: on unless a flag says off, so each unplanned eye follows its own eye:limbalArc). They are the
+  /// defaults for eyes the plan does not cover (none, when the plan was made for the scene it is applied to); every
+  /// planned eye renders with its own switches.
+  EyeSwitches switches{true, false, false, true};
   std::map<std::string, std::string> why;  ///< reasons for the global values
   /// One human-readable line per eye (and one for the globals when there is no eye), and one counting the
   /// subdivision meshes per planned level.
@@ -206,8 +206,7 @@ EyePlan MeasureEyeOverShutter(const PrimId& prim, const std::string& geometry, c
 /// the rules and the overrides.
 void DecideEye(EyePlan* eye, const PlanRules& rules, const PlanOverrides& overrides);
 
-/// The plan's global switches (RenderPlan::mnee, mneeAllSolutions, scleraScattering) and their reasons, from its
-/// eyes' decisions and the flags.
+/// The plan's global switches (RenderPlan::switches) and their reasons, from its eyes' decisions and the flags.
 void DecideGlobals(RenderPlan* plan, const PlanOverrides& overrides);
 
 /// The plan for every eye rprim of a synced index, seen by the camera sprim `cameraId` in a width x
@@ -217,10 +216,9 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
 
 /// Applies the plan: every eye rprim of `index` the plan covers gets its EyeRenderOptions (EyePlan::RenderOptions,
 /// lights in the index's order: the renderer's); eye rprims it does not cover are reset to unplanned (the
-/// global switches). Then sets the global switches of `settings` (mnee, mneeAllSolutions, scleraScattering)
-/// as the defaults. maxDepth is left alone: it bounds world bounces for the whole frame, not the eye's chamber
-/// walk. Call it after the plan's sync and before Execute: Execute's sync keeps the options (they live in
-/// the rprims' contexts).
+/// global switches). Then sets the global switches as `settings`' eyeSwitches, the defaults. maxDepth is left alone: it
+/// bounds world bounces for the whole frame, not the eye's chamber walk. Call it after the plan's sync and before
+/// Execute: Execute's sync keeps the options (they live in the rprims' contexts).
 void ApplyRenderPlan(const RenderPlan& plan, RenderIndex* index, RenderSettings* settings);
 
 /// Only the global switches (no per-eye options): for a settings object with no render index to reach.

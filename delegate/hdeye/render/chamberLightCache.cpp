@@ -109,8 +109,8 @@ std::shared_ptr<const eyelib::IrisChamberCache> ChamberLightCaches::Get(const vo
   KeyHash key = geometry;
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) key.Add(eye.canonicalToWorld[c][r]);
-  key.Add(eye.irisColor).Add(eye.irisTexture.get()).Add(lighting.receiver).Add(lighting.allSolutions);
-  key.Add(lighting.mnee).Add(lighting.mneeLights ? lighting.mneeLights->size() : std::size_t(0));
+  key.Add(eye.irisColor).Add(eye.irisTexture.get()).Add(lighting.receiver).Add(lighting.switches.mneeAllSolutions);
+  key.Add(lighting.switches.mnee).Add(lighting.mneeLights ? lighting.mneeLights->size() : std::size_t(0));
   if (lighting.mneeLights)
     for (bool b : *lighting.mneeLights) key.Add(b);
   std::shared_ptr<Slot<eyelib::IrisChamberTransport>> transport;

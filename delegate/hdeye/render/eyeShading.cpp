@@ -96,7 +96,8 @@ glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const Eye
     const ChamberHit hit = eye.chamber.NextSurfaceFromInside(p, d);
     if (hit.kind == ChamberHit::Iris) {
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
-      if (lighting.mnee) gathered += beta * IrisDirectLight(eye, hit.point, albedo, ++vertex, lighting, random, 1);
+      if (lighting.switches.mnee)
+        gathered += beta * IrisDirectLight(eye, hit.point, albedo, ++vertex, lighting, random, 1);
       d = IrisBounce(random);
       beta *= albedo;
       p = hit.point;
@@ -228,7 +229,7 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
   eyelib::MneeOptions options;
   options.scleraOccludes = false;  // visibility is the renderer's: shadow rays below
   eyelib::SeedStrategy seeds;
-  seeds.allSolutions = lighting.allSolutions;
+  seeds.allSolutions = lighting.switches.mneeAllSolutions;
   if (hasCentre) {
     seeds.start = eyelib::Vec2<double>(entry.x, entry.y);  // Newton's start: near every point's path
     // A small sphere or disk (under about 3 degrees) gains nothing from retrying a failed start elsewhere.
@@ -397,7 +398,7 @@ EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const E
     if (hit.kind == ChamberHit::Iris) {
       const glm::dvec3 albedo = eye.IrisAlbedo(hit.point);
       const int lightSplits = split ? 1 : std::max(1, lighting.irisLightSplits);
-      if (lighting.mnee)
+      if (lighting.switches.mnee)
         ev.radiance += gatherWeight * beta *
                        IrisDirectLight(eye, hit.point, albedo, ++irisVertices, lighting, random, lightSplits);
       if (!split && chamberSplits > 1) {
@@ -425,7 +426,7 @@ EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const E
     ev.weight = beta * (ior * ior);
     ev.dir = eye.DirToWorld(wt);
     ev.origin = Offset(eye, eye.ToWorld(p), eye.DirToWorld(n));
-    ev.skipLightHits = straightFromIris && lighting.mnee;
+    ev.skipLightHits = straightFromIris && lighting.switches.mnee;
     return ev;
   }
   ev.walkCapReached = true;

@@ -38,11 +38,10 @@ struct EyeLighting {
   /// The eye's GeometryContext::primIndex: lights linked away from it (Illuminates) give it nothing, MNEE
   /// included.
   int receiver = -1;
-  bool allSolutions = false;  ///< MNEE searches for every refraction path (caustic folds)
-  /// Off: the iris's direct light comes only from paths that leave the cornea and hit a light (plain
-  /// path tracing, for A/B comparisons); MNEE is not run.
-  bool mnee = true;
-  /// With `mnee`: which lights MNEE counts (EyeRenderOptions::mneeLights, over *lights); the others reach
+  /// The eye's switches (eyeSwitches.h): the lighting reads mnee (off: MNEE is not run; the iris's direct light
+  /// comes only from paths that leave the cornea and hit a light) and mneeAllSolutions.
+  EyeSwitches switches;
+  /// With switches.mnee: which lights MNEE counts (EyeRenderOptions::mneeLights, over *lights); the others reach
   /// the iris only by paths that leave it. Null or of another length: every light.
   const std::vector<bool>* mneeLights = nullptr;
   /// The chamber walk's bound: events inside the anterior chamber before the path is dropped.
@@ -52,12 +51,12 @@ struct EyeLighting {
   /// Chamber walks from a walk's first iris vertex (RenderSettings::chamberSplits): the extra ones only gather
   /// iris light, each weighing 1 / chamberSplits with the walk's own from then on.
   int chamberSplits = 1;
-  /// With `mnee`: how the iris gathers chamber light; Cache and ControlVariate need `chamberCache` (null: Path).
+  /// With switches.mnee: how the iris gathers chamber light; Cache and ControlVariate need `chamberCache` (null: Path).
   ChamberEstimator chamberEstimator = ChamberEstimator::Path;
   /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
   std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
-  /// With `mnee`: the probability MNEE picks each light with (over *lights, MneeLightPick), or null or of another
-  /// length: uniformly among the lights it counts.
+  /// With switches.mnee: the probability MNEE picks each light with (over *lights, MneeLightPick), or null or of
+  /// another length: uniformly among the lights it counts.
   const std::vector<double>* mneePick = nullptr;
   /// Trace both the reflection off the cornea and the refraction into it at the entry, with their Fresnel
   /// weights (EyeEvent::reflection beside the walk), instead of choosing one by F: the glint otherwise comes
@@ -69,7 +68,7 @@ struct EyeLighting {
 /// must therefore skip it): the one place both sides of the split read, so no light is counted twice or
 /// not at all.
 inline bool MneeCountsLight(const EyeLighting& lighting, std::size_t index) {
-  if (!lighting.mnee) return false;
+  if (!lighting.switches.mnee) return false;
   // A light linked away from the eye is counted by neither: the path leaving the iris skips it too (the renderer
   // checks Illuminates against the vertex a ray left).
   if (lighting.lights && !Illuminates((*lighting.lights)[index], lighting.receiver)) return false;

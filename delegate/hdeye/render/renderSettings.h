@@ -1,6 +1,8 @@
 #pragma once
 // The render settings the renderer reads (HdRenderSettingsMap's role, as a struct): set on the render
 // delegate, handed to the renderer by the render pass for each Execute.
+#include "hdeye/render/eyeSwitches.h"
+
 #include <optional>
 #include <string>
 
@@ -44,17 +46,12 @@ struct RenderSettings {
   int maxDepth = 8;     ///< path vertices after the camera
   int firstSample = 0;  ///< sample range [firstSample, firstSample + samplesPerPixel): splits a frame
   bool mis = true;      ///< combine light and BSDF sampling (off: light sampling only, for tests)
-  /// Eyes: the iris's direct light through MNEE (off: only by paths that refract out of the cornea and
-  /// happen to hit a light: plain path tracing, for A/B comparisons).
-  bool mnee = true;
-  bool mneeAllSolutions = false;  ///< eyes: search every refraction path to a light (caustic folds)
+  /// The switches of eyes no render plan was applied to (an applied plan sets them to its global switches, and each
+  /// planned eye renders with its own: EyeRenderOptions::switches).
+  EyeSwitches eyeSwitches;
   /// Eyes with MNEE: how the iris gathers chamber light. The cache by default: on scene B its bias floor is 0.12 %
   /// and its noise at equal samples a sixth of the control variate's (docs/iris_benchmark.md).
   ChamberEstimator chamberEstimator = ChamberEstimator::Cache;
-  /// Eye meshes: the sclera is a path-traced random-walk volume (with the limbal arc where the eye's
-  /// EyeParams::limbalArc asks for it). Off: the sclera is a Lambertian surface (for A/B comparisons
-  /// and for a render plan that finds no sclera worth scattering). Analytic eyes never walk.
-  bool scleraScattering = true;
   /// Whether camera rays see dome lights (off: the dome lights the scene but the background is black, as
   /// usdrecord renders without --enableDomeLightVisibility).
   bool domeLightCameraVisibility = true;

@@ -13,7 +13,7 @@ PathSample Tracer::Li(const WorldRay& ray, const RayCone& cone, SampleStream& rn
     return Transmittance(lights_[k], po, pd, t);
   };
   PathState path(ray, cone);
-  path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.mneeAllSolutions, settings_.mnee};
+  path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.eyeSwitches};
   TracePath(&path, 0, rng, &sample);
   return sample;
 }

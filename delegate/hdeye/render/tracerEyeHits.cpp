@@ -8,24 +8,20 @@ namespace hdeye {
 
 namespace {
 
-/// The switches one eye renders with: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else
-/// the render settings' and the eye's own EyeParams::limbalArc.
-struct EyeSwitches {
-  bool mnee = true, allSolutions = false;
+/// What one eye renders with: the render plan's (EyeRenderOptions, written by ApplyRenderPlan), else the render
+/// settings' switches (the limbal arc only where the eye's own EyeParams::limbalArc also asks for it).
+struct ResolvedEye {
+  EyeSwitches switches;
   const std::vector<bool>* mneeLights = nullptr;  ///< null: MNEE counts every light
   int maxChamberEvents = 64;
-  bool scleraScattering = true, limbalArc = true;
 };
 
-EyeSwitches ResolveEyeSwitches(const EyeRenderOptions& options, const EyeGeometry& eye,
-                               const RenderSettings& settings) {
-  if (options.planned)
-    return {
-        options.mnee,     options.allSolutions, &options.mneeLights, options.maxChamberEvents, options.scleraScattering,
-        options.limbalArc};
+ResolvedEye ResolveEye(const EyeRenderOptions& options, const EyeGeometry& eye, const RenderSettings& settings) {
+  if (options.planned) return {options.switches, &options.mneeLights, options.maxChamberEvents};
   static const EyeRenderOptions kUnplanned;  // the walk bound of an eye no plan was applied to
-  return {settings.mnee, settings.mneeAllSolutions, nullptr, kUnplanned.maxChamberEvents, settings.scleraScattering,
-          eye.limbalArc};
+  EyeSwitches switches = settings.eyeSwitches;
+  switches.limbalArc = switches.limbalArc && eye.limbalArc;
+  return {switches, nullptr, kUnplanned.maxChamberEvents};
 }
 
 }  // namespace
@@ -83,19 +79,18 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
                                PathSample* sample) {
   const auto random = [&rng] { return rng.Next(); };
   const GeometryContext& ctx = *hit->context;
-  const EyeSwitches switches = ResolveEyeSwitches(ctx.eyeOptions, eye, settings_);
+  const ResolvedEye resolved = ResolveEye(ctx.eyeOptions, eye, settings_);
   EyeLighting& lighting = path->eyeLighting;
-  lighting.mnee = switches.mnee;
-  lighting.allSolutions = switches.allSolutions;
-  lighting.mneeLights = switches.mneeLights;
-  lighting.maxChamberEvents = switches.maxChamberEvents;
+  lighting.switches = resolved.switches;
+  lighting.mneeLights = resolved.mneeLights;
+  lighting.maxChamberEvents = resolved.maxChamberEvents;
   lighting.irisLightSplits = settings_.irisLightSplits;
   lighting.chamberSplits = settings_.chamberSplits;
   lighting.receiver = hit->primIndex;
   lighting.chamberEstimator = settings_.chamberEstimator;
   lighting.splitAtEntry = path->splitsAtCornea && path->specular;
-  lighting.mneePick = lighting.mnee ? &MneePickOf(ctx, lighting) : nullptr;
-  const bool cached = lighting.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
+  lighting.mneePick = lighting.switches.mnee ? &MneePickOf(ctx, lighting) : nullptr;
+  const bool cached = lighting.switches.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
   lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
   const EyeEvent ev = ctx.eye
                           ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
@@ -127,8 +122,8 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
   if (depth == 0) sample->first.albedo = hit->albedo;  // the albedo AOV shows the sclera's
   // An eye mesh's sclera is a volume: the path walks through it instead of bouncing off a Lambert surface
   // (only meshes have a closed eyeball to walk in; the analytic eye's sclera stays diffuse).
-  if (ev.scleraOnSurface && switches.scleraScattering && ctx.prototypeScene)
-    return EnterSclera(eye, switches.limbalArc, random, hit, path, sample);
+  if (ev.scleraOnSurface && resolved.switches.scleraScattering && ctx.prototypeScene)
+    return EnterSclera(eye, resolved.switches.limbalArc, random, hit, path, sample);
   return EyeOutcome::ShadeSurface;
 }
 
