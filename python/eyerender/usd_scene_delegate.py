@@ -1,15 +1,16 @@
 """The USD scene delegate (UsdImagingDelegate's role): populates the hdeye render index from a Usd.Stage and keeps
 it current as time moves.
 
-Every supported prim becomes one delegate prim with the same path; instances (PointInstancers, instanceable prims)
-become hdeye instancers over prototype prims added once (instancing.py). `populate` reads the
-stage once at the current time; `set_time` re-reads only what may vary in time (attributes with time samples,
-transforms under animated xforms) and pushes it through the scene store's Set* calls, which mark exactly the
-matching dirty bits. What each `set_time` pushed is counted in `last_update`. Under a shutter that spans time
-(`set_shutter`), what moves is pushed as samples over it through the *_samples calls (motion.py). Edits made to
-the stage after `populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by `apply_stage_changes`
-(stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py. docs/usd_support.md tables
-what is read and how.
+Every supported prim becomes one delegate prim with the same path, added by the adapter of its kind (adapters/, one
+per prim kind as in UsdImaging: this module keeps the traversal, the adapter registry and the bookkeeping they
+share); instances (PointInstancers, instanceable prims) become hdeye instancers over prototype prims added once
+(instancing.py). `populate` reads the stage once at the current time; `set_time` re-reads only what may vary in time
+(attributes with time samples, transforms under animated xforms) and pushes it through the scene store's Set* calls,
+which mark exactly the matching dirty bits. What each `set_time` pushed is counted in `last_update`. Under a shutter
+that spans time (`set_shutter`), what moves is pushed as samples over it through the *_samples calls (motion.py).
+Edits made to the stage after `populate` are queued by a Usd.Notice.ObjectsChanged listener and applied by
+`apply_stage_changes` (stage_notices.py, counted in `last_changes`); UsdSkel skinning comes from skinning.py.
+docs/usd_support.md tables what is read and how.
 
 Supported: Xform hierarchies, Mesh (points, topology, subdivisionScheme and tags and holes (mesh_topology.py),
 materialBind GeomSubsets, orientation, normals, primvars st /
