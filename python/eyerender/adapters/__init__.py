@@ -3,7 +3,9 @@ the PrimAdapter interface (base.py), and the registry that picks a prim's adapte
 
 The registry is ordered as a prim's kinds are tested: a PointInstancer, a Mesh (an eye mesh with the EyeAPI),
 BasisCurves, Points, a Camera, a UsdLux light, another Gprim (the implicit surfaces), then an Xformable with the
-EyeAPI (an analytic eye). Materials have an adapter too, reached through bindings rather than traversal.
+EyeAPI (an analytic eye). UsdImaging keys its registry by the prim's exact schema type; here a kind is an IsA test
+(a NurbsCurves is a Gprim, an eye any Xformable with the API), so the first adapter whose `handles` accepts the
+prim is its adapter. Materials have an adapter too, reached through bindings rather than traversal.
 """
 from .base import PrimAdapter
 from .basis_curves import BasisCurvesAdapter

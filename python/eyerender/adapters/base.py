@@ -8,8 +8,9 @@ An adapter turns one kind of USD prim into delegate prims in the scene store and
   its UpdateForTime, run by `set_time`); returns whether the prim's children are handled too;
 - `populate_instanced(...)`: adds a copy of a prototype's prim for an instancer (instancing.py);
 - `process_property_change(prim, prim_id, kind)`: pushes one edited property in place (`kind`: one of
-  stage_notices' kinds) and returns False when the prim must be populated again instead;
-- `forget(prim_id)`: drops what the adapter keeps about a delegate prim that was removed.
+  stage_notices' kinds) and returns False when the prim must be populated again instead (UsdImaging's
+  ProcessPropertyChange returning AllDirty);
+- `forget(prim_id)`: drops what the adapter keeps about a delegate prim that was removed (ProcessPrimRemoval).
 
 Adapters hold no reference to one another's state: what they share goes through the delegate's public interface
 (usd_scene_delegate.UsdSceneDelegate documents it) and the other adapters' public methods (delegate.adapters).
