@@ -42,7 +42,7 @@ test: build python
 # The default sample: the procedural eye close-up, to out/closeup.exr (AOVs) and out/closeup.png.
 render: python
 	@mkdir -p out
-	@$(PYTHON) -m eyerender.eyerecord usd_samples/closeup.usda out/closeup.exr --png -w 256 --spp 64 --aov irisMnee --aov albedo --aov normal --aov depth
+	@$(PYTHON) -m eyerender.cli.eyerecord usd_samples/closeup.usda out/closeup.exr --png -w 256 --spp 64 --aov irisMnee --aov albedo --aov normal --aov depth
 
 bench: build
 	@bash scripts/run_benchmarks.sh $(BUILD_DIR)

@@ -2,7 +2,7 @@
 
 Authors a stage of N instanceable references to usd_samples/assets/eye.usda (the procedural eye mesh) on a square
 grid under one sphere light, framed so the grid fills the image (the eyes shrink as N grows: 54 px across for one,
-14 px for 64 at 256 px), and renders it with the real command line (`python -m eyerender.eyerecord`, two threads,
+14 px for 64 at 256 px), and renders it with the real command line (`python -m eyerender.cli.eyerecord`, two threads,
 a fixed sample count), each case --repeats times, interleaved across builds and estimators. Prints one markdown
 table: median wall seconds of the render (eyerecord's summary line, in hundredths: sync, plan, chamber-light caches
 and samples, without the interpreter's start-up) per eye count, build and estimator. The chamber-light cache is
@@ -55,7 +55,7 @@ def author(python, count, path):
 
 def render(python, stage, out, spp, width, estimator):
     """Seconds of one render, from eyerecord's summary line."""
-    cmd = [python, "-m", "eyerender.eyerecord", stage, out, "--imageWidth", str(width), "--spp", str(spp),
+    cmd = [python, "-m", "eyerender.cli.eyerecord", stage, out, "--imageWidth", str(width), "--spp", str(spp),
            "--threads", "2", "--overwrite", "--quiet", "--chamber-estimator", estimator]
     run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode != 0:

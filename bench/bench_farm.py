@@ -23,7 +23,7 @@ STAGE = REPO / "usd_samples" / "squash_stretch.usda"
 
 def local_run(frames, width, spp, out):
     """Single machine, no Dask: one RenderSession over the frames, as eyerecord renders."""
-    from eyerender.eyerecord import main
+    from eyerender.cli.eyerecord import main
 
     start = time.perf_counter()
     assert main([str(STAGE), str(out / "local_####.exr"), "-w", str(width), "--spp", str(spp), "--frames",

@@ -1,6 +1,6 @@
 """bench_iris: speed against error on the iris of scene B, the side-lit analytic eye with an independent reference.
 
-Renders the scene with the real command line (`python -m eyerender.eyerecord`, two threads, each budget with two
+Renders the scene with the real command line (`python -m eyerender.cli.eyerecord`, two threads, each budget with two
 seeds), compares every render with the scene's reference through its own compare.py (relative RMSE per iris pixel,
 glint excluded; with two seeds the noise and the bias floor sqrt(mean(e1 e2)), the error both seeds share), and prints
 a table: relative RMSE per budget (the mean of the two seeds), error x sqrt(seconds), samples per pixel reached, the
@@ -52,7 +52,7 @@ def render(python, scene_dir, seconds, seed, out, spp=0, extra=(), scene="sceneB
     eyerecord arguments `extra`; returns the samples per pixel it reached and the seconds it took (from its summary
     line)."""
     budget = ["--spp", str(spp)] if spp else ["--time-limit", str(seconds)]
-    cmd = [python, "-m", "eyerender.eyerecord", "--camera", "/World/main_cam", "--imageWidth", str(width),
+    cmd = [python, "-m", "eyerender.cli.eyerecord", "--camera", "/World/main_cam", "--imageWidth", str(width),
            *budget, "--threads", "2", "--seed", str(seed), "--quiet", *extra, os.path.join(scene_dir, scene), out]
     run = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if run.returncode != 0:

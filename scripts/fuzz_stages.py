@@ -178,7 +178,8 @@ def run_mutant(data, workdir, timeout, python=sys.executable):
     with open(stage, "wb") as f:
         f.write(data)
     exr, png = os.path.join(workdir, "out.exr"), os.path.join(workdir, "out.png")
-    cmd = [python, "-m", "eyerender.eyerecord", stage, exr, "--png", "-w", "16", "--spp", "1", "-q", "--threads", "1"]
+    cmd = [python, "-m", "eyerender.cli.eyerecord", stage, exr, "--png", "-w", "16", "--spp", "1", "-q",
+           "--threads", "1"]
     try:
         proc = subprocess.run(cmd, capture_output=True, timeout=timeout, cwd=workdir)
         rc, out, err = proc.returncode, proc.stdout.decode(errors="replace"), proc.stderr.decode(errors="replace")

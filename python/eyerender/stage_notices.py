@@ -7,9 +7,9 @@ bits they set; a property the delegate cannot update in place re-populates its p
 """
 import collections
 
-from pxr import Sdf, Tf, Usd, UsdGeom, UsdShade
+from pxr import Sdf, Tf, Usd, UsdGeom
 
-from . import eyes, lights, materials, motion
+from . import lights, motion
 from .errors import EyeRenderError
 from .skinning import skel_root_of
 from .validation import reading
@@ -73,25 +73,30 @@ class StageChangeQueue:
             self._listener = None
 
 
-class StageFollowing:
-    """The part of UsdSceneDelegate that applies a StageChangeQueue (its `_changes`) to the store; it uses the
-    delegate's bookkeeping: `_owned` (owner prim path -> delegate prim ids), `_updaters` (owner, kind, update),
-    `_instance_sources` (prim path an instancer reads -> its owners' paths), `_point_counts` (mesh id -> points
-    sent), `_skipped` (owner paths skipped), `_add_subtree`, `_skip`, `raise_refused_eyes`, `_forget_id`,
-    `warnings`, `_world_of`, `_link_light`, `_light_params`, the eye, camera and material readers, and the
-    shutter's: `_motion` (this frame's motion.MotionSampler), `shutter`, `set_shutter`, `push_transform` and
-    `push_points` (samples over the shutter where a prim moves within it)."""
+class StageFollower:
+    """Applies a stage's edits to a UsdSceneDelegate's store (UsdImagingDelegate's change processing), through the
+    delegate's public bookkeeping (usd_scene_delegate.py lists it: `owned`, `updaters`, `instance_sources`,
+    `skipped`, `populate_subtree`, `skip`, `forget_id`, ...) and its adapters' process_property_change."""
 
-    def apply_stage_changes(self):
+    def __init__(self, delegate):
+        self.delegate = delegate
+        self.queue = StageChangeQueue(delegate.stage)
+        self.last_changes = collections.Counter()  # what the last apply did, by kind
+
+    def discard_pending(self):
+        """Forgets the edits queued so far (populate has just read them)."""
+        self.queue.take()
+
+    def apply(self):
         """Applies the stage edits made since the last call (or populate), as UsdImaging's delegate does on its
         ObjectsChanged notices: resynced paths are re-populated, value changes update in place. Returns (and keeps
         in last_changes) the counts by kind."""
+        d = self.delegate
         self.last_changes = collections.Counter()
-        if not self._changes.pending():
+        if not self.queue.pending():
             return self.last_changes
-        resynced, changed = self._changes.take()
-        self._xforms = UsdGeom.XformCache(self.time)
-        self._motion = motion.MotionSampler(self.time, self.shutter, self.warnings, self._motion_warned)  # new values
+        resynced, changed = self.queue.take()
+        d.reread_time()  # new values
         # Skinning reads a whole SkelRoot: an edit inside one re-populates it, with its UsdSkel cache rebuilt.
         for path in resynced + changed:
             root = skel_root_of(self._nearest_prim(path))
@@ -101,35 +106,37 @@ class StageFollowing:
         done = []
         for path in sorted(set(resynced)):
             for root in self._resync_roots(path):
-                if not any(root.HasPrefix(d) for d in done):
+                if not any(root.HasPrefix(r) for r in done):
                     self._resync(root)
                     done.append(root)
         for path in changed:
-            if not any(path.HasPrefix(d) for d in done):
+            if not any(path.HasPrefix(r) for r in done):
                 try:
                     with reading(path):
                         self._apply_property_change(path)
                 except EyeRenderError as e:  # a bad value where no prim owns it (a material): the edit only
-                    if self.strict:  # an unreadable texture it brought in (its warning is above)
+                    if d.strict:  # an unreadable texture it brought in (its warning is above)
                         raise
-                    self.warnings.append(f"{e} (edit ignored)")
-        if self._shutter_at and self._shutter_at(self.time) != self.shutter:  # a camera's shutter was edited
-            self.set_shutter(self._shutter_at)
-        self.raise_refused_eyes()  # every edit applied first: the session stays in step with the stage
+                    d.warnings.append(f"{e} (edit ignored)")
+        if d.shutter_at and d.shutter_at(d.time) != d.shutter:  # a camera's shutter was edited
+            d.set_shutter(d.shutter_at)
+        d.raise_refused_eyes()  # every edit applied first: the session stays in step with the stage
         return self.last_changes
 
     def _nearest_prim(self, path):
         """The prim at path's prim path, or its nearest existing ancestor (for paths just removed)."""
+        d = self.delegate
         path = path.GetPrimPath()
-        while not self.stage.GetPrimAtPath(path) and path != Sdf.Path.absoluteRootPath:
+        while not d.stage.GetPrimAtPath(path) and path != Sdf.Path.absoluteRootPath:
             path = path.GetParentPath()
-        return self.stage.GetPrimAtPath(path)
+        return d.stage.GetPrimAtPath(path)
 
     def _resync_roots(self, *paths):
         """The paths to re-populate for a resync of `paths` (none under another): each one's nearest PointInstancer
         ancestor (which owns its prototypes), else itself; and, until none is left, the owner of every instancer
         that reads a prim at, above or under one of them (a prototype root elsewhere, a native instance) or the
         prototype of a native instance under one (so that a new instance joins its prototype's group)."""
+        d = self.delegate
         roots = []
         for path in paths:
             root = self._point_instancer_root(path)
@@ -143,7 +150,7 @@ class StageFollowing:
                 if r not in prototypes:
                     prototypes[r] = self._prototypes_under(r)
             met = set().union(*(prototypes[r] for r in roots))
-            for source, owners in self._instance_sources.items():
+            for source, owners in d.instance_sources.items():
                 if source not in met and not any(source.HasPrefix(r) or r.HasPrefix(source) for r in roots):
                     continue
                 for owner in owners:
@@ -154,8 +161,9 @@ class StageFollowing:
 
     def _prototypes_under(self, path):
         """The prototype paths of the native instances at or under `path` (none when instances are flattened)."""
-        prim = self.stage.GetPrimAtPath(path)
-        if not prim or self._instancing.flatten:
+        d = self.delegate
+        prim = d.stage.GetPrimAtPath(path)
+        if not prim or d.flatten_instances:
             return set()
         found = set()
         it = iter(Usd.PrimRange(prim))
@@ -167,7 +175,8 @@ class StageFollowing:
 
     def _point_instancer_root(self, path):
         """path's nearest PointInstancer ancestor, else path."""
-        prim = self.stage.GetPrimAtPath(path)
+        d = self.delegate
+        prim = d.stage.GetPrimAtPath(path)
         p = prim if prim else None
         while p and not p.IsPseudoRoot():
             if p.IsA(UsdGeom.PointInstancer):
@@ -180,8 +189,9 @@ class StageFollowing:
         owners of those that read it or an ancestor (a prototype, a native instance) and, for an inherited property
         (`inherited`: transform, visibility), those reading a prim under it that are not themselves under it (the
         ones under it re-populate as its other owners do); none when no instancer reads it."""
+        d = self.delegate
         owners = set()
-        for source, source_owners in self._instance_sources.items():
+        for source, source_owners in d.instance_sources.items():
             if path.HasPrefix(source):
                 owners |= source_owners
             elif inherited and source.HasPrefix(path):
@@ -190,30 +200,31 @@ class StageFollowing:
 
     def _resync(self, path):
         """Removes every delegate prim added for prims at or under `path`, then re-adds what the stage holds there."""
+        d = self.delegate
         removed = 0
-        for owner in [o for o in self._owned if o.HasPrefix(path)]:
-            for prim_id in self._owned.pop(owner):
-                self.store.remove_prim(prim_id)
+        for owner in [o for o in d.owned if o.HasPrefix(path)]:
+            for prim_id in d.owned.pop(owner):
+                d.store.remove_prim(prim_id)
                 removed += 1
-                self._forget_id(prim_id)
-        self._updaters = [u for u in self._updaters if not u[0].HasPrefix(path)]
-        for source in list(self._instance_sources):
-            owners = {o for o in self._instance_sources[source] if not o.HasPrefix(path)}
+                d.forget_id(prim_id)
+        d.updaters = [u for u in d.updaters if not u[0].HasPrefix(path)]
+        for source in list(d.instance_sources):
+            owners = {o for o in d.instance_sources[source] if not o.HasPrefix(path)}
             if owners:
-                self._instance_sources[source] = owners
+                d.instance_sources[source] = owners
             else:
-                del self._instance_sources[source]
-        self._skinning.remove_under(path)
-        self._skipped = {o for o in self._skipped if not o.HasPrefix(path)}
-        before = sum(len(ids) for ids in self._owned.values())
-        prim = self.stage.GetPrimAtPath(path)
+                del d.instance_sources[source]
+        d.skinning.remove_under(path)
+        d.skipped = {o for o in d.skipped if not o.HasPrefix(path)}
+        before = sum(len(ids) for ids in d.owned.values())
+        prim = d.stage.GetPrimAtPath(path)
         if prim and prim.IsActive() and not self._pruned_above(prim):
-            self._add_subtree(prim)
-            if self._motion.blurred:  # populate pushed the frame's values: the samples over the shutter
-                for owner, kind, update in self._updaters:
+            d.populate_subtree(prim)
+            if d.motion_sampler.blurred:  # populate pushed the frame's values: the samples over the shutter
+                for owner, kind, update in d.updaters:
                     if kind in motion.MOTION_KINDS and owner.HasPrefix(path):
-                        update(self.time)
-        added = sum(len(ids) for ids in self._owned.values()) - before
+                        update(d.time)
+        added = sum(len(ids) for ids in d.owned.values()) - before
         for kind, count in (("removed prims", removed), ("added prims", added)):
             if count:
                 self.last_changes[kind] += count
@@ -221,25 +232,27 @@ class StageFollowing:
     def _pruned_above(self, prim):
         """Whether populate would not have reached prim: an ancestor is inactive, a PointInstancer, or of a
         purpose not rendered."""
+        d = self.delegate
         p = prim.GetParent()
         while p and not p.IsPseudoRoot():
             imageable = UsdGeom.Imageable(p)
             if not p.IsActive() or p.IsA(UsdGeom.PointInstancer) or \
-                    (imageable and imageable.ComputePurpose() not in self.purposes):
+                    (imageable and imageable.ComputePurpose() not in d.purposes):
                 return True
             p = p.GetParent()
         return False
 
     def _apply_property_change(self, path):
         """Pushes one changed property value to the store through the Set* call its kind needs."""
-        prim = self.stage.GetPrimAtPath(path.GetPrimPath())
+        d = self.delegate
+        prim = d.stage.GetPrimAtPath(path.GetPrimPath())
         if not prim:
             return
         # A skipped prim at, under or above the edit may render now: populated again (and skipped again if not).
-        for owner in [o for o in self._skipped if o.HasPrefix(prim.GetPath()) or prim.GetPath().HasPrefix(o)]:
+        for owner in [o for o in d.skipped if o.HasPrefix(prim.GetPath()) or prim.GetPath().HasPrefix(o)]:
             for root in self._resync_roots(owner):
                 self._resync(root)
-        material = next((m for m in self._materials if path.HasPrefix(Sdf.Path(m))), None)
+        material = d.adapters.material.material_at(path)
         kind = property_kind(path.name, bool(lights.light_type(prim)), prim.IsA(UsdGeom.Camera), material is not None)
         if kind is None:
             return
@@ -258,14 +271,13 @@ class StageFollowing:
                 self._resync(root)
             return
         if material is not None:
-            self.store.set_material_params(material, materials.read_material(
-                UsdShade.Material(self.stage.GetPrimAtPath(material)), self.time)[0])
+            d.adapters.material.push(material)
         elif kind in (TRANSFORM, VISIBILITY):  # inherited: every prim below follows
-            for owner in [o for o in self._owned if o.HasPrefix(prim.GetPath())]:
-                self._refresh(self.stage.GetPrimAtPath(owner), kind)
+            for owner in [o for o in d.owned if o.HasPrefix(prim.GetPath())]:
+                self._refresh(d.stage.GetPrimAtPath(owner), kind)
             if kind == TRANSFORM:
-                self._refresh_iris_projections()
-        elif prim.GetPath() in self._owned:
+                d.adapters.eye.refresh_iris_projections()
+        elif prim.GetPath() in d.owned:
             self._refresh(prim, kind)
         else:
             return  # a prim that renders nothing (an Xform's own attribute, an unused material)
@@ -274,48 +286,22 @@ class StageFollowing:
     def _refresh(self, prim, kind):
         """Re-reads one aspect (a kind above) of an owner prim into the store; what cannot be updated in place (a
         PointInstancer's copies, topology, primvar layout, a skinned mesh's inputs) re-populates the prim."""
+        d = self.delegate
         prim_id = prim.GetPath().pathString
-        in_place = prim_id in self._owned.get(prim.GetPath(), []) and not prim.IsA(UsdGeom.PointInstancer)
+        in_place = prim_id in d.owned.get(prim.GetPath(), []) and not prim.IsA(UsdGeom.PointInstancer)
         try:
             with reading(prim.GetPath()):
                 done = in_place and self._refresh_in_place(prim, prim_id, kind)
         except EyeRenderError as e:  # the edit made the prim unrenderable: skipped, as populate would
-            self._skip(prim.GetPath(), e)
+            d.skip(prim.GetPath(), e)
             return
         if not done:
             self._resync(prim.GetPath())
 
     def _refresh_in_place(self, prim, prim_id, kind):
-        """Sends the Set* call for `kind`; False when this prim cannot take it in place."""
-        is_light = bool(lights.light_type(prim))
-        if kind == TRANSFORM:  # samples over the shutter where it moves within it
-            self.push_transform(prim, prim_id)
-        elif kind == VISIBILITY:
-            self.store.set_visible(prim_id, UsdGeom.Imageable(prim).ComputeVisibility(self.time) !=
-                                   UsdGeom.Tokens.invisible)
-        elif kind == PARAMS and is_light:  # its link collections may be what changed
-            self._link_light(prim_id, prim)
-            self.store.set_light_params(prim_id, self._light_params(prim, self.time))
-        elif kind == PARAMS and prim.IsA(UsdGeom.Camera):
-            self.store.set_camera_params(prim_id, self._camera_params(UsdGeom.Camera(prim), self.time))
-        elif kind == EYE and eyes.is_eye(prim):
-            self.store.set_eye_params(prim_id, self._eye_mesh_params(prim, self.time) if prim.IsA(UsdGeom.Mesh)
-                                      else eyes.read_eye_params(prim, self.time, self.cornea_model))
-        elif kind == POINTS and prim.IsA(UsdGeom.Mesh) and not self._skinning.get(prim):
-            points = UsdGeom.Mesh(prim).GetPointsAttr().Get(self.time)
-            if points is None or len(points) != self._point_counts.get(prim_id):
-                return False  # a new point count needs new topology
-            self.push_points(prim, prim_id)
-        else:
-            return False
-        return True
-
-    def _refresh_iris_projections(self):
-        """Eye meshes' iris projections are transforms relative to the eye: any moved prim may be a target."""
-        for eye_id in self.eyes:
-            prim = self.stage.GetPrimAtPath(eye_id)
-            if prim and prim.IsA(UsdGeom.Mesh) and self._iris_projection_target(prim) is not None:
-                self.store.set_eye_params(eye_id, self._eye_mesh_params(prim, self.time))
+        """Sends the Set* call for `kind` through the prim's adapter; False when it cannot take it in place."""
+        adapter = self.delegate.adapters.for_prim(prim)
+        return adapter is not None and adapter.process_property_change(prim, prim_id, kind)
 
 
-__all__ = ["StageChangeQueue", "StageFollowing", "property_kind"]
+__all__ = ["StageChangeQueue", "StageFollower", "property_kind"]

@@ -122,7 +122,7 @@ def render_frames(reprojection, *, measure, width, spp, uv_path, log):
     jobs = [(1, 0), (1, 1)] + [(f, 0) for f in FRAMES[1:]] if measure else [(f, 0) for f in FRAMES]
     for frame, seed in jobs:
         session.scene.set_time(frame)
-        eye = session.scene._eye_mesh_params(prim, Usd.TimeCode(frame))  # the params the sample authors
+        eye = session.scene.adapters.eye.mesh_params(prim, Usd.TimeCode(frame))  # the params the sample authors
         eye.reprojection = reprojection
         if measure:
             eye.iris_texture, eye.iris_color = str(uv_path), (1.0, 1.0, 1.0)

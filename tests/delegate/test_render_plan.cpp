@@ -6,6 +6,7 @@
 #include "hdeye/image/imageWriter.h"
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/plan/renderPlan.h"
+#include "hdeye/prims/light.h"
 #include "hdeye/prims/mesh.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
@@ -330,6 +331,28 @@ TEST_CASE("explicit flags and authored values win over the planner, and the reas
   PlanOverrides ceiling;
   ceiling.refineLevelCeiling = 1;
   CHECK(OnlyEye(arc.Plan(512, ceiling)).refineLevel == 1);
+}
+
+TEST_CASE("the plan measures the lights the renderer gets, in its order (GatherLights)", "[plan]") {
+  Scene s(200);
+  s.SphereLight("/rim", 1, 80);  // added out of id order: the order is the index's, not the adds'
+  s.Dome();
+  s.SphereLight("/key", 2, 30);
+  const RenderPlan plan = s.Plan(256);  // synced: the lights hold their params
+  const std::vector<GatheredLight> lights = GatherLights(s.index);
+  REQUIRE(lights.size() == 3);
+  CHECK(RenderLightOrder(s.index) == std::vector<PrimId>{"/dome", "/key", "/rim"});
+  REQUIRE(plan.eyes.size() == 1);
+  REQUIRE(plan.eyes[0].lights.size() == 3);
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    CHECK(lights[k].id == RenderLightOrder(s.index)[k]);
+    CHECK(lights[k].prim == s.index.GetSprim(lights[k].id));
+    CHECK(plan.eyes[0].lights[k].light == lights[k].id);
+    CHECK(plan.eyes[0].lights[k].kind == lights[k].light.type);
+  }
+  CHECK(lights[0].light.type == LightType::Dome);
+  CHECK(lights[1].light.type == LightType::Sphere);
+  CHECK(lights[1].light.motion == nullptr);  // static: no motion over the shutter
 }
 
 TEST_CASE("several eyes are each applied their own plan, and nothing says pending", "[plan]") {

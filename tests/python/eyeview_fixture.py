@@ -4,7 +4,7 @@ import threading
 
 from pxr import Gf, Usd, UsdGeom, UsdLux
 
-from eyerender.eyeview import build_parser, check_args, open_viewer
+from eyerender.cli.eyeview import build_parser, check_args, open_viewer
 
 
 def eye_stage(path):

@@ -10,8 +10,8 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Gf, Kind, Sdf, Usd, UsdGeom, UsdRender, UsdShade  # noqa: E402
 
 from eyerender._hdeye import read_exr_attributes  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.cryptomatte import CoverageTable, id_bits, layer_key, murmurhash3_32  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
 
 SPP, WIDTH = 8, 32
 

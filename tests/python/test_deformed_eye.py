@@ -199,7 +199,7 @@ def test_squash_stretch_sample_refines_once_and_keeps_its_caustic_with_reproject
         prim = stage.GetPrimAtPath(eye_id)
 
         def set_eye(t, session=session, prim=prim, reprojection=reprojection):
-            eye = session.scene._eye_mesh_params(prim, Usd.TimeCode(t))
+            eye = session.scene.adapters.eye.mesh_params(prim, Usd.TimeCode(t))
             eye.iris_texture, eye.iris_color, eye.reprojection = str(texture), (1.0, 1.0, 1.0), reprojection
             session.store.set_eye_params(eye_id, eye)
 

@@ -7,8 +7,8 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 pytest.importorskip("pyoidn", reason="pyoidn is not installed (scripts/install_deps.sh)")
 from pxr import Gf, Usd, UsdGeom, UsdLux  # noqa: E402
 
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.denoise import denoise_beauty  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
 
 
 def card_with_camera(stage):

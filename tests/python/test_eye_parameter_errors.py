@@ -11,7 +11,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux  # noqa: E402
 
 from eyerender import EyeRenderError, RenderSession  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 
 EYE = "/World/Eye"
 FLOAT, COLOR, MATRIX, TOKEN = (Sdf.ValueTypeNames.Float, Sdf.ValueTypeNames.Color3f, Sdf.ValueTypeNames.Matrix4d,

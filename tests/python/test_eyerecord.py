@@ -10,7 +10,7 @@ import pytest
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
 from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.frames import output_path, parse_frames  # noqa: E402
 
 

@@ -13,7 +13,7 @@ import pytest
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
 from pxr import Sdf, Usd, UsdGeom  # noqa: E402
 
-from eyerender import eyeview  # noqa: E402
+from eyerender.cli import eyeview  # noqa: E402
 from eyeview_fixture import RunningView, eye_stage  # noqa: E402
 
 

@@ -23,10 +23,10 @@ distributed = pytest.importorskip("distributed", reason="the farm extra is not i
 from pxr import Sdf, Usd, UsdGeom, UsdShade, Vt  # noqa: E402
 
 from eyerender._hdeye import read_exr_attributes  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.farm import Farm, RenderJob  # noqa: E402
-from eyerender.farm_merge import RangeAccumulator, certify, merge  # noqa: E402
-from eyerender.farm_tasks import PROGRESS_TOPIC  # noqa: E402
+from eyerender.farm.merge import RangeAccumulator, certify, merge  # noqa: E402
+from eyerender.farm.tasks import PROGRESS_TOPIC  # noqa: E402
 
 SAMPLE = os.path.join(os.path.dirname(__file__), "..", "..", "usd_samples", "squash_stretch.usda")
 SAMPLE = os.path.abspath(SAMPLE)
@@ -195,7 +195,7 @@ def exr_parts_bits(path):
 def test_a_split_frame_of_render_products_merges_every_var_bit_identical_to_the_local_render(local_farm, tmp_path):
     import dataclasses
 
-    from eyerender.eyerecord import build_parser
+    from eyerender.cli.eyerecord import build_parser
     from eyerender.job import open_stage, product_sessions, session_options
 
     pytest.importorskip("OpenEXR", reason="the openexr Python package reads multi-part files")

@@ -21,7 +21,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 def eyerecord(*args, cwd=None):
     """(exit status, stdout lines, stderr lines) of eyerecord run in its own process."""
-    proc = subprocess.run([sys.executable, "-m", "eyerender.eyerecord", *map(str, args)], capture_output=True,
+    proc = subprocess.run([sys.executable, "-m", "eyerender.cli.eyerecord", *map(str, args)], capture_output=True,
                           timeout=120, cwd=cwd)
     return proc.returncode, proc.stdout.decode(errors="replace").splitlines(), \
         proc.stderr.decode(errors="replace").splitlines()
@@ -223,7 +223,7 @@ def test_an_error_at_frame_2_names_frame_1s_files_which_stay_written(tmp_path):
 
 def test_a_failed_png_after_its_exr_names_the_exr(tmp_path, monkeypatch, capsys):
     from eyerender import render_session
-    from eyerender.eyerecord import main
+    from eyerender.cli.eyerecord import main
 
     stage, path = shot(tmp_path)
     stage.GetRootLayer().Save()

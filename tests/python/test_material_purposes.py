@@ -6,7 +6,7 @@ import pytest
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender, UsdShade
 
 import eyerender
-from eyerender.eyerecord import main
+from eyerender.cli.eyerecord import main
 from eyerender.materials import bound_material
 
 COLOURS = {"full": (1, 0, 0), "preview": (0, 1, 0), "": (0, 0, 1)}

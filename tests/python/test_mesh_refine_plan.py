@@ -6,7 +6,7 @@ pytest.importorskip("pxr")
 from pxr import Gf, Usd, UsdGeom, UsdLux  # noqa: E402
 
 from eyerender import RenderSession  # noqa: E402
-from eyerender.eyerecord import build_parser  # noqa: E402
+from eyerender.cli.eyerecord import build_parser  # noqa: E402
 from eyerender.plan import make_overrides, plan_dict  # noqa: E402
 
 

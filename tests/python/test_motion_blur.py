@@ -11,8 +11,8 @@ from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
 import skel_stages  # noqa: E402
 from eyerender import RenderDelegate, RenderIndex, RenderSession, SceneStore  # noqa: E402
-from eyerender.eyerecord import build_parser, main  # noqa: E402
-from eyerender.farm_job import RenderJob  # noqa: E402
+from eyerender.cli.eyerecord import build_parser, main  # noqa: E402
+from eyerender.farm.job import RenderJob  # noqa: E402
 from eyerender.job import session_options  # noqa: E402
 from eyerender.shutter import Shutter  # noqa: E402
 from eyerender.usd_scene_delegate import UsdSceneDelegate  # noqa: E402
@@ -391,7 +391,7 @@ def test_a_blurred_arc_is_the_average_of_sharp_renders_at_its_times(what):
 
 
 def test_eyestudy_takes_the_shutter_and_keys_its_reference_by_it(moving_file, tmp_path, capsys):
-    from eyerender.study import main as study
+    from eyerender.cli.eyestudy import main as study
 
     out = tmp_path / "shot.exr"
     args = [str(moving_file), str(out), "-w", "8", "--frame", "2", "--budgets", "0.02", "--reference-spp", "2", "-q",

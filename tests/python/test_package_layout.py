@@ -1,38 +1,64 @@
-"""The eyerender package's layering, read from its sources with ast (nothing is imported): the modules import one
-another without a cycle, and none reaches into another module's underscore-private names."""
+"""The eyerender package's layering, read from its sources with ast (nothing is imported), subpackages included: the
+modules import one another without a cycle, none reaches into another module's underscore-private names, and the
+code stays in small pieces (no function over MAX_FUNCTION_LINES lines, no file over MAX_FILE_LINES)."""
 import ast
 import pathlib
 
 PACKAGE_DIR = pathlib.Path(__file__).resolve().parents[2] / "python" / "eyerender"
 PACKAGE = "eyerender"
-EXTENSION = "_hdeye"  # the compiled bindings: a private module by convention, the package's wrappers import it
+EXTENSION = f"{PACKAGE}._hdeye"  # the compiled bindings: a private module by convention, the wrappers import it
+MAX_FUNCTION_LINES = 100  # def line to last line, decorators and docstring included
+MAX_FILE_LINES = 600
+
+
+def source_files():
+    """Every .py file of the package, subpackages included."""
+    return sorted(PACKAGE_DIR.rglob("*.py"))
 
 
 def module_name(path):
-    return PACKAGE if path.stem == "__init__" else f"{PACKAGE}.{path.stem}"
+    """eyerender.farm.tasks for farm/tasks.py; a package's __init__.py is the package (eyerender.farm)."""
+    parts = path.relative_to(PACKAGE_DIR).with_suffix("").parts
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join((PACKAGE, *parts))
 
 
 def parse_package():
     """{module name: ast tree} of every source module of the package."""
-    return {module_name(p): ast.parse(p.read_text(), filename=str(p)) for p in sorted(PACKAGE_DIR.glob("*.py"))}
+    return {module_name(p): ast.parse(p.read_text(), filename=str(p)) for p in source_files()}
 
 
-def imports_of(tree, modules):
-    """[(imported module, imported names, line)] of every import in `tree` (function-level ones too: a cycle
-    through a lazy import is still a cycle), restricted to the package's own modules."""
+def packages_of(trees):
+    """The names in `trees` that are packages (some other module's name starts with theirs)."""
+    return {n for n in trees if any(m.startswith(n + ".") for m in trees)} | {PACKAGE}
+
+
+def import_base(node, importer, packages):
+    """The module a `from ... import` statement in module `importer` imports from (relative levels resolved)."""
+    if not node.level:
+        return node.module or ""
+    parts = importer.split(".")
+    package = parts if importer in packages else parts[:-1]  # a package's level 1 is itself
+    base = ".".join(package[:len(package) - (node.level - 1)])
+    return f"{base}.{node.module}" if node.module else base
+
+
+def imports_of(tree, modules, importer=PACKAGE, packages=(PACKAGE,)):
+    """[(imported module, imported names, line)] of every import in `tree`, the source of module `importer`
+    (function-level ones too: a cycle through a lazy import is still a cycle), restricted to the package's own
+    modules."""
     found = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             found += [(a.name, [], node.lineno) for a in node.names if a.name in modules]
         elif isinstance(node, ast.ImportFrom):
-            base = PACKAGE if node.level else node.module or ""
-            if node.level and node.module:
-                base = f"{PACKAGE}.{node.module}"
+            base = import_base(node, importer, packages)
             names = [a.name for a in node.names]
-            submodules = [f"{base}.{n}" for n in names if f"{base}.{n}" in modules]  # from . import farm_tasks
+            submodules = [f"{base}.{n}" for n in names if f"{base}.{n}" in modules]  # from . import tasks
             found += [(m, [], node.lineno) for m in submodules]
             rest = [n for n in names if f"{base}.{n}" not in modules]
-            if rest and (base in modules or base == f"{PACKAGE}.{EXTENSION}"):
+            if rest and (base in modules or base == EXTENSION):
                 found.append((base, rest, node.lineno))
     return found
 
@@ -40,10 +66,10 @@ def imports_of(tree, modules):
 def import_graph(trees):
     """{module: {imported module: first line}}; importing a submodule also runs the package's __init__, but that
     edge is the interpreter's, not the module's, so only written imports count."""
-    graph = {}
+    graph, packages = {}, packages_of(trees)
     for name, tree in trees.items():
         edges = graph.setdefault(name, {})
-        for target, _, line in imports_of(tree, trees):
+        for target, _, line in imports_of(tree, trees, name, packages):
             if target != name:
                 edges.setdefault(target, line)
     return graph
@@ -81,11 +107,14 @@ def is_private(name):
 
 def test_the_package_is_read_whole():
     trees = parse_package()
-    assert {"eyerender", "eyerender.eyerecord", "eyerender.job", "eyerender.farm", "eyerender.farm_tasks",
-            "eyerender.farm_cli", "eyerender.study"} <= set(trees), sorted(trees)
+    assert {"eyerender", "eyerender.cli.eyerecord", "eyerender.job", "eyerender.farm", "eyerender.farm.tasks",
+            "eyerender.cli.farm", "eyerender.cli.eyestudy", "eyerender.adapters.mesh"} <= set(trees), sorted(trees)
     graph = import_graph(trees)
-    assert "eyerender.job" in graph["eyerender.eyerecord"] and "eyerender.job" in graph["eyerender.farm_tasks"], \
-        graph  # the reader sees lazy (function-level) imports too
+    # Relative imports resolve from the subpackage: farm/tasks.py's `from ..job` is eyerender.job, `from .merge`
+    # eyerender.farm.merge; the reader sees lazy (function-level) imports too (cli/eyerecord.py's `from .farm`).
+    assert {"eyerender.job", "eyerender.farm.merge"} <= set(graph["eyerender.farm.tasks"]), graph
+    assert "eyerender.cli.farm" in graph["eyerender.cli.eyerecord"], graph
+    assert "eyerender.farm.cluster" in graph["eyerender.farm"], graph  # a package's `from .cluster`
 
 
 def test_cycle_finder_finds_a_cycle_through_a_lazy_import():
@@ -103,8 +132,9 @@ def test_modules_import_one_another_without_a_cycle():
 
 def test_no_module_imports_another_modules_private_names():
     trees = parse_package()
+    packages = packages_of(trees)
     offences = [f"{name} line {line}: {target}.{n}" for name, tree in trees.items()
-                for target, names, line in imports_of(tree, trees) for n in names if is_private(n)]
+                for target, names, line in imports_of(tree, trees, name, packages) for n in names if is_private(n)]
     assert not offences, offences
 
 
@@ -117,4 +147,51 @@ def test_no_module_reads_private_attributes_of_another_modules_objects():
             if isinstance(node, ast.Attribute) and is_private(node.attr) and \
                     not (isinstance(node.value, ast.Name) and node.value.id in own):
                 offences.append(f"{name} line {node.lineno}: {ast.unparse(node)}")
+    assert not offences, offences
+
+
+def test_relative_imports_resolve_from_the_importing_module():
+    trees = {name: ast.parse(text) for name, text in {
+        "eyerender": "", "eyerender.job": "", "eyerender.farm": "from .job import J\n",
+        "eyerender.farm.job": "from ..job import _private\n", "eyerender.farm.tasks": "from . import job\n"}.items()}
+    graph = import_graph(trees)
+    assert graph["eyerender.farm"] == {"eyerender.farm.job": 1}, graph
+    assert graph["eyerender.farm.job"] == {"eyerender.job": 1}, graph
+    assert graph["eyerender.farm.tasks"] == {"eyerender.farm.job": 1}, graph
+    packages = packages_of(trees)
+    assert imports_of(trees["eyerender.farm.job"], trees, "eyerender.farm.job", packages) == \
+        [("eyerender.job", ["_private"], 1)]
+
+
+def long_functions(tree, limit):
+    """[(name, first line, lines)] of the functions and methods of `tree` longer than `limit` lines (decorators
+    included: what a reader scrolls through)."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            first = min([node.lineno] + [d.lineno for d in node.decorator_list])
+            lines = node.end_lineno - first + 1
+            if lines > limit:
+                found.append((node.name, first, lines))
+    return found
+
+
+def test_the_length_check_sees_a_long_method():
+    body = "\n".join(f"        x = {k}" for k in range(5))
+    tree = ast.parse(f"class A:\n    @staticmethod\n    def f():\n{body}\n\ndef g():\n    pass\n")
+    assert long_functions(tree, 6) == [("f", 2, 7)]
+    assert long_functions(tree, 7) == []
+
+
+def test_no_function_is_over_the_line_limit():
+    offences = [f"{path.relative_to(PACKAGE_DIR)} line {line}: {name} has {lines} lines"
+                for path in source_files()
+                for name, line, lines in long_functions(ast.parse(path.read_text()), MAX_FUNCTION_LINES)]
+    assert not offences, offences
+
+
+def test_no_file_is_over_the_line_limit():
+    lengths = {str(path.relative_to(PACKAGE_DIR)): len(path.read_text().splitlines()) for path in source_files()}
+    assert len(lengths) > 40, lengths  # the package was found
+    offences = {name: n for name, n in lengths.items() if n > MAX_FILE_LINES}
     assert not offences, offences

@@ -11,7 +11,7 @@ import pytest
 eyerender = pytest.importorskip("eyerender", reason="the eyerender package is not installed (make python)")
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux  # noqa: E402
 
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.plan import PLAN_ATTRIBUTE, check_contract, make_overrides, plan_dict  # noqa: E402
 from eyerender.render_session import RenderSession  # noqa: E402
 
@@ -184,7 +184,7 @@ def test_check_contract_rejects_a_broken_plan():
 
 
 def test_eyestudy_writes_table_reference_and_image_and_reuses_the_reference(tmp_path, capsys):
-    from eyerender.study import main as study
+    from eyerender.cli.eyestudy import main as study
 
     stage_file = tmp_path / "scene.usda"
     make_stage(stage_file)

@@ -8,7 +8,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 OpenEXR = pytest.importorskip("OpenEXR", reason="the openexr Python package reads multi-part files")
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
-from eyerender.eyerecord import main  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 
 
 def define_var(stage, name, source, data_type, source_type=None):

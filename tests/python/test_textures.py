@@ -12,8 +12,8 @@ from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade, UsdUtils  # noqa: E402
 import eyerender  # noqa: F401  (registers the EyeAPI schema before pxr is used)
 from eyerender import RenderSession, materials  # noqa: E402
 from eyerender._hdeye import read_image, write_image  # noqa: E402
+from eyerender.cli.eyerecord import main  # noqa: E402
 from eyerender.errors import EyeRenderError  # noqa: E402
-from eyerender.eyerecord import main  # noqa: E402
 from eyerender.textures import TextureWarning  # noqa: E402
 
 

@@ -89,5 +89,5 @@ def test_eye_xform_authoring_no_binding_follows_its_bound_group_with_its_own_off
     UsdGeom.Xformable(eye).AddTransformOp().Set(offset)
     scene, store = delegate(stage)
     scene.set_time(3)
-    head = scene._skinning.get(stage.GetPrimAtPath("/World/Rig/Head")).world(3, UsdGeom.XformCache(3))
+    head = scene.skinning.get(stage.GetPrimAtPath("/World/Rig/Head")).world(3, UsdGeom.XformCache(3))
     assert np.allclose(store.transforms[str(eye.GetPath())], matrix(offset * head), atol=1e-12)

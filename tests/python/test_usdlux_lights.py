@@ -191,7 +191,7 @@ def test_points_and_curves_take_part_in_light_and_shadow_linking(kind):
     Usd.CollectionAPI(sun.GetPrim(), "shadowLink").CreateExcludesRel().AddTarget("/blocker")
     session.render(spp=4)  # the same session: the stage edit re-resolves the sun's links
     lit = session.image("color")[:, :, 0]
-    assert session.scene._link_excludes["/sun"][1] == ["/blocker"]
+    assert session.scene.adapters.light.link_excludes["/sun"][1] == ["/blocker"]
     assert shadowed[middle].max() < 0.05 * lit.mean() and lit[middle].min() > 0.9 * lit.mean(), \
         (shadowed[middle].max(), lit[middle].min(), lit.mean())
     # Without the near plane the camera, 1.5 units above it, sees only the blocker's sunlit top; in the sun's
@@ -200,6 +200,6 @@ def test_points_and_curves_take_part_in_light_and_shadow_linking(kind):
     top = render(stage).image("color")[:, :, 0]
     Usd.CollectionAPI(sun.GetPrim(), "lightLink").CreateExcludesRel().AddTarget("/blocker")
     unlit = render(stage)
-    assert unlit.scene._link_excludes["/sun"][0] == ["/blocker"]
+    assert unlit.scene.adapters.light.link_excludes["/sun"][0] == ["/blocker"]
     dark = unlit.image("color")[:, :, 0]
     assert top.min() > 0.05 and dark.max() < 0.05 * top.mean(), (top.min(), dark.max(), top.mean())

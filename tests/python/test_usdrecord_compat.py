@@ -9,7 +9,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
 from eyerender.camera_light import CAMERA_LIGHT_ID, NOTE  # noqa: E402
-from eyerender.eyerecord import build_parser, main  # noqa: E402
+from eyerender.cli.eyerecord import build_parser, main  # noqa: E402
 from eyerender.frames import output_path, parse_frames  # noqa: E402
 from eyerender.job import parse_purposes  # noqa: E402
 

@@ -8,7 +8,6 @@
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
 #include "hdeye/prims/renderParam.h"
-#include "hdeye/render/movingLights.h"
 #include "hdeye/render/renderContext.h"
 
 #include <algorithm>
@@ -122,15 +121,11 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   }
 
   std::vector<RenderLight> lights;
-  for (const auto& [id, entry] : index_->Sprims())
-    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
-      lights.push_back(RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
-      if (light->Motion())
-        lights.back().motion = std::make_shared<const LightMotion>(
-            LightMotion{light->Motion(), light->Params(), light->Dome(), light->RectImage()});
-      MarkLinked(light->Params().lightLinkExcludes, primIndices, primIndex, &lights.back().unlit);
-      MarkLinked(light->Params().shadowLinkExcludes, primIndices, primIndex, &lights.back().unshadowed);
-    }
+  for (GatheredLight& gathered : GatherLights(*index_)) {
+    MarkLinked(gathered.prim->Params().lightLinkExcludes, primIndices, primIndex, &gathered.light.unlit);
+    MarkLinked(gathered.prim->Params().shadowLinkExcludes, primIndices, primIndex, &gathered.light.unshadowed);
+    lights.push_back(std::move(gathered.light));
+  }
   renderer_.SetCutouts(cutouts);
   renderer_.SetTextured(textured);
   renderer_.SetSceneVersion(committedVersion_);

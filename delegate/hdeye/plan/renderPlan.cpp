@@ -435,11 +435,7 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
   RenderPlan plan;
   plan.width = width, plan.height = height, plan.camera = cameraId;
 
-  std::vector<std::pair<PrimId, RenderLight>> lights;
-  for (const auto& [id, entry] : index.Sprims())
-    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get()))
-      lights.emplace_back(
-          id, RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage()));
+  const std::vector<GatheredLight> lights = GatherLights(index);
 
   for (const auto& [id, entry] : index.Rprims()) {
     if (entry.type != primTypes::kAnalyticEye && entry.type != primTypes::kEyeMesh) continue;
@@ -448,7 +444,7 @@ RenderPlan MakeRenderPlan(const RenderIndex& index, const PrimId& cameraId, int 
     if (!eye) continue;  // not synced yet
     EyePlan e = MeasureEyeOverShutter(id, entry.type, *eye, camera->View(), width, height);
     if (entry.sceneDelegate && !entry.sceneDelegate->GetVisible(id)) e.inView = false;
-    for (const auto& [lightId, light] : lights) e.lights.push_back(MeasureLight(lightId, light, *eye));
+    for (const GatheredLight& light : lights) e.lights.push_back(MeasureLight(light.id, light.light, *eye));
     DecideEye(&e, rules, overrides);
     plan.eyes.push_back(std::move(e));
   }
@@ -519,9 +515,8 @@ EyeRenderOptions EyePlan::RenderOptions(const std::vector<PrimId>& lightOrder) c
 }
 
 std::vector<PrimId> RenderLightOrder(const RenderIndex& index) {
-  std::vector<PrimId> order;  // RenderPass::Execute's loop: the sprim map (id order), lights only
-  for (const auto& [id, entry] : index.Sprims())
-    if (dynamic_cast<const Light*>(entry.prim.get())) order.push_back(id);
+  std::vector<PrimId> order;  // the renderer's light list's (GatherLights, as RenderPass::Execute hands it)
+  for (const GatheredLight& light : GatherLights(index)) order.push_back(light.id);
   return order;
 }
 

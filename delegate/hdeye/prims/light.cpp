@@ -1,7 +1,9 @@
 #include "hdeye/prims/light.h"
 
+#include "hdeye/hd/renderIndex.h"
 #include "hdeye/prims/motionSync.h"
 #include "hdeye/prims/renderParam.h"
+#include "hdeye/render/movingLights.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -54,6 +56,20 @@ void Light::Sync(SceneDelegate* sceneDelegate, RenderParam* renderParam, DirtyBi
     rectImage_ = std::move(rectImage);
   }
   *dirtyBits = dirty::Clean;
+}
+
+std::vector<GatheredLight> GatherLights(const RenderIndex& index) {
+  std::vector<GatheredLight> lights;
+  for (const auto& [id, entry] : index.Sprims())
+    if (const auto* light = dynamic_cast<const Light*>(entry.prim.get())) {
+      GatheredLight g{id, light,
+                      RenderLight::FromParams(light->Params(), light->Transform(), light->Dome(), light->RectImage())};
+      if (light->Motion())
+        g.light.motion = std::make_shared<const LightMotion>(
+            LightMotion{light->Motion(), light->Params(), light->Dome(), light->RectImage()});
+      lights.push_back(std::move(g));
+    }
+  return lights;
 }
 
 }  // namespace hdeye

@@ -1,11 +1,12 @@
 #pragma once
 // A light sprim (UsdLux subset): sphere, distant, rect, disk, dome. Holds its parameters and
-// transform; the render pass turns lights into the renderer's world-space light list.
+// transform; GatherLights turns the index's lights into the renderer's world-space light list.
 #include "hdeye/hd/prim.h"
 #include "hdeye/params/motion.h"
 #include "hdeye/render/renderLight.h"
 
 #include <memory>
+#include <vector>
 
 namespace hdeye {
 
@@ -35,5 +36,20 @@ class Light final : public Sprim {
   Matrix4d transform_{1.0};
   std::shared_ptr<const TransformMotion> motion_;
 };
+
+class RenderIndex;
+
+/// One light sprim as the renderer sees it: its id, the sprim (for its link collections) and its world-space
+/// RenderLight (with its motion over the shutter, where it moves).
+struct GatheredLight {
+  PrimId id;
+  const Light* prim = nullptr;
+  RenderLight light;
+};
+
+/// The index's lights, the one place they are gathered: in the sprim map's order (by id), which is the order of the
+/// list RenderPass::Execute hands the renderer (it marks the link collections), of the lights the render plan
+/// measures, and of the plan's per-light switches (RenderLightOrder).
+std::vector<GatheredLight> GatherLights(const RenderIndex& index);
 
 }  // namespace hdeye

@@ -3,9 +3,9 @@ how a frame's sample range splits into tasks. No Dask and no pxr here, so the cl
 import dataclasses
 import os
 
-from .errors import EyeRenderError
-from .job import SessionOptions, check_output_extension, frame_outputs
-from .product_output import product_outputs
+from ..errors import EyeRenderError
+from ..job import SessionOptions, check_output_extension, frame_outputs
+from ..product_output import product_outputs
 
 
 @dataclasses.dataclass(frozen=True)

@@ -7,10 +7,10 @@ import logging
 import os
 import sys
 
-from .console import FarmProgressBar, describe_written, print_warnings, warn_non_finite
-from .errors import EyeRenderError
-from .farm_job import RenderJob
-from .job import frames_to_render, output_patterns, session_options
+from ..console import FarmProgressBar, describe_written, print_warnings, warn_non_finite
+from ..errors import EyeRenderError
+from ..farm.job import RenderJob
+from ..job import frames_to_render, output_patterns, session_options
 
 
 def run_farm(args, spp):
@@ -41,7 +41,7 @@ def products_job(args, spp):
     """The RenderJob of the render settings prim's products (no outputImagePath): one session renders them all, so
     products asking for different cameras or sizes are an error here (render them locally). The warnings of vars
     that cannot be written are printed here, once."""
-    from .job import open_stage, product_sessions
+    from ..job import open_stage, product_sessions
 
     warnings = []
     groups = product_sessions(open_stage(args.usdFilePath), session_options(args), warnings.append)
@@ -68,7 +68,7 @@ def farm_split(args):
 
 def render_on_farm(args, job, frames, split):
     """The FarmReport of `job`'s frames on the cluster the command line names, with its progress shown."""
-    from .farm import Farm
+    from ..farm import Farm
 
     bar = FarmProgressBar(not args.quiet)
     logged = not args.quiet and not bar.enabled

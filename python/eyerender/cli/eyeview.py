@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from .errors import EyeRenderError, run_command
+from ..errors import EyeRenderError, run_command
 
 DEFAULT_PORT = 8765
 
@@ -42,10 +42,10 @@ def check_args(args):
 
 def open_viewer(args, save):
     """(viewer, server) for parsed arguments: the stage opened, its session made and its first plan printed."""
-    from .job import SessionOptions, open_session, open_stage
-    from .view_edits import StageEditor
-    from .view_server import ViewServer
-    from .viewer import VIEW_AOVS, Viewer
+    from ..job import SessionOptions, open_session, open_stage
+    from ..view_edits import StageEditor
+    from ..view_server import ViewServer
+    from ..viewer import VIEW_AOVS, Viewer
 
     stage = open_stage(args.usdFilePath)
     options = SessionOptions(width=args.imageWidth, height=args.imageHeight, camera=args.camera, aovs=VIEW_AOVS,
@@ -64,7 +64,7 @@ def run(argv=None):
     args = build_parser().parse_args(argv)
     save = check_args(args)
     viewer, server = open_viewer(args, save)
-    from .console import print_warnings
+    from ..console import print_warnings
 
     print_warnings(viewer.session.scene.warnings, tool="eyeview")
     server.start()

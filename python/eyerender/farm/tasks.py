@@ -11,9 +11,9 @@ import os
 import threading
 import time as clock
 
-from .errors import EyeRenderError
-from .farm_merge import RangeAccumulator, certify, merge
-from .job import open_session, open_stage
+from ..errors import EyeRenderError
+from ..job import open_session, open_stage
+from .merge import RangeAccumulator, certify, merge
 
 PROGRESS_TOPIC = "eyerender-farm-progress"
 _PROGRESS_INTERVAL = 0.25  # seconds between progress events of one task (the last sample is always sent)
@@ -126,7 +126,7 @@ def write_outputs(job, frame, images, header, manifests=None):
     """Writes frame `frame` of `job` from AOV images ({aov: float32 (h, w, c)}): each plain output with every AOV,
     each render product with exactly its vars; header: the EXR attributes (the render plan), or None; manifests:
     the cryptomatte layers' {name: id bits}."""
-    from .render_session import write_images, write_product_images
+    from ..render_session import write_images, write_product_images
 
     for path, product in job.frame_writes(frame):
         if product is None:
@@ -158,8 +158,8 @@ def render_samples(job, frame, first_sample, spp, job_id=None, task=None):
     """Renders samples [first_sample, first_sample + spp) of `frame` and returns them accumulated
     ({"stats": ..., "aovs": {aov: RangeAccumulator}}), for `merge_and_write`. One render call with one sample per
     pass: after each pass the buffers (holding that sample alone) go to the accumulators and are cleared, so each
-    float sample is read exactly, which the exactness certificates need (farm_merge)."""
-    from .render_session import AOV_CHANNELS
+    float sample is read exactly, which the exactness certificates need (merge.py)."""
+    from ..render_session import AOV_CHANNELS
     with _session_lock:
         session, load_seconds, time = _session_for(job, frame)
         progress = _Progress(job_id, task, frame, spp)
@@ -187,7 +187,7 @@ def _range_coverage(session):
     {layer: {name: id bits}}} (plain data a worker ships), or None without cryptomatte."""
     if not session.crypto:
         return None
-    from .cryptomatte import CoverageTable
+    from ..cryptomatte import CoverageTable
 
     return {"tables": {layer: CoverageTable(session.height, session.width) for layer in session.crypto_layers},
             "manifests": {layer: {} for layer in session.crypto_layers}}
@@ -211,9 +211,9 @@ def _merged_coverage(parts):
 
 def merge_and_write(job, frame, parts, exact=True, job_id=None, task=None):
     """Merges a frame's sample ranges (render_samples results, in sample order), and writes the outputs. Where a
-    value cannot be certified equal to the single-machine render's (farm_merge), `exact` re-renders the frame
+    value cannot be certified equal to the single-machine render's (merge.py), `exact` re-renders the frame
     unsplit here instead; otherwise such values are within one float32 ulp. Returns the frame's statistics."""
-    from .render_session import resolve_states  # imported on use: pxr after the schema plugin
+    from ..render_session import resolve_states  # imported on use: pxr after the schema plugin
 
     start = clock.perf_counter()
     states, uncertified = {}, 0

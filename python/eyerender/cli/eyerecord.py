@@ -12,10 +12,10 @@ import argparse
 import dataclasses
 import sys
 
-from .console import ProgressBar, describe_written, print_warnings, warn_non_finite
-from .denoise import GUIDE_AOVS, denoised_png_path
-from .errors import EyeRenderError, run_command
-from .job import (
+from ..console import ProgressBar, describe_written, print_warnings, warn_non_finite
+from ..denoise import GUIDE_AOVS, denoised_png_path
+from ..errors import EyeRenderError, run_command
+from ..job import (
     AOV_NAMES,
     CHAMBER_ESTIMATORS,
     COMPLEXITY_REFINE_LEVELS,
@@ -31,9 +31,9 @@ from .job import (
     render_settings_path,
     session_options,
 )
-from .output_files import COLOR_CORRECTION_MODES, partial_failure
-from .plan import plan_json
-from .product_output import product_outputs, product_summary
+from ..output_files import COLOR_CORRECTION_MODES, partial_failure
+from ..plan import plan_json
+from ..product_output import product_outputs, product_summary
 
 RENDERERS = ("Eye", "hdeye")  # --renderer: the display name and the delegate's name; there is no other renderer
 
@@ -119,7 +119,7 @@ def build_parser():
 
 
 def add_farm_options(farm):
-    """--scheduler/--workers and what a farm render takes besides (farm_cli.run_farm reads them)."""
+    """--scheduler/--workers and what a farm render takes besides (cli/farm.py run_farm reads them)."""
     farm.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster of this scheduler "
                       "(e.g. tcp://127.0.0.1:8786); the stage and outputs must be reachable from its workers")
     farm.add_argument("--workers", type=int, metavar="N", help="render on a local cluster of N worker processes")
@@ -141,7 +141,7 @@ def run(argv=None):
     if (args.scheduler or args.workers is not None) and not args.plan:  # --plan never renders
         if args.denoise:
             raise EyeRenderError("--denoise is not available on the farm yet: denoise a local render")
-        from .farm_cli import run_farm
+        from .farm import run_farm
 
         return run_farm(args, spp)
     return render_locally(args, spp)
@@ -165,7 +165,7 @@ def samples_per_pixel(args):
 
 def render_locally(args, spp):
     """Renders (or with --plan, plans) the frames on this machine; returns the exit status."""
-    from .usd_diagnostics import UsdDiagnostics
+    from ..usd_diagnostics import UsdDiagnostics
 
     diagnostics = UsdDiagnostics()  # USD's warnings become one line each, printed with the scene's
     stage = open_stage(args.usdFilePath, args.sessionLayer, args.mask)
@@ -240,7 +240,7 @@ def product_writer(session, products, settings_path, args):
 
 def note_unwritten_products(stage, options):
     """One note when an outputImagePath stands in for a render settings prim's products."""
-    from .render_products import read_products
+    from ..render_products import read_products
 
     path = render_settings_path(stage, options)
     if path:
@@ -252,7 +252,7 @@ def note_unwritten_products(stage, options):
 
 def check_outputs(outputs):
     """Fails before rendering if an output has the wrong extension or cannot be written."""
-    from .render_session import check_writable
+    from ..render_session import check_writable
 
     for out in outputs:
         check_output_extension(out)
@@ -262,7 +262,7 @@ def check_outputs(outputs):
 def report_plan_and_warnings(session, planned, usd_warnings=()):
     """Prints the camera light's note, the render plan's summary (when the session plans) and the scene's and
     USD's warnings, each once."""
-    from .camera_light import NOTE
+    from ..camera_light import NOTE
 
     if session.camera_light:
         print(f"eyerecord: {NOTE}")

@@ -23,11 +23,11 @@ import sys
 
 import numpy as np
 
-from .console import ProgressBar
-from .errors import EyeRenderError, run_command
-from .image_error import error_noise_bias
-from .job import COMPLEXITY_REFINE_LEVELS, open_stage
-from .shutter import parse_shutter_arguments, settings_override
+from ..console import ProgressBar
+from ..errors import EyeRenderError, run_command
+from ..image_error import error_noise_bias
+from ..job import COMPLEXITY_REFINE_LEVELS, open_stage
+from ..shutter import parse_shutter_arguments, settings_override
 
 STUDY_ATTRIBUTE = "eyerender:study"  # the reference EXR's key: what it was rendered from
 EVERY_FEATURE = {"mnee": True, "mnee_all_solutions": True, "sclera_scattering": True}
@@ -61,7 +61,7 @@ def eye_mask(session, prim_ids, eye_prims):
 
 
 def _reference(args, stage_path, frame, make_session, progress):
-    from ._hdeye import read_exr, read_exr_attributes
+    from .._hdeye import read_exr, read_exr_attributes
 
     stem = os.path.splitext(args.outputImagePath)[0]
     path = stem + ".reference.exr"
@@ -82,7 +82,7 @@ def _reference(args, stage_path, frame, make_session, progress):
     bar = _bar(args, "reference")
     session.render(spp=args.reference_spp, progress=bar)
     bar.finish()
-    from .render_session import write_images
+    from ..render_session import write_images
 
     write_images(path, {"color": session.image("color"), "primId": session.image("primId")},
                  attributes={STUDY_ATTRIBUTE: json.dumps(key)})
@@ -100,7 +100,7 @@ def run(argv=None):
     args = build_parser().parse_args(argv)
     from pxr import Usd
 
-    from .plan import authored_eye_values, make_overrides, plan_dict
+    from ..plan import authored_eye_values, make_overrides, plan_dict
 
     budgets = _check_args(args)
     stage = open_stage(args.usdFilePath)
@@ -128,7 +128,7 @@ def run(argv=None):
 
 def _check_args(args):
     """The time budgets (seconds, ascending), after checking them and the output."""
-    from .render_session import check_writable
+    from ..render_session import check_writable
 
     parse_shutter_arguments(args.shutter)  # bad values fail before any render
     budgets = sorted(float(b) for b in args.budgets.split(",") if b.strip())
@@ -142,7 +142,7 @@ def _check_args(args):
 
 def _make_session(args, stage, level, time, settings, overrides, seed=0):
     """A session of the studied shot with RenderSettings overrides `settings` and PlanOverrides `overrides`."""
-    from .render_session import RenderSession
+    from ..render_session import RenderSession
 
     s = dict(settings)
     s.update(seed=seed, threads=args.threads)

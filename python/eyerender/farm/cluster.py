@@ -14,7 +14,7 @@ Workers open the stage and write the outputs themselves, so both paths must be r
 file system); `render` checks that on every worker first. A task whose worker dies is rerun elsewhere by the Dask
 scheduler (outputs are written atomically, so never half-written); a task that raises fails its frame alone, and the
 report names the frame and the error. Samples of a split frame are a pure function of (seed, pixel, sample index),
-so the merged frame is the unsplit frame, certified bit for bit (farm_merge); `exact=False` accepts values within one
+so the merged frame is the unsplit frame, certified bit for bit (merge.py); `exact=False` accepts values within one
 float32 ulp instead of re-rendering a frame the certificate cannot cover.
 """
 import dataclasses
@@ -25,9 +25,9 @@ import time as clock
 import uuid
 from typing import Callable, Optional
 
-from . import farm_tasks
-from .errors import EyeRenderError
-from .farm_job import RenderJob, split_samples
+from ..errors import EyeRenderError
+from . import tasks
+from .job import RenderJob, split_samples
 
 
 @dataclasses.dataclass
@@ -139,21 +139,21 @@ class Farm:
             self.client.wait_for_workers(1, timeout=timeout)
         except TimeoutError:
             raise EyeRenderError(f"no Dask worker joined the scheduler within {timeout:g} s") from None
-        return self.client.run(farm_tasks.check_worker, job)
+        return self.client.run(tasks.check_worker, job)
 
     def submit_samples(self, job, frame, first_sample, spp, job_id=None, priority=0):
-        """A future of samples [first_sample, first_sample + spp) of `frame`, accumulated (farm_tasks.render_samples);
+        """A future of samples [first_sample, first_sample + spp) of `frame`, accumulated (tasks.render_samples);
         nothing is written. Merge such futures, in sample order, with submit_merge."""
         job_id = job_id or uuid.uuid4().hex
         task = f"eyerender-samples-{frame}-{first_sample}-{job_id}"
-        return self.client.submit(farm_tasks.render_samples, job, frame, first_sample, spp, job_id, task,
+        return self.client.submit(tasks.render_samples, job, frame, first_sample, spp, job_id, task,
                                   key=task, priority=priority)
 
     def submit_merge(self, job, frame, parts, exact=True, job_id=None, priority=0):
         """A future of the statistics of `frame` once its sample-range futures `parts` are merged and written."""
         job_id = job_id or uuid.uuid4().hex
         task = f"eyerender-merge-{frame}-{job_id}"
-        return self.client.submit(farm_tasks.merge_and_write, job, frame, parts, exact, job_id, task, key=task,
+        return self.client.submit(tasks.merge_and_write, job, frame, parts, exact, job_id, task, key=task,
                                   priority=priority)
 
     def submit_frame(self, job, frame, split=1, exact=True, job_id=None, priority=0):
@@ -164,7 +164,7 @@ class Farm:
             raise EyeRenderError("a time limit cannot be combined with a split: the ranges would not add up")
         if split <= 1 or job.spp < 2:
             task = f"eyerender-frame-{frame}-{job_id}"
-            return self.client.submit(farm_tasks.render_frame, job, frame, job_id, task, key=task,
+            return self.client.submit(tasks.render_frame, job, frame, job_id, task, key=task,
                                       priority=priority)
         parts = [self.submit_samples(job, frame, first, count, job_id, priority)
                  for first, count in split_samples(0, job.spp, split)]
@@ -196,7 +196,7 @@ class Farm:
         tracker = _ProgressTracker(len(todo), job.spp, start, progress)
         job_id = uuid.uuid4().hex
         topic_handler = tracker.event_handler(job_id)
-        self.client.subscribe_topic(farm_tasks.PROGRESS_TOPIC, topic_handler)
+        self.client.subscribe_topic(tasks.PROGRESS_TOPIC, topic_handler)
         try:
             from distributed import as_completed
 
@@ -212,7 +212,7 @@ class Farm:
                 if on_frame:
                     on_frame(frame, report.stats.get(frame), report.errors.get(frame))
         finally:
-            self.client.unsubscribe_topic(farm_tasks.PROGRESS_TOPIC)
+            self.client.unsubscribe_topic(tasks.PROGRESS_TOPIC)
         report.seconds = clock.perf_counter() - start
         return report
 
