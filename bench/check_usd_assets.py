@@ -127,7 +127,8 @@ def baked_stage(path, frames):
     session, root = stage.GetSessionLayer(), stage.GetRootLayer()
     session.timeCodesPerSecond, session.framesPerSecond = root.timeCodesPerSecond, root.framesPerSecond
     stage.SetEditTarget(session)
-    interval = Gf.Interval(min(frames), max(frames))
+    # One frame (no authored time range): a frame either side, so the bake has samples around it to snap to.
+    interval = Gf.Interval(min(frames) - (len(frames) == 1), max(frames) + (len(frames) == 1))
     if not UsdSkel.BakeSkinning(stage.Traverse(), interval):
         raise RuntimeError(f"{path}: UsdSkel.BakeSkinning failed")
     return stage
