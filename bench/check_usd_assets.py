@@ -12,14 +12,17 @@ For every stage file (.usd, .usda, .usdc, .usdz) found under the directories giv
 - GeomSubsets (meshes with materialBind subsets): the material each face renders with (the mesh's, or its first
   subset's) against UsdShade.MaterialBindingAPI.ComputeBoundMaterial of that subset (the mesh's for faces in none),
   on every instance proxy of an instanced mesh too: the faces whose material differs.
-- --render: also renders each skinned stage and its baked copy with eyerecord (same frame, seed, width and
-  samples) and prints the largest and mean colour difference.
+- --render: also renders each skinned stage and its baked copy with eyerecord (same frame, seed, width, samples
+  and camera: the asset's, else one framing the baked stage) and prints the largest and mean colour difference.
+  They differ where the asset has primvars:normals, which BakeSkinning leaves in the bind pose (the bake's shading
+  is then wrong, not the render's).
 
 Usage: python3 bench/check_usd_assets.py DIR_OR_FILE... [--frames 5] [--render] [--width 256] [--spp 16]
 Rows print as they are measured; the exit status is 1 when any row differs by more than --tolerance (points) or
 has a face whose material differs, else 0.
 """
 import argparse
+import glob
 import math
 import os
 import subprocess
@@ -30,6 +33,7 @@ import numpy as np
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade, UsdSkel
 
 import eyerender
+from eyerender import cameras
 from eyerender.usd_scene_delegate import UsdSceneDelegate
 
 COMPLEXITIES = {"low": 0, "high": 2}
@@ -138,6 +142,10 @@ def baked_file(path, stage, folder):
     """The baked session layer as a file over the asset (for eyerecord)."""
     layer = Sdf.Layer.CreateNew(os.path.join(folder, "baked.usda"))
     layer.TransferContent(stage.GetSessionLayer())  # its timeCodesPerSecond too
+    root = stage.GetRootLayer()
+    for key in ("upAxis", "metersPerUnit", "defaultPrim", "startTimeCode", "endTimeCode", "renderSettingsPrimPath"):
+        if root.pseudoRoot.HasInfo(key):  # what eyerecord reads from the root layer: its camera and frame range
+            layer.pseudoRoot.SetInfo(key, root.pseudoRoot.GetInfo(key))
     layer.subLayerPaths.append(os.path.abspath(path))
     layer.Save()
     return layer.identifier
@@ -186,17 +194,46 @@ def compare_skel(stage, baked, frame, refine_level):
     return worst, angle, len(shared), prim
 
 
-def render_difference(path, baked_path, frame, complexity, args, folder):
+def camera_layer(stage, baked, frame, folder):
+    """A session layer holding /CheckCamera: the asset's camera if it has one, else eyerecord's framing of the baked
+    stage's bounds (a SkelRoot's authored extent, which frames the unbaked stage, may hold only its joints)."""
+    layer = Sdf.Layer.CreateNew(os.path.join(folder, "camera.usda"))
+    camera_stage = Usd.Stage.Open(layer)
+    camera = UsdGeom.Camera.Define(camera_stage, "/CheckCamera")
+    found = [p for p in stage.Traverse() if p.IsA(UsdGeom.Camera)]
+    time = Usd.TimeCode(frame)
+    if found:
+        source = UsdGeom.Camera(found[0])
+        world = UsdGeom.XformCache(time).GetLocalToWorldTransform(found[0])
+        for name in ("focalLength", "horizontalAperture", "verticalAperture", "clippingRange", "projection"):
+            value = source.GetPrim().GetAttribute(name).Get(time)
+            if value is not None:
+                camera.GetPrim().GetAttribute(name).Set(value)
+    else:
+        params, world = cameras.default_camera(baked, time, ("default", "proxy"), 1.0)
+        camera.CreateFocalLengthAttr(params.focal_length)
+        camera.CreateHorizontalApertureAttr(params.horizontal_aperture)
+        camera.CreateVerticalApertureAttr(params.vertical_aperture)
+        camera.CreateClippingRangeAttr(Gf.Vec2f(params.near_clip, params.far_clip))
+    camera.AddTransformOp().Set(world)
+    layer.Save()
+    return layer.identifier
+
+
+def render_difference(path, baked_path, frame, complexity, args, folder, camera):
+    """eyerecord renders of the asset and of its bake through one camera (camera_layer), same seed."""
     images = []
     for name, source in (("asset", path), ("baked", baked_path)):
-        out = os.path.join(folder, f"{name}.exr")
-        cmd = [sys.executable, "-m", "eyerender.eyerecord", source, out, "--frames", f"{frame:g}", "-w",
-               str(args.width), "--spp", str(args.spp), "--seed", "1", "--complexity", complexity, "--quiet",
-               "--overwrite"]
+        for old in glob.glob(os.path.join(folder, f"{name}.*.exr")):
+            os.remove(old)
+        cmd = [sys.executable, "-m", "eyerender.eyerecord", source, os.path.join(folder, f"{name}.####.##.exr"),
+               "--frames", f"{frame:g}", "-w", str(args.width), "--spp", str(args.spp), "--seed", "1",
+               "--complexity", complexity, "--quiet", "--overwrite", "--sessionLayer", camera,
+               "--camera", "/CheckCamera"]
         run = subprocess.run(cmd, capture_output=True, text=True)
         if run.returncode != 0:
             return f"eyerecord failed: {(run.stderr.strip().splitlines() or ['?'])[-1][:80]}"
-        channels = eyerender.read_exr(out)
+        channels = eyerender.read_exr(glob.glob(os.path.join(folder, f"{name}.*.exr"))[0])
         images.append(np.stack([channels[c] for c in "RGB"], axis=-1))
     difference = np.abs(images[0] - images[1])
     return f"{difference.max():.4f} max, {difference.mean():.5f} mean"
@@ -209,10 +246,14 @@ def check_skel(path, args, rows):
     frames = snapped(frames, baked_times(baked))
     with tempfile.TemporaryDirectory() as folder:
         baked_path = baked_file(path, baked, folder) if args.render else None
+        camera = None
         for frame in frames:
             for complexity, level in COMPLEXITIES.items():
                 worst, angle, count, prim = compare_skel(stage, baked, frame, level)
-                image = render_difference(path, baked_path, frame, complexity, args, folder) if args.render else ""
+                image = ""
+                if args.render:
+                    camera = camera_layer(stage, baked, frame, folder) if complexity == "low" else camera
+                    image = render_difference(path, baked_path, frame, complexity, args, folder, camera)
                 shown = "-" if angle is None else f"{angle:.3g}"
                 rows.append((path, f"{frame:.6g}", complexity, f"{worst:.3g}", shown, count, prim, image))
                 print_row(rows[-1], args)
