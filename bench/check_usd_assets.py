@@ -226,7 +226,7 @@ def render_difference(path, baked_path, frame, complexity, args, folder, camera)
     for name, source in (("asset", path), ("baked", baked_path)):
         for old in glob.glob(os.path.join(folder, f"{name}.*.exr")):
             os.remove(old)
-        cmd = [sys.executable, "-m", "eyerender.eyerecord", source, os.path.join(folder, f"{name}.####.##.exr"),
+        cmd = [sys.executable, "-m", "eyerender.cli.eyerecord", source, os.path.join(folder, f"{name}.####.##.exr"),
                "--frames", f"{frame:g}", "-w", str(args.width), "--spp", str(args.spp), "--seed", "1",
                "--complexity", complexity, "--quiet", "--overwrite", "--sessionLayer", camera,
                "--camera", "/CheckCamera"]

@@ -1039,7 +1039,8 @@ def write_blink(out):
 
 GENERATED_FILES = ["assets/eye.usda", "assets/iris.png", "assets/sclera.png", "assets/checker.png", "closeup.usda",
                    "two_eyes.usda", "squash_stretch.usda", "side_lit.usda", "analytic_anterior.usda",
-                   "glass_sphere_table.usda", "studio_eye_rig.usda", "saccade.usda", "blink.usda"]
+                   "glass_sphere_table.usda", "studio_eye_rig.usda", "saccade.usda", "blink.usda",
+                   "assets/studio_dome.hdr", "production_head.usda"]
 
 
 def generate(out):
@@ -1063,6 +1064,11 @@ def generate(out):
     write_studio_eye_rig(out, cage)
     write_saccade(out)
     write_blink(out)
+    # The production head lives in its own file beside this one and uses this module's helpers.
+    if str(HERE) not in sys.path:
+        sys.path.insert(0, str(HERE))
+    from production_head import write_production_head
+    write_production_head(out)
     return cage
 
 

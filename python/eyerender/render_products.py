@@ -3,7 +3,8 @@ file of the render vars it orders, with its own camera, resolution and data wind
 the settings' values), read into plain data that the local and the farm render paths write alike.
 
 A render var names what to write by sourceName and sourceType; the subset the renderer honours (VAR_SOURCES):
-raw AOVs (color, albedo, normal, depth, primId, irisMnee, limbalArc, and alpha, the colour's A), the beauty as
+raw AOVs (every AOV of aovs.py: color, albedo, normal, depth, primId, irisMnee and the eye AOVs nonEye,
+glint, iris, sclera, limbalArc; and alpha, the colour's A), the beauty as
 the LPE `C.*`, and the cryptomatte layers CryptoObject, CryptoMaterial and CryptoAsset (cryptomatte.py: channels
 `{name}00.R` ..., float32 whatever the dataType). Anything else (a primvar, another LPE, an unknown name, a
 dataType whose components the source lacks) is one warning naming the var, and no channel: an empty channel is
@@ -20,22 +21,20 @@ import math
 import re
 from typing import Optional
 
-from .cryptomatte import LEVELS, layer_channels
+from .aovs import AOV_CHANNELS, AOV_NAMES
 from .cryptomatte import TYPES as CRYPTO_TYPES
+from .cryptomatte import layer_channels
 from .errors import EyeRenderError
 
-# sourceName (raw) -> (AOV, first component): the renderer's AOVs under their names and common aliases.
+# sourceName (raw) -> (AOV, first component): every AOV of the registry under its own name, and common aliases.
 RAW_SOURCES = {
-    "color": ("color", 0), "Ci": ("color", 0), "C": ("color", 0), "beauty": ("color", 0),
+    **{name: (name, 0) for name in AOV_NAMES},
+    "Ci": ("color", 0), "C": ("color", 0), "beauty": ("color", 0),
     "alpha": ("color", 3), "a": ("color", 3),
-    "albedo": ("albedo", 0), "normal": ("normal", 0), "N": ("normal", 0),
-    "depth": ("depth", 0), "primId": ("primId", 0),
-    "irisMnee": ("irisMnee", 0), "limbalArc": ("limbalArc", 0),
-    **{layer: (layer, 0) for layer in CRYPTO_TYPES},  # cryptomatte.py: ranked ids and coverage
+    "N": ("normal", 0),
 }
 LPE_SOURCES = {"C.*": ("color", 0)}  # light path expressions the renderer can produce: the whole beauty
-AOV_COMPONENTS = {"color": 4, "albedo": 3, "normal": 3, "depth": 1, "primId": 1, "irisMnee": 3, "limbalArc": 3,
-                  **{layer: 2 * LEVELS for layer in CRYPTO_TYPES}}
+AOV_COMPONENTS = {name: len(channels) for name, channels in AOV_CHANNELS.items()}
 _VECTOR_SUFFIXES, _COLOR_SUFFIXES = ("X", "Y", "Z"), ("R", "G", "B", "A")
 # UsdRender dataType -> (components, channel suffixes, half); UsdRender's fallback is color3f.
 DATA_TYPES = {

@@ -8,6 +8,7 @@ eyerender = pytest.importorskip("eyerender", reason="the eyerender package is no
 OpenEXR = pytest.importorskip("OpenEXR", reason="the openexr Python package reads multi-part files")
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdRender  # noqa: E402
 
+from eyerender.aovs import AOV_CHANNELS, EYE_PART_AOVS  # noqa: E402
 from eyerender.cli.eyerecord import main  # noqa: E402
 
 
@@ -139,6 +140,24 @@ def test_the_beauty_var_holds_the_pixels_the_command_line_render_writes(two_prod
     for channel in ("R", "G", "B", "A"):
         np.testing.assert_array_equal(product[channel], cli[channel])
     np.testing.assert_array_equal(product["depth"], cli["depth.Z"])
+
+
+def test_every_aov_of_the_registry_is_a_render_var_source_with_the_command_lines_pixels(two_products, tmp_path):
+    """The eye AOVs (and every other AOV eyerecord's --aov knows) are render var sources: a product ordering them
+    holds exactly the channels and pixels `--aov` writes (they were refused as unsupported once)."""
+    stage = Usd.Stage.Open(str(two_products))
+    eye_vars = [define_var(stage, name, name, "color3f") for name in EYE_PART_AOVS]
+    UsdRender.Product(stage.GetPrimAtPath("/Render/Products/aovs")).GetOrderedVarsRel().SetTargets(
+        [v.GetPath() for v in eye_vars])
+    stage.GetRootLayer().Save()
+    assert run(two_products, "--spp", 2, "-q") == 0
+    flags = [f for name in EYE_PART_AOVS for f in ("--aov", name)]
+    assert run(two_products, tmp_path / "cli.exr", "--spp", 2, "-q", *flags) == 0
+    product, cli = eyerender.read_exr(str(tmp_path / "aovs.exr")), eyerender.read_exr(str(tmp_path / "cli.exr"))
+    assert set(product) == {channel for name in EYE_PART_AOVS for channel in AOV_CHANNELS[name]}
+    for channel in product:
+        np.testing.assert_array_equal(product[channel], cli[channel])
+    assert max(product[f"{name}.R"].max() for name in EYE_PART_AOVS if name != "nonEye") > 0  # the eye is in view
 
 
 def test_multi_part_product_has_one_part_per_var(two_products, tmp_path):

@@ -10,7 +10,7 @@ from pxr import Usd  # noqa: E402
 
 SAMPLES = pathlib.Path(__file__).resolve().parents[2] / "usd_samples"
 EYE_STAGES = ["closeup", "two_eyes", "squash_stretch", "side_lit", "analytic_anterior", "studio_eye_rig", "saccade",
-              "blink"]
+              "blink", "production_head"]
 
 
 def render(name, width=40, spp=2, **kwargs):

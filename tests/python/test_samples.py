@@ -96,7 +96,7 @@ def test_generator_reproduces_the_committed_samples_byte_for_byte(regenerated):
 
 
 def test_samples_folder_holds_only_generated_files_readme_and_generator():
-    known = set(gen.GENERATED_FILES) | {"README.md", "generate_samples.py"}
+    known = set(gen.GENERATED_FILES) | {"README.md", "generate_samples.py", "production_head.py"}
     present = {p.relative_to(SAMPLES_DIR).as_posix() for p in SAMPLES_DIR.rglob("*")
                if p.is_file() and "__pycache__" not in p.parts}
     assert present == known, "unexpected: %s, missing: %s" % (sorted(present - known), sorted(known - present))
@@ -166,7 +166,8 @@ def test_the_eye_stages_contain_the_expected_eyes():
     counts = {name: len(eye_prims(open_stage(name))) for name in STAGES}
     assert counts == {"analytic_anterior.usda": 1, "assets/eye.usda": 1, "closeup.usda": 1,
                       "glass_sphere_table.usda": 0, "side_lit.usda": 1, "squash_stretch.usda": 1,
-                      "two_eyes.usda": 2, "studio_eye_rig.usda": 1, "saccade.usda": 1, "blink.usda": 1}
+                      "two_eyes.usda": 2, "studio_eye_rig.usda": 1, "saccade.usda": 1, "blink.usda": 1,
+                      "production_head.usda": 2}
 
 
 def _check_eye(prim):
@@ -247,6 +248,8 @@ def _mesh_problems(mesh):
     if counts.sum() != len(indices):
         bad.append("sum(faceVertexCounts) %d != len(faceVertexIndices) %d" % (counts.sum(), len(indices)))
     for primvar in UsdGeom.PrimvarsAPI(mesh).GetPrimvarsWithValues():
+        if not primvar.GetTypeName().isArray:  # a single value (UsdSkel's geomBindTransform) has no count to check
+            continue
         values = primvar.Get(times[0])
         expected = _expected_count(primvar.GetInterpolation(), points, counts, indices)
         if primvar.IsIndexed():
@@ -399,3 +402,45 @@ def test_eyeball_limit_surface_lies_on_the_analytic_cornea_and_sclera():
     band = ~front & ~sclera
     rho = np.linalg.norm(canonical[band] - centre, axis=1)
     assert band.any() and np.all(rho > np.median(radius) - SCLERA_TOLERANCE_MM)
+
+
+def test_production_head_lids_and_lashes_are_skinned_and_the_lashes_stay_outside_the_eye():
+    """The upper lids and their lashes follow their joints (UsdSkel's own skinning, baked): at the last frame the
+    upper margin has come down by the authored drop, the lower lid has not moved, and every lash point lies outside
+    the eyeball's corneal apex sphere (13.03 mm about the eyeball centre), in front of the lid at every frame."""
+    from pxr import UsdSkel
+    spec = importlib.util.spec_from_file_location("production_head", SAMPLES_DIR / "production_head.py")
+    head = importlib.util.module_from_spec(spec)
+    sys.path.insert(0, str(SAMPLES_DIR))
+    try:
+        spec.loader.exec_module(head)
+    finally:
+        sys.path.remove(str(SAMPLES_DIR))
+    stage = open_stage("production_head.usda")
+    cache = UsdSkel.Cache()
+    root = UsdSkel.Root(stage.GetPrimAtPath("/World/Head"))
+    cache.Populate(root, Usd.TraverseInstanceProxies())
+
+    def skinned(path, frame):
+        prim = stage.GetPrimAtPath(path)
+        binding = cache.ComputeSkelBinding(root, UsdSkel.Skeleton(stage.GetPrimAtPath("/World/Head/Skel")),
+                                           Usd.TraverseInstanceProxies())
+        target = next(t for t in binding.GetSkinningTargets() if t.GetPrim() == prim)
+        skel_query = cache.GetSkelQuery(binding.GetSkeleton())
+        xforms = skel_query.ComputeSkinningTransforms(frame)
+        points = UsdGeom.PointBased(prim).GetPointsAttr().Get(frame)
+        assert target.ComputeSkinnedPoints(xforms, points, frame)
+        return np.array(points, np.float64)
+
+    first, last = head.FRAMES
+    for side, centre in head.EYE_CENTERS_CM.items():
+        c = np.array(centre)
+        for frame, drop in ((first, 0.0), (last, head.LID_DROP_DEG)):
+            upper = skinned(f"/World/Head/UpperLid_{side}", frame) - c
+            margin = np.degrees(np.arcsin(upper[:, 1] / np.linalg.norm(upper, axis=1))).min()
+            assert margin == pytest.approx(head.UPPER_LID["elevation_deg"][0] - drop, abs=0.05), (side, frame)
+            lower = skinned(f"/World/Head/LowerLid_{side}", frame) - c
+            top = np.degrees(np.arcsin(lower[:, 1] / np.linalg.norm(lower, axis=1))).max()
+            assert top == pytest.approx(head.LOWER_LID["elevation_deg"][1], abs=0.05)
+            lashes = skinned(f"/World/Head/Lashes_{side}", frame) - c
+            assert np.linalg.norm(lashes, axis=1).min() * 10 > 13.03
