@@ -62,8 +62,11 @@ def render(python, scene_dir, seconds, seed, out, spp=0, extra=(), scene="sceneB
 
 
 def compare(scene_dir, a, b):
-    """compare.py's numbers for two renders of different seeds, as a dict of floats."""
+    """compare.py's numbers for two renders of different seeds, as a dict of floats; for a scene directory without
+    a compare.py (scene C), the same numbers computed here from its reference.npy and mask.npy."""
     script = os.path.join(scene_dir, "compare.py")
+    if not os.path.isfile(script):
+        return compare_here(scene_dir, a, b)
     run = subprocess.run([sys.executable, script, a, b], capture_output=True, text=True, check=False)
     values = dict(re.findall(r"(\w+)=([-+0-9.eE]+)", run.stdout))
     if "floor" not in values:
@@ -71,6 +74,24 @@ def compare(scene_dir, a, b):
     second = subprocess.run([sys.executable, script, b], capture_output=True, text=True, check=False)
     values["relRMSE2"] = re.search(r"relRMSE=([0-9.]+)", second.stdout).group(1)
     return {k: float(v) for k, v in values.items()}
+
+
+def compare_here(scene_dir, a, b):
+    """compare.py's definitions: the pixels whose footprint is all albedo-0.5 annulus (mask channel 2), minus the
+    glint (the reference over 20 x the iris median, grown by 3 pixels); relative errors per pixel."""
+    import numpy as np
+    ref = np.load(os.path.join(scene_dir, "reference.npy")).astype(np.float64)
+    iris = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
+    bright = ref > 20 * np.median(ref[iris])
+    glint = bright.copy()
+    for dy in range(-3, 4):
+        for dx in range(-3, 4):
+            glint |= np.roll(np.roll(bright, dy, 0), dx, 1)
+    sel = iris & ~glint & (ref > 0)
+    e1, e2 = ((load_exr(p)[sel] - ref[sel]) / ref[sel] for p in (a, b))
+    return {"relRMSE": float(np.sqrt(np.mean(e1 ** 2))), "relRMSE2": float(np.sqrt(np.mean(e2 ** 2))),
+            "bias": float(e1.mean()), "pixels": float(sel.sum()), "noise": float(np.sqrt(np.mean((e1 - e2) ** 2) / 2)),
+            "floor": float(np.sqrt(max(np.mean(e1 * e2), 0.0)))}
 
 
 def glint_included(scene_dir, paths):
@@ -85,7 +106,7 @@ def glint_included(scene_dir, paths):
     return tuple(float(np.mean([np.sqrt(np.mean(e[m] ** 2)) for e in errors])) for m in (whole, glint))
 
 
-def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels=None):
+def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels=None, scene="sceneB.usda"):
     """One row per build and time budget, then (floor_spp > 0) one per build of floor_spp samples per pixel, its time
     the mean of the two seeds'. builds: (label, python) pairs, rendered in turn at every budget and seed so that the
     machine's changing load falls on all of them alike. A build may carry a third element, its eyerecord
@@ -102,8 +123,8 @@ def measure(scene_dir, budgets, builds, floor_spp=0, keep_dir=None, floor_labels
                 for k in chosen:
                     python, flags = builds[k][1], builds[k][2] if len(builds[k]) > 2 else ()
                     budget = f"{spp}spp" if spp else f"{seconds:g}s"
-                    out = os.path.join(tmp, f"build{k}_{budget}_seed{seed}.exr")
-                    done[k, seed] = (out, *render(python, scene_dir, seconds, seed, out, spp, flags))
+                    out = os.path.join(tmp, f"{scene[:-5]}_build{k}_{budget}_seed{seed}.exr")
+                    done[k, seed] = (out, *render(python, scene_dir, seconds, seed, out, spp, flags, scene))
             for k in chosen:
                 label = builds[k][0]
                 (a, spp1, s1), (b, spp2, s2) = done[k, 1], done[k, 2]
@@ -357,6 +378,8 @@ def main():
                     help="samples per pixel of the grazing variant's path reference, each of two seeds")
     ap.add_argument("--key-noise", help="comma-separated key angles (degrees off the gaze): also measure the noise "
                     "of one render over the iris at scene B's 256 px with its key moved there, per build and budget")
+    ap.add_argument("--scene-c", metavar="DIR", help="also measure scene C (made by bench/scene_c.py DIR) at the "
+                    "same budgets and floor, in a second table")
     ap.add_argument("--csv", help="write the rows to this CSV")
     ap.add_argument("--keep-dir", help="keep the renders in this folder (default: a temporary one)")
     ap.add_argument("--from-csv", help="comma-separated CSVs to read instead of rendering")
@@ -390,6 +413,8 @@ def main():
         floor_labels = set(args.floor_levers.split(",")) if args.floor_levers else None
         rows = measure(args.scene_dir, budgets, builds, args.floor_spp, args.keep_dir, floor_labels) \
             if budgets or args.floor_spp else []
+        if args.scene_c:
+            scene_c = measure(args.scene_c, budgets, builds, args.floor_spp, args.keep_dir, floor_labels, "sceneC.usda")
         if args.grazing:
             grazing = measure_grazing(args.scene_dir, args.grazing, budgets, builds, args.grazing_reference_spp,
                                       args.keep_dir)
@@ -397,6 +422,9 @@ def main():
             key_noise = measure_key_noise(args.scene_dir, [float(a) for a in args.key_noise.split(",") if a],
                                           budgets, builds, args.keep_dir)
     print(table(rows))
+    if not args.from_csv and args.scene_c:
+        print("\nScene C (rect key, textured dome, small fill):\n")
+        print(table(scene_c))
     if not args.from_csv and args.key_noise:
         print()
         print(key_noise_table(key_noise))
