@@ -52,14 +52,8 @@ def first_pixel_after(session, editor, name, value):
 
 def iris_error(scene_dir):
     """A function of an image (h, w, 3) giving its relative RMSE over compare.py's iris pixels."""
-    ref = np.load(os.path.join(scene_dir, "reference.npy")).astype(np.float64)
-    iris = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
-    bright = ref > 20 * np.median(ref[iris])
-    glint = bright.copy()
-    for dy in range(-3, 4):
-        for dx in range(-3, 4):
-            glint |= np.roll(np.roll(bright, dy, 0), dx, 1)
-    sel = iris & ~glint & (ref > 0)
+    from bench_iris import compared_pixels
+    ref, sel = compared_pixels(scene_dir)
     return lambda image: float(np.sqrt(np.mean(((image[..., :3].mean(-1)[sel] - ref[sel]) / ref[sel]) ** 2)))
 
 

@@ -76,9 +76,9 @@ def compare(scene_dir, a, b):
     return {k: float(v) for k, v in values.items()}
 
 
-def compare_here(scene_dir, a, b):
-    """compare.py's definitions: the pixels whose footprint is all albedo-0.5 annulus (mask channel 2), minus the
-    glint (the reference over 20 x the iris median, grown by 3 pixels); relative errors per pixel."""
+def compared_pixels(scene_dir):
+    """compare.py's pixels: (the reference, float64 (h, w); the mask of pixels whose footprint is all albedo-0.5
+    annulus (mask channel 2) minus the glint (the reference over 20 x the iris median, grown by 3 pixels))."""
     import numpy as np
     ref = np.load(os.path.join(scene_dir, "reference.npy")).astype(np.float64)
     iris = np.load(os.path.join(scene_dir, "mask.npy"))[..., 2] == 1
@@ -87,7 +87,13 @@ def compare_here(scene_dir, a, b):
     for dy in range(-3, 4):
         for dx in range(-3, 4):
             glint |= np.roll(np.roll(bright, dy, 0), dx, 1)
-    sel = iris & ~glint & (ref > 0)
+    return ref, iris & ~glint & (ref > 0)
+
+
+def compare_here(scene_dir, a, b):
+    """compare.py's numbers, computed here over compared_pixels: relative errors per pixel."""
+    import numpy as np
+    ref, sel = compared_pixels(scene_dir)
     e1, e2 = ((load_exr(p)[sel] - ref[sel]) / ref[sel] for p in (a, b))
     return {"relRMSE": float(np.sqrt(np.mean(e1 ** 2))), "relRMSE2": float(np.sqrt(np.mean(e2 ** 2))),
             "bias": float(e1.mean()), "pixels": float(sel.sum()), "noise": float(np.sqrt(np.mean((e1 - e2) ** 2) / 2)),

@@ -311,7 +311,8 @@ std::vector<float> RenderImage(const eyelib::AnteriorChamber<double>& chamber, c
       double sum = 0;
       for (int b = 0; b < sub; ++b)
         for (int a = 0; a < sub; ++a) {
-          const double x = 2 * (col + (a + 0.5) / sub) / cam.width - 1, y = 1 - 2 * (row + (b + 0.5) / sub) / cam.height;
+          const double x = 2 * (col + (a + 0.5) / sub) / cam.width - 1,
+                       y = 1 - 2 * (row + (b + 0.5) / sub) / cam.height;
           const V d = glm::normalize(V(cam.toWorld * glm::dvec4(x * cam.tanHalfX, y * cam.tanHalfY, -1, 0)));
           sum += CameraRadiance(chamber, env, outside, inside, albedo, o, d);
         }
@@ -367,9 +368,9 @@ int main(int argc, char** argv) {
     const Quadrature q{int(Value(s, "base_cells")), int(Value(s, "sub_cells")), Value(s, "refine_tolerance")};
 
     const IrisGrid outside = OutsideGrid(chamber, env, int(Value(s, "grid_nodes")), q, threads);
-    const IrisGrid inside = ChamberGrid(chamber, env, outside, albedo, int(Value(s, "chamber_nodes")),
-                                        int(Value(s, "chamber_directions")), int(Value(s, "chamber_iterations")),
-                                        threads);
+    const IrisGrid inside =
+        ChamberGrid(chamber, env, outside, albedo, int(Value(s, "chamber_nodes")), int(Value(s, "chamber_directions")),
+                    int(Value(s, "chamber_iterations")), threads);
     if (check) {
       // The quadrature against a finer one, and the grid's interpolation against direct evaluation, on points
       // spread over the iris annulus.
@@ -377,8 +378,8 @@ int main(int argc, char** argv) {
       double worstQ = 0, worstI = 0, sumQ = 0, sumI = 0;
       const int samples = 64;
       for (int k = 0; k < samples; ++k) {
-        const double r = params.pupilDiameter / 2 + (chamber.IrisRadius() - params.pupilDiameter / 2) * (k + 0.5) /
-                                                       samples,
+        const double r = params.pupilDiameter / 2 +
+                         (chamber.IrisRadius() - params.pupilDiameter / 2) * (k + 0.5) / samples,
                      phi = 2.399963 * k;
         const V x(r * std::cos(phi), r * std::sin(phi), chamber.IrisZ());
         const double direct = IrradianceFromOutside(chamber, env, x, q);
@@ -387,9 +388,10 @@ int main(int argc, char** argv) {
         const double eq = std::abs(direct - finer) / finer, ei = std::abs(interpolated - direct) / direct;
         worstQ = std::max(worstQ, eq), worstI = std::max(worstI, ei), sumQ += eq * eq, sumI += ei * ei;
       }
-      std::printf("check: quadrature vs twice as fine: rms %.2e worst %.2e; interpolation vs direct: rms %.2e worst "
-                  "%.2e (relative, %d iris points)\n",
-                  std::sqrt(sumQ / samples), worstQ, std::sqrt(sumI / samples), worstI, samples);
+      std::printf(
+          "check: quadrature vs twice as fine: rms %.2e worst %.2e; interpolation vs direct: rms %.2e worst "
+          "%.2e (relative, %d iris points)\n",
+          std::sqrt(sumQ / samples), worstQ, std::sqrt(sumI / samples), worstI, samples);
     }
     const std::vector<float> image =
         RenderImage(chamber, env, outside, inside, albedo, cam, int(Value(s, "subpixels")), threads);

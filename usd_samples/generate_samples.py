@@ -847,12 +847,18 @@ def sphere_patch(stage, path, radius_cm, polar_deg, azimuth_deg, divisions, mate
     points = radius_cm * np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1).reshape(-1, 3)
     faces = [[i * (n_az + 1) + j, (i + 1) * (n_az + 1) + j, (i + 1) * (n_az + 1) + j + 1, i * (n_az + 1) + j + 1]
              for i in range(n_polar) for j in range(n_az)]
+    return define_quad_mesh(stage, path, points, faces, UsdGeom.Tokens.none, material)
+
+
+def define_quad_mesh(stage, path, points, faces, scheme, material):
+    """A Mesh of quads at path: points (n, 3) rounded to POINT_DECIMALS, faces as vertex-index quadruples, the
+    subdivision scheme token, its extent, bound to material."""
     mesh = UsdGeom.Mesh.Define(stage, path)
     pts = rounded_vec3f_array(points, POINT_DECIMALS)
     mesh.CreatePointsAttr(pts)
     mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(faces)))
     mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(v) for f in faces for v in f]))
-    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    mesh.CreateSubdivisionSchemeAttr(scheme)
     mesh.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
     bind(mesh.GetPrim(), material)
     return mesh

@@ -54,16 +54,8 @@ def sphere_band_mesh(stage, path, center_cm, radius_mm, elevation_deg, divisions
     e = np.linspace(elevation_deg[0], elevation_deg[1], rows + 1)
     a = np.linspace(-LID_HALF_WIDTH_DEG, LID_HALF_WIDTH_DEG, cols + 1)
     points = np.asarray(center_cm) + radius_mm * gs.MM_TO_CM * direction(e[:, None], a[None, :]).reshape(-1, 3)
-    mesh = UsdGeom.Mesh.Define(stage, path)
-    pts = gs.rounded_vec3f_array(points, gs.POINT_DECIMALS)
     faces = grid_faces(rows, cols)
-    mesh.CreatePointsAttr(pts)
-    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(faces)))
-    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(v) for f in faces for v in f]))
-    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
-    mesh.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
-    gs.bind(mesh.GetPrim(), material)
-    return mesh
+    return gs.define_quad_mesh(stage, path, points, faces, UsdGeom.Tokens.none, material)
 
 
 def head_mesh(stage, path, material, rows=48, cols=96):
@@ -73,15 +65,7 @@ def head_mesh(stage, path, material, rows=48, cols=96):
     unit = np.stack(np.broadcast_arrays(np.sin(theta) * np.sin(phi), np.cos(theta), np.sin(theta) * np.cos(phi)), -1)
     points = (HEAD_RADIUS_CM * unit * np.asarray(HEAD_SCALE)).reshape(-1, 3)
     faces = [[f[0], f[3], f[2], f[1]] for f in grid_faces(rows, cols)]  # outward from the inside-out UV order
-    mesh = UsdGeom.Mesh.Define(stage, path)
-    pts = gs.rounded_vec3f_array(points, gs.POINT_DECIMALS)
-    mesh.CreatePointsAttr(pts)
-    mesh.CreateFaceVertexCountsAttr(Vt.IntArray([4] * len(faces)))
-    mesh.CreateFaceVertexIndicesAttr(Vt.IntArray([int(v) for f in faces for v in f]))
-    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.catmullClark)
-    mesh.CreateExtentAttr(UsdGeom.Mesh.ComputeExtent(pts))
-    gs.bind(mesh.GetPrim(), material)
-    return mesh
+    return gs.define_quad_mesh(stage, path, points, faces, UsdGeom.Tokens.catmullClark, material)
 
 
 def lash_curves(stage, path, center_cm, seed):
