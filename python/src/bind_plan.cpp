@@ -39,6 +39,7 @@ void BindPlanInputs(nb::module_& m) {
       .def_rw("mnee_max_solid_angle_sr", &PlanRules::mneeMaxSolidAngleSr, "steradians")
       .def_rw("mnee_max_solid_angle_sr_grazing", &PlanRules::mneeMaxSolidAngleSrGrazing, "steradians")
       .def_rw("grazing_angle_deg", &PlanRules::grazingAngleDeg, "degrees")
+      .def_rw("mnee_min_dome_contrast", &PlanRules::mneeMinDomeContrast, "E[L^2] / E[L]^2, unitless")
       .def_rw("all_solutions_min_angle_deg", &PlanRules::allSolutionsMinAngleDeg, "degrees")
       .def_rw("all_solutions_min_pixels", &PlanRules::allSolutionsMinPixels, "pixels")
       .def_rw("chamber_events", &PlanRules::chamberEvents, "events per path")
@@ -86,6 +87,7 @@ void BindPlanParts(nb::module_& m) {
       .def_ro("angle_off_gaze_deg", &LightFacts::angleOffGazeDeg, "degrees; -1 for a dome (no direction)")
       .def_ro("angular_radius_deg", &LightFacts::angularRadiusDeg, "half the angle the light subtends, degrees")
       .def_ro("reaches_iris", &LightFacts::reachesIris)
+      .def_ro("radiance_contrast", &LightFacts::radianceContrast, "dome: E[L^2] / E[L]^2 about the gaze; 1 otherwise")
       .def_ro("strategy", &LightFacts::strategy)
       .def_ro("why", &LightFacts::why);
 

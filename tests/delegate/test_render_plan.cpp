@@ -19,6 +19,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <unistd.h>
+
 using namespace hdeye;
 
 namespace {
@@ -205,6 +207,52 @@ TEST_CASE("a dome plus a small key: MNEE for the key, BSDF for the dome, applied
   const EyeRenderOptions o = e.RenderOptions({"/key", "/dome", "/added-later"});
   CHECK(o.planned);
   CHECK(o.mneeLights == std::vector<bool>{true, false, true});  // an unmeasured light keeps MNEE
+}
+
+/// A lat-long dome image (UsdLux orientation: +z at its centre) of radiance 1, with a window `gain` times brighter
+/// 30 degrees across around +z, the eye's gaze.
+std::string WindowDomeImage(double gain) {
+  const int w = 128, h = 64;
+  std::vector<float> r(w * h), g(w * h), b(w * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double lat = kPi * (0.5 - (y + 0.5) / h), lon = kPi * (1 - 2 * (x + 0.5) / w);
+      const bool window = std::abs(lat) < 15 * kPi / 180 && std::abs(lon) < 15 * kPi / 180;
+      const std::size_t i = std::size_t(y) * w + x;
+      r[i] = g[i] = b[i] = window ? float(gain) : 1.0f;
+    }
+  const std::string path = (std::filesystem::temp_directory_path() / ("hdeye_plan_dome_" + std::to_string(int(gain)) +
+                                                                      "_" + std::to_string(::getpid()) + ".exr"))
+                               .string();
+  WriteExr(path, w, h, {{"R", r}, {"G", g}, {"B", b}});
+  return path;
+}
+
+TEST_CASE("a dome goes to MNEE when its radiance contrast about the gaze is high, to BSDF when smooth", "[plan]") {
+  for (double gain : {1.0, 20.0}) {
+    Scene s(40);
+    LightParams dome;
+    dome.textureFile = WindowDomeImage(gain);
+    s.scene.AddLight("/dome", "domeLight", dome);
+    const RenderPlan plan = s.Plan(64);
+    const EyePlan& e = OnlyEye(plan);
+    std::filesystem::remove(dome.textureFile);
+    INFO("gain " << gain << "\n" << Describe(plan));
+    REQUIRE(e.lights.size() == 1);
+    const LightFacts& l = e.lights[0];
+    CHECK(l.why.find("dome-contrast") != std::string::npos);
+    if (gain == 1) {
+      CHECK(l.radianceContrast == Approx(1).margin(1e-9));
+      CHECK(l.strategy == LightStrategy::Bsdf);
+    } else {
+      // The window covers f = 8.4 % of the cosine-weighted hemisphere: E[L^2] / E[L]^2 = (1 + f(g^2 - 1)) /
+      // (1 + f(g - 1))^2 = 5.1 at g = 20 (the texels' bilinear edges and the 32 x 32 directions move it a little).
+      CHECK(l.radianceContrast > 4);
+      CHECK(l.radianceContrast < 6.5);
+      CHECK(l.strategy == LightStrategy::Mnee);
+      CHECK(e.switches.mnee);
+    }
+  }
 }
 
 TEST_CASE("an eye a few pixels wide gets the small-eye decisions of the rules", "[plan]") {

@@ -8,6 +8,7 @@
 #include "hdeye/render/renderContext.h"
 
 #include <eyelib/eye_constants.h>
+#include <eyelib/sampling.h>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,24 @@ double FlatSolidAngle(double area, const glm::dvec3& centre, const glm::dvec3& n
   *facing = cosAtLight > 0;
   if (!(d > 0)) return 2 * kPi;
   return std::min(2 * kPi, area * std::max(0.0, cosAtLight) / (d * d));
+}
+
+/// A dome's luminance contrast E[L^2] / E[L]^2 over cosine-distributed directions about the gaze, from `p` (a
+/// stratified kSide x kSide grid of them); 1 for a dome that sends nothing there.
+double DomeContrast(const RenderLight& light, const glm::dvec3& p, const glm::dvec3& gaze) {
+  constexpr int kSide = 32;
+  double sum = 0, sumSquares = 0;
+  for (int a = 0; a < kSide; ++a)
+    for (int b = 0; b < kSide; ++b) {
+      const glm::dvec3 d = eyelib::SampleCosineHemisphere(gaze, (a + 0.5) / kSide, (b + 0.5) / kSide);
+      glm::dvec3 radiance(0);
+      double pdf = 0, distance = 0;
+      if (!IntersectLight(light, p, d, std::numeric_limits<double>::infinity(), &radiance, &pdf, &distance)) continue;
+      const double L = std::max(0.0, 0.2126 * radiance.x + 0.7152 * radiance.y + 0.0722 * radiance.z);
+      sum += L, sumSquares += L * L;
+    }
+  const double n = kSide * kSide;
+  return sum > 0 && std::isfinite(sumSquares) ? sumSquares * n / (sum * sum) : 1;
 }
 
 }  // namespace
@@ -176,6 +195,7 @@ LightFacts MeasureLight(const PrimId& lightId, const RenderLight& light, const E
       f.angleOffGazeDeg = -1;
       f.angularRadiusDeg = 180;
       f.reachesIris = true;
+      f.radianceContrast = DomeContrast(light, p, gaze);
       return f;
     case LightType::Distant:
       dir = glm::normalize(light.direction);
@@ -253,14 +273,21 @@ Decision<LightStrategy> DecideLightStrategy(const LightFacts& l, const EyePlan& 
   if (e.pixels < rules.mneeMinPixels)
     return {LightStrategy::Bsdf,
             "eye " + Num(e.pixels, 3) + " px < " + Num(rules.mneeMinPixels, 3) + " px: path tracing is cheaper"};
-  const bool dome = l.kind == LightType::Dome, grazing = l.angleOffGazeDeg >= rules.grazingAngleDeg;
+  if (l.kind == LightType::Dome) {
+    const std::string contrast = "4pi sr, radiance contrast " + Num(l.radianceContrast, 3);
+    if (l.radianceContrast >= rules.mneeMinDomeContrast)
+      return {LightStrategy::Mnee,
+              contrast + " >= " + Num(rules.mneeMinDomeContrast, 3) + ": MNEE in every sample (sweep dome-contrast)"};
+    return {LightStrategy::Bsdf,
+            contrast + " < " + Num(rules.mneeMinDomeContrast, 3) + ": BSDF sampling with MIS (sweep dome-contrast)"};
+  }
+  const bool grazing = l.angleOffGazeDeg >= rules.grazingAngleDeg;
   const double limit = grazing ? rules.mneeMaxSolidAngleSrGrazing : rules.mneeMaxSolidAngleSr;
-  const std::string size = (dome ? std::string("4pi") : Num(l.solidAngleSr, 3)) + " sr";
+  const std::string size = Num(l.solidAngleSr, 3) + " sr";
   const std::string at = " at " + Num(l.angleOffGazeDeg, 3) + " deg" + (grazing ? " (>= " : " (< ") +
                          Num(rules.grazingAngleDeg, 3) + " deg)";
   if (l.solidAngleSr > limit)
-    return {LightStrategy::Bsdf,
-            size + " > " + Num(limit, 3) + " sr" + (dome ? "" : at) + ": BSDF sampling with MIS (sweep 2)"};
+    return {LightStrategy::Bsdf, size + " > " + Num(limit, 3) + " sr" + at + ": BSDF sampling with MIS (sweep 2)"};
   return {LightStrategy::Mnee, size + " <= " + Num(limit, 3) + " sr" + at + ": MNEE (sweep 2)"};
 }
 

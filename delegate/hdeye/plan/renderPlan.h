@@ -46,6 +46,9 @@ struct PlanRules {
   double mneeMaxSolidAngleSr = 1.0;
   double mneeMaxSolidAngleSrGrazing = 0.2;
   double grazingAngleDeg = 65;
+  /// A dome goes to MNEE (estimated in every sample) when its radiance contrast over the eye's front hemisphere
+  /// (LightFacts::radianceContrast) is at least this; a smoother dome is left to BSDF sampling (sweep dome-contrast).
+  double mneeMinDomeContrast = 1.6;
   /// All-solutions MNEE (every refraction path) only for an MNEE light at least allSolutionsMinAngleDeg
   /// (degrees) off the gaze, where second paths exist (sweep 3), on eyes at least allSolutionsMinPixels wide
   /// (pixels; sweep allsol-size).
@@ -127,6 +130,10 @@ struct LightFacts {
   double angleOffGazeDeg = -1;    ///< gaze to the light's centre, degrees; -1 for a dome (no direction)
   double angularRadiusDeg = 180;  ///< half the angle the light subtends, degrees
   bool reachesIris = true;        ///< some part above the rim plane (else the sclera hides it: MNEE finds nothing)
+  /// Dome: E[L^2] / E[L]^2 of its luminance over cosine-distributed directions about the gaze (1: uniform; a
+  /// window 20 times brighter than the sky around it: about 4). How much a direction the iris's BSDF samples misses
+  /// or finds the bright part decides the BSDF estimate's noise; MNEE samples the dome by its texture. 1 otherwise.
+  double radianceContrast = 1;
   LightStrategy strategy = LightStrategy::Bsdf;
   std::string why;
 };

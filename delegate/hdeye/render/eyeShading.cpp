@@ -116,14 +116,12 @@ glm::dvec3 GatherFromIris(const EyeGeometry& eye, const glm::dvec3& x, const Eye
 EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const EyeLighting& lighting,
                      eyelib::FunctionRef<double()> random, double gatherScale);
 
-/// What light `light` is predicted to bring the eye's iris, for MneeLightPick: its irradiance at the apex (world
-/// units, unshadowed, through no cornea), times 0.1 plus the cosine of its direction off the gaze.
+/// What light `light` (not a dome: EstimatedEverySample) is predicted to bring the eye's iris, for MneeLightPick: its
+/// irradiance at the apex (world units, unshadowed, through no cornea), times 0.1 plus the cosine of its direction
+/// off the gaze.
 double PredictedIrisLight(const EyeGeometry& eye, const RenderLight& light) {
   const double L = std::max(0.0, 0.2126 * light.radiance.x + 0.7152 * light.radiance.y + 0.0722 * light.radiance.z);
   const glm::dvec3 apex = eye.ToWorld(glm::dvec3(0)), gaze = eye.DirToWorld(glm::dvec3(0, 0, 1));
-  // A dome's irradiance on the iris is about pi L (the front hemisphere through the cornea); its MNEE estimate per
-  // sampled direction varies about as much as its mean, so it takes sqrt(2) of that share (the second moment's root).
-  if (light.type == LightType::Dome) return L * kPi * (light.dome ? light.dome->meanLuminance : 1) * std::sqrt(2.0);
   if (light.type == LightType::Distant) {
     const double solidAngle = light.delta ? 1 : kPi * (1 - light.cosHalfAngle * light.cosHalfAngle);
     return L * solidAngle * (0.1 + std::max(0.0, glm::dot(light.direction, gaze)));
@@ -143,8 +141,21 @@ double PredictedIrisLight(const EyeGeometry& eye, const RenderLight& light) {
   return intensity / d2 * (0.1 + std::max(0.0, glm::dot(dir, gaze)));
 }
 
-/// Chooses the light of an MNEE estimate from one uniform number: by lighting.mneePick, else uniformly among the
-/// lights MNEE counts; false if there is none.
+/// Whether MNEE estimates light `index` in every sample rather than picking it among the others: a dome it counts.
+/// A dome surrounds the eye, so it lights every iris point through the whole cornea; picked among small keys by
+/// a prediction of its mean, its estimate (which varies as much as its texture does) is what the pixel's noise is
+/// made of (docs/render_plan.md, sweep dome-contrast).
+bool EstimatedEverySample(const EyeLighting& lighting, std::size_t index) {
+  return MneeCountsLight(lighting, index) && (*lighting.lights)[index].type == LightType::Dome;
+}
+
+/// Whether MNEE picks light `index` among the others for one estimate a sample.
+bool Picked(const EyeLighting& lighting, std::size_t index) {
+  return MneeCountsLight(lighting, index) && !EstimatedEverySample(lighting, index);
+}
+
+/// Chooses the picked light (Picked) of an MNEE estimate from one uniform number: by lighting.mneePick, else
+/// uniformly among them; false if there is none.
 bool PickMneeLight(const EyeLighting& lighting, double u, std::size_t* index, double* pdf) {
   const std::size_t n = lighting.lights->size();
   const std::vector<double>* pick = lighting.mneePick;
@@ -152,7 +163,7 @@ bool PickMneeLight(const EyeLighting& lighting, double u, std::size_t* index, do
     double cumulative = 0;
     std::size_t last = n;
     for (std::size_t k = 0; k < n; ++k) {
-      if (!((*pick)[k] > 0)) continue;
+      if (!((*pick)[k] > 0) || !Picked(lighting, k)) continue;
       last = k;
       cumulative += (*pick)[k];
       if (u < cumulative) break;
@@ -162,30 +173,20 @@ bool PickMneeLight(const EyeLighting& lighting, double u, std::size_t* index, do
     return true;
   }
   std::size_t counted = 0;
-  for (std::size_t k = 0; k < n; ++k) counted += MneeCountsLight(lighting, k);
+  for (std::size_t k = 0; k < n; ++k) counted += Picked(lighting, k);
   if (counted == 0) return false;
   std::size_t chosen = std::min(counted - 1, std::size_t(u * double(counted)));
   for (std::size_t k = 0; k < n; ++k)
-    if (MneeCountsLight(lighting, k) && chosen-- == 0) *index = k;
+    if (Picked(lighting, k) && chosen-- == 0) *index = k;
   *pdf = 1 / double(counted);
   return true;
 }
 
-}  // namespace
-
-glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
-                              eyelib::FunctionRef<double()> random) {
-  const std::vector<RenderLight>& lights = *lighting.lights;
-  // Only the lights MNEE counts; picking among them alone (not among all lights with zero for the rest)
-  // spends every sample on light MNEE is responsible for. The random numbers drawn do not depend on the split:
-  // four, the light point first (one 2D pair of the renderer's sampler), the fourth unused so the caller's next
-  // draws start on a pair.
-  const double u1 = random(), u2 = random(), pick = random();
-  random();
-  std::size_t index = 0;
-  double pickPdf = 0;
-  if (!PickMneeLight(lighting, pick, &index, &pickPdf)) return glm::dvec3(0);
-  const RenderLight& light = lights[index];
+/// Irradiance (world units) at iris point x from light `index` through the cornea by MNEE, the light sampled from
+/// the uniform pair (u1, u2).
+glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
+                                   std::size_t index, double u1, double u2) {
+  const RenderLight& light = (*lighting.lights)[index];
   // Sample the light (a point on it, or a direction, with its pdf) as seen from about where its centre's light
   // crosses the cornea on the way to x: seen from the apex instead, the sampled point's cosine towards the path's
   // own cornea point over the apex's cosine diverges at the light's rim for iris points off the axis
@@ -257,7 +258,28 @@ glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const
     const glm::dvec3 le = distant ? ls.radiance : EmittedRadiance(light, y, -toLight);
     E += le * (s.transfer * cosEmit * weight * transmittance);
   }
-  return E / pickPdf;
+  return E;
+}
+
+}  // namespace
+
+glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
+                              eyelib::FunctionRef<double()> random) {
+  // The random numbers drawn do not depend on the lights: four, the light point first (one 2D pair of the
+  // renderer's sampler), the fourth unused so the caller's next draws start on a pair. Domes take the same point
+  // as the picked light: each estimate is unbiased on its own.
+  const double u1 = random(), u2 = random(), pick = random();
+  random();
+  glm::dvec3 E(0);
+  for (std::size_t k = 0; k < lighting.lights->size(); ++k)
+    if (EstimatedEverySample(lighting, k)) E += IrisIrradianceFromLight(eye, x, lighting, k, u1, u2);
+  // Only the lights MNEE counts; picking among them alone (not among all lights with zero for the rest)
+  // spends every sample on light MNEE is responsible for.
+  std::size_t index = 0;
+  double pickPdf = 0;
+  if (PickMneeLight(lighting, pick, &index, &pickPdf))
+    E += IrisIrradianceFromLight(eye, x, lighting, index, u1, u2) / pickPdf;
+  return E;
 }
 
 std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lighting) {
@@ -266,10 +288,10 @@ std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lig
   double predicted = 0;
   std::size_t counted = 0;
   for (std::size_t k = 0; k < lights.size(); ++k)
-    if (MneeCountsLight(lighting, k)) pick[k] = PredictedIrisLight(eye, lights[k]), predicted += pick[k], ++counted;
+    if (Picked(lighting, k)) pick[k] = PredictedIrisLight(eye, lights[k]), predicted += pick[k], ++counted;
   const bool informed = counted > 1 && predicted > 0 && std::isfinite(predicted);
   for (std::size_t k = 0; k < lights.size(); ++k) {
-    if (!MneeCountsLight(lighting, k)) continue;
+    if (!Picked(lighting, k)) continue;
     pick[k] = informed ? 0.8 * pick[k] / predicted + 0.2 / double(counted) : 1 / double(counted);
   }
   return pick;

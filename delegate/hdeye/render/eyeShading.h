@@ -136,17 +136,17 @@ EyeEvent ScatterAtEyeMesh(const EyeGeometry& eye, const EyeMeshHit& hit, const g
 EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, const EyeLighting& lighting,
                            eyelib::FunctionRef<double()> random);
 
-/// The probability of MNEE picking each of *lighting.lights at the eye (0 for a light it does not count), by what
-/// each is predicted to bring the iris: its irradiance at the apex, unshadowed, the cornea left out, times 0.1 plus
-/// the cosine of its direction off the gaze (clamped at 0: the iris sees through the cornea what is ahead of the
-/// eye); a dome's, pi L times sqrt(2) for its noisier estimate. A fifth of the probability is spread uniformly, so that
-/// a prediction far off (an occluded key, a shaped spot) costs variance, never bias. One light, or lights predicted to
+/// The probability of MNEE picking each of *lighting.lights at the eye (0 for a light it does not count, and for a
+/// dome, which it estimates in every sample), by what each is predicted to bring the iris: its irradiance at the apex,
+/// unshadowed, the cornea left out, times 0.1 plus the cosine of its direction off the gaze (clamped at 0: the iris
+/// sees through the cornea what is ahead of the eye). A fifth of the probability is spread uniformly, so that a
+/// prediction far off (an occluded key, a shaped spot) costs variance, never bias. One light, or lights predicted to
 /// bring nothing: uniform.
 std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lighting);
 
-/// Irradiance (world units) at iris point x (canonical, mm) from one of the lights MNEE counts
-/// (MneeCountsLight), chosen by lighting.mneePick (uniformly without it), through the cornea by MNEE: a
-/// one-sample estimate of their sum.
+/// Irradiance (world units) at iris point x (canonical, mm) through the cornea by MNEE from the lights MNEE counts
+/// (MneeCountsLight): every dome among them, plus one of the others chosen by lighting.mneePick (uniformly without
+/// it) over its probability; a one-sample estimate of their sum.
 glm::dvec3 IrisIrradianceMnee(const EyeGeometry& eye, const glm::dvec3& x, const EyeLighting& lighting,
                               eyelib::FunctionRef<double()> random);
 
