@@ -37,15 +37,15 @@ WINDOW_GAIN = 20.0
 WINDOW_ELEVATION_DEG, WINDOW_AZIMUTH_DEG, WINDOW_WIDTH_DEG = 45.0, 15.0, 12.0
 # The reference's resolution (scene_c_reference's keys): the full one and --quick's.
 FULL = {"grid_nodes": 257, "base_cells": 40, "sub_cells": 12, "refine_tolerance": 0.01, "chamber_nodes": 65,
-        "chamber_directions": 48, "chamber_iterations": 6, "subpixels": 16}
+        "chamber_directions": 48, "chamber_sub_cells": 4, "chamber_iterations": 8, "subpixels": 16}
 QUICK = {"grid_nodes": 65, "base_cells": 20, "sub_cells": 6, "refine_tolerance": 0.05, "chamber_nodes": 33,
-         "chamber_directions": 16, "chamber_iterations": 4, "subpixels": 4}
+         "chamber_directions": 16, "chamber_sub_cells": 2, "chamber_iterations": 4, "subpixels": 4}
 
 
-def dome_image(width, height):
+def dome_image(width, height, gain=WINDOW_GAIN):
     """Grey lat-long radiance (rows top to bottom; OpenEXR's convention: row 0 at latitude +90 degrees, column 0 at
     longitude +180, longitude 0 along +z, +90 along +x): a sky from 1 at the zenith to 1.6 at the horizon, a floor of
-    0.3, and a window WINDOW_GAIN x the sky, WINDOW_WIDTH_DEG wide with soft edges (a smooth bump a few texels
+    0.3, and a window `gain` x the sky, WINDOW_WIDTH_DEG wide with soft edges (a smooth bump a few texels
     across: the texture's filtering cannot matter)."""
     lat = (0.5 - (np.arange(height) + 0.5) / height)[:, None] * math.pi
     lon = (1 - 2 * (np.arange(width) + 0.5) / width)[None, :] * math.pi
@@ -55,7 +55,7 @@ def dome_image(width, height):
     centre = np.array([math.cos(we) * math.sin(wa), math.sin(we), math.cos(we) * math.cos(wa)])
     angle = np.degrees(np.arccos(np.clip(d @ centre, -1, 1)))
     window = 1 / (1 + np.exp((angle - WINDOW_WIDTH_DEG / 2) / 1.5))
-    return (sky * (1 + (WINDOW_GAIN - 1) * window)).astype(np.float32)
+    return (sky * (1 + (gain - 1) * window)).astype(np.float32)
 
 
 def write_exr(path, grey):
