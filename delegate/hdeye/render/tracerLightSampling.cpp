@@ -54,7 +54,16 @@ glm::dvec3 Tracer::SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf,
   double u1, u2;
   rng.Next2D(&u1, &u2);
   if (lights_.empty() || !bsdf.HasSmoothLobe()) return glm::dvec3(0);
-  const RenderLight& light = lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))];
+  if (!SamplesEveryLight())
+    return beta * SampleLdFrom(lights_[std::min(lights_.size() - 1, std::size_t(uPick * lights_.size()))], hit, bsdf,
+                               origin, u1, u2);
+  glm::dvec3 sum(0);
+  for (const RenderLight& light : lights_) sum += SampleLdFrom(light, hit, bsdf, origin, u1, u2);
+  return beta * sum;
+}
+
+glm::dvec3 Tracer::SampleLdFrom(const RenderLight& light, const SurfaceHit& hit, const PreviewSurfaceAt& bsdf,
+                                const glm::dvec3& origin, double u1, double u2) const {
   if (!Illuminates(light, hit.primIndex)) return glm::dvec3(0);
   const LightSample ls = SampleLight(light, origin, u1, u2);
   const double cosS = glm::dot(ls.dir, hit.n);
@@ -69,6 +78,6 @@ glm::dvec3 Tracer::SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf,
   const double pl = ls.pdf * LightSelectPdf();
   // A delta light (a point, a parallel beam) is found by light sampling alone: weight 1.
   const double w = settings_.mis && !ls.delta ? PowerHeuristic(pl, bsdfPdf) : 1.0;
-  return beta * f * ls.radiance * (cosS * w * transmittance / pl);
+  return f * ls.radiance * (cosS * w * transmittance / pl);
 }
 }  // namespace hdeye
