@@ -70,7 +70,8 @@ def _light_json(light):
     return _object((("light", json.dumps(light.light)), ("kind", json.dumps(to_string(light.kind))),
                     ("solidAngleSr", _num(light.solid_angle_sr)), ("angleOffGazeDeg", angle),
                     ("angularRadiusDeg", _num(light.angular_radius_deg)), ("reachesIris", _bool(light.reaches_iris)),
-                    ("radianceContrast", _num(light.radiance_contrast)), ("strategy", json.dumps(to_string(light.strategy))),
+                    ("radianceContrast", _num(light.radiance_contrast)),
+                    ("strategy", json.dumps(to_string(light.strategy))),
                     ("why", json.dumps(light.why, ensure_ascii=False))))
 
 
