@@ -25,6 +25,8 @@ The reference's own noise is subtracted from the MSE (estimated from the feature
   allsol-size. eye size (close-ups on the caustic fold) x 80-89 deg key: all-solutions MNEE on vs off
      -> PlanRules::allSolutionsMinPixels
   dome-arc. eye size, a dome alone: walk + limbal arc vs walk without it, equal time -> PlanRules::limbalArc*
+  dome-contrast. scene C's dome (bench/scene_c.py), its window 1-20 x the sky, alone and beside a key: MNEE vs BSDF
+     sampling, by the dome's radiance contrast about the gaze -> PlanRules::mneeMinDomeContrast
 sclera, refine and dome-arc render usd_samples/assets/eye.usda (an eye mesh with the sclera walk), not the analytic eye.
 
 Usage: python3 bench/bench_plan.py [--quick] [--out-dir docs] [--csv PREFIX] [--sweeps 1,2,3,4] [--sweep NAME]
@@ -52,11 +54,12 @@ IRIS_Z = -3.735  # mm: the iris plane in the canonical frame (lights are placed 
 
 
 def make_stage(*, camera_distance=40.0, light="sphere", angle_deg=45.0, radius=2.0, intensity=None, focal=50.0,
-               aim_x=0.0, aim_y=0.0):
+               aim_x=0.0, aim_y=0.0, dome_texture=None):
     """An analytic eye at the origin (gaze +z), a camera on the axis at camera_distance mm, a backdrop card 30 mm
     behind, and one light: a sphere of `radius` mm at LIGHT_DISTANCE, angle_deg off the gaze in the xz-plane, or a
-    constant dome. Sphere radiance is scaled so the iris irradiance stays about constant across radii. focal: the
-    camera's focal length (mm, 24 mm film); aim_x, aim_y: the camera moved sideways (mm) for a close-up off the axis."""
+    dome (constant, or the lat-long image `dome_texture`). Sphere radiance is scaled so the iris irradiance stays
+    about constant across radii. focal: the camera's focal length (mm, 24 mm film); aim_x, aim_y: the camera moved
+    sideways (mm) for a close-up off the axis."""
     stage = Usd.Stage.CreateInMemory()
     UsdGeom.SetStageMetersPerUnit(stage, 0.001)
     cam = UsdGeom.Camera.Define(stage, "/World/main_cam")
@@ -76,6 +79,8 @@ def make_stage(*, camera_distance=40.0, light="sphere", angle_deg=45.0, radius=2
     if light == "dome":
         dome = UsdLux.DomeLight.Define(stage, "/World/dome")
         dome.CreateIntensityAttr(intensity or 1.0)
+        if dome_texture:
+            dome.CreateTextureFileAttr(Sdf.AssetPath(dome_texture))
     else:
         sphere = UsdLux.SphereLight.Define(stage, "/World/key")
         sphere.CreateRadiusAttr(radius)
@@ -559,6 +564,92 @@ def sweep_dome_arc(b, out):
                        for r in rows_out]
 
 
+def add_key(stage):
+    """Sweep 1's key: a 2 mm sphere light at LIGHT_DISTANCE, 45 degrees off the gaze, irradiance as make_stage's."""
+    keyed = make_stage(angle_deg=45)  # held: its prims live with it
+    key = keyed.GetPrimAtPath("/World/key")
+    sphere = UsdLux.SphereLight.Define(stage, "/World/key")
+    sphere.CreateRadiusAttr(2.0)
+    sphere.CreateIntensityAttr(key.GetAttribute("inputs:intensity").Get())
+    sphere.AddTranslateOp().Set(key.GetAttribute("xformOp:translate").Get())
+
+
+def dome_strategies(stage, width, spp, ref_spp, threads):
+    """The dome by MNEE and by BSDF sampling (the plan's dome rule moved: mnee_min_dome_contrast 0 or infinite; every
+    other light as the plan decides) against a reference of the dome by MNEE at ref_spp (another seed; its noise, the
+    MNEE run's MSE x spp / ref_spp, subtracted): seconds, rRMSE over the eye and its iris (where the iris AOV is most
+    of the pixel), the BSDF run's bias, and each efficiency ratio MNEE / BSDF."""
+    def session(dome_by_mnee, seed, aovs=("color",)):
+        s = RenderSession(stage, width=width, aovs=("primId", *aovs), plan_overrides=make_overrides(),
+                          settings={"threads": threads, "seed": seed})
+        s.plan_rules.mnee_min_dome_contrast = 0.0 if dome_by_mnee else math.inf
+        return s
+
+    reference = session(True, 1000, ("color", "iris"))
+    reference.render(spp=ref_spp)
+    ref, eye = reference.image("color"), reference.image("primId")[:, :, 0] == 0
+    iris = eye & (reference.image("iris")[:, :, :3].mean(axis=2) > 0.5 * ref[:, :, :3].mean(axis=2))
+    row = {}
+    for label, by_mnee in (("mnee", True), ("bsdf", False)):
+        run = session(by_mnee, 0)
+        t0 = time.perf_counter()
+        run.render(spp=spp)
+        row[f"{label}_s"] = time.perf_counter() - t0
+        img = run.image("color")
+        row[f"{label}_eye_mse"], _, row[f"{label}_bias"] = errors(img, ref, eye)
+        row[f"{label}_iris_mse"], _, _ = errors(img, ref, iris)
+    for part in ("eye", "iris"):
+        own = row[f"mnee_{part}_mse"] * spp / ref_spp
+        for label in ("mnee", "bsdf"):
+            row[f"{label}_{part}"] = math.sqrt(max(row[f"{label}_{part}_mse"] - own, 1e-12))
+        row[f"{part}_ratio"] = (row[f"bsdf_{part}"] ** 2 * row["bsdf_s"]) / (row[f"mnee_{part}"] ** 2 * row["mnee_s"])
+    return row
+
+
+def sweep_dome_contrast(b, out):
+    """A textured dome, alone and beside a key: MNEE (every sample) vs BSDF sampling, by the dome's radiance contrast
+    about the gaze."""
+    import tempfile
+
+    import scene_c  # bench/scene_c.py: scene C's dome image
+
+    gains = [1, 4, 20] if b.args.quick else [1, 2, 4, 6, 8, 12, 20]
+    # Twice the other sweeps' width and four times their samples: MNEE's chamber-light cache is built once per
+    # frame, a fixed cost the shorter renders would charge to MNEE.
+    width, spp, threads = 2 * b.args.width, 4 * b.args.spp, b.args.threads
+    print("## Sweep dome-contrast: a textured dome, MNEE vs BSDF sampling\n")
+    print(f"Scene C's dome (bench/scene_c.py: sky, floor, a soft window 45 deg up) with the window `gain` x the sky, "
+          f"alone and beside sweep 1's key (MNEE either way); the analytic eye, camera at 40 mm, {width} px; {spp} spp "
+          f"per test; reference MNEE at {b.args.ref_spp} spp (another seed, its noise subtracted). Contrast: the "
+          "plan's radianceContrast (E[L^2] / E[L]^2 about the gaze). Errors over the eye's pixels and over its iris "
+          "(where the iris AOV is most of the pixel: what the strategy changes; the eye's white is the same for "
+          "both). 'eff ratio' > 1: MNEE reaches an error in less time.\n")
+    rows_out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for gain in gains:
+            progress(f"sweep dome-contrast: window {gain} x the sky")
+            texture = os.path.join(tmp, f"dome_{gain}.exr")
+            scene_c.write_exr(texture, scene_c.dome_image(*scene_c.DOME_SIZE, gain=gain))
+            stage = make_stage(light="dome", dome_texture=texture)
+            planned = RenderSession(stage, width=width, plan_overrides=make_overrides()).plan()
+            contrast = planned.eyes[0].lights[0].radiance_contrast
+            row = {"gain": gain, "contrast": contrast, **dome_strategies(stage, width, spp, b.args.ref_spp, threads)}
+            # The same dome beside sweep 1's 2 mm key at 45 degrees, which MNEE takes either way.
+            keyed = make_stage(light="dome", dome_texture=texture)
+            add_key(keyed)
+            row.update({f"key_{k}": v for k, v in dome_strategies(keyed, width, spp, b.args.ref_spp, threads).items()})
+            rows_out.append(row)
+    for title, k in (("the dome alone", ""), ("the dome beside an MNEE key", "key_")):
+        print(f"{title}:\n")
+        table(["window gain", "radiance contrast", "MNEE s", "BSDF s", "rRMSE eye MNEE / BSDF",
+               "rRMSE iris MNEE / BSDF", "BSDF bias", "eff ratio eye (MNEE/BSDF)", "eff ratio iris"],
+              [[f"{r['gain']:g}", f"{r['contrast']:.2f}", f"{r[k + 'mnee_s']:.2f}", f"{r[k + 'bsdf_s']:.2f}",
+                f"{r[k + 'mnee_eye']:.3f} / {r[k + 'bsdf_eye']:.3f}",
+                f"{r[k + 'mnee_iris']:.3f} / {r[k + 'bsdf_iris']:.3f}", f"{100 * r[k + 'bsdf_bias']:+.1f}%",
+                f"{r[k + 'eye_ratio']:.2f}", f"{r[k + 'iris_ratio']:.2f}"] for r in rows_out])
+    out["dome_contrast"] = rows_out
+
+
 def sweep_refine(b, out):
     """Subdivision level of the eye mesh by eye size: image error against level 3 (the --complexity ceiling), the
     eye silhouette's pixel error, and the sync (refinement) cost."""
@@ -735,9 +826,10 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true", help="fewer points and samples: a smoke run (about a minute)")
     p.add_argument("--sweeps", default="1,2,3,4",
-                   help="which sweeps to run (comma-separated: 1-4, sclera, refine, chamber, allsol-size, dome-arc)")
-    p.add_argument("--sweep", help="one sweep by name (sclera, refine, chamber, allsol-size, dome-arc) or number; "
-                   "overrides --sweeps")
+                   help="which sweeps to run (comma-separated: 1-4, sclera, refine, chamber, allsol-size, dome-arc, "
+                   "dome-contrast)")
+    p.add_argument("--sweep", help="one sweep by name (sclera, refine, chamber, allsol-size, dome-arc, "
+                   "dome-contrast) or number; overrides --sweeps")
     p.add_argument("--width", type=int, default=None, help="frame width in pixels (default 64; quick 48)")
     p.add_argument("--spp", type=int, default=None, help="samples per pixel of each test render (default 32)")
     p.add_argument("--ref-spp", type=int, default=None, help="reference samples per pixel (default 512)")
@@ -762,7 +854,8 @@ def main(argv=None):
     start = time.perf_counter()
     sweeps = {"1": sweep_pixels, "2": sweep_solid_angle, "3": sweep_all_solutions, "4": sweep_depth,
               "sclera": sweep_sclera, "refine": sweep_refine, "chamber": sweep_chamber,
-              "allsol-size": sweep_all_solutions_size, "dome-arc": sweep_dome_arc}
+              "allsol-size": sweep_all_solutions_size, "dome-arc": sweep_dome_arc,
+              "dome-contrast": sweep_dome_contrast}
     if args.sweep:
         args.sweeps = args.sweep
     print(f"# bench_plan ({'quick' if args.quick else 'full'}): {args.width} px frames, {args.spp} spp tests, "

@@ -26,7 +26,7 @@ from .defaults import DEFAULT_SPP
 from .errors import EyeRenderError
 from .materials import DEFAULT_BINDING_PURPOSES
 from .output_files import COLOR_CORRECTION_MODES, OUTPUT_EXTENSIONS, remove_stale_temp_files
-from .plan import PlanOverrides, plan_json
+from .plan import PlanOverrides, PlanRules, plan_json
 from .shutter import ShutterOverride, resolve_shutter
 from .usd_scene_delegate import UsdSceneDelegate
 
@@ -101,6 +101,7 @@ class RenderSession:
         self.stop_flag = StopFlag()  # request_stop(): honoured between passes
         self.stats = None
         self.plan_overrides = plan_overrides
+        self.plan_rules = PlanRules()  # the planner's thresholds (docs/render_plan.md); the sweeps move them
         self.last_plan = None  # the RenderPlan of the last frame planned (plan_overrides set)
 
     @property
@@ -287,7 +288,7 @@ class RenderSession:
         overrides = overrides or self.plan_overrides or PlanOverrides()
         self.scene.apply_stage_changes()
         try:
-            return self.render_pass.plan(self.camera_id, self.width, self.height, overrides)
+            return self.render_pass.plan(self.camera_id, self.width, self.height, overrides, self.plan_rules)
         except RuntimeError as e:
             raise EyeRenderError(str(e)) from None
 
