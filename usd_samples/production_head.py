@@ -59,9 +59,11 @@ def sphere_band_mesh(stage, path, center_cm, radius_mm, elevation_deg, divisions
 
 
 def head_mesh(stage, path, material, rows=48, cols=96):
-    """The head: a polygonal ellipsoid (UV sphere scaled by HEAD_SCALE), poles on the y axis."""
+    """The head: a polygonal ellipsoid (UV sphere scaled by HEAD_SCALE), poles on the y axis, its seam (the open
+    meridian where the first and last columns of points meet) at the back: the subdivided surface is pinned along
+    it, a crease down the face if it were in front."""
     theta = np.linspace(0, math.pi, rows + 1)[:, None]
-    phi = np.linspace(0, 2 * math.pi, cols + 1)[None, :]
+    phi = np.linspace(math.pi, 3 * math.pi, cols + 1)[None, :]
     unit = np.stack(np.broadcast_arrays(np.sin(theta) * np.sin(phi), np.cos(theta), np.sin(theta) * np.cos(phi)), -1)
     points = (HEAD_RADIUS_CM * unit * np.asarray(HEAD_SCALE)).reshape(-1, 3)
     faces = [[f[0], f[3], f[2], f[1]] for f in grid_faces(rows, cols)]  # outward from the inside-out UV order
