@@ -147,6 +147,47 @@ TEST_CASE("a rect light facing the plane gives its four corner form factors, nor
   CHECK(on == Approx(Lambert(E / (w * h))).epsilon(0.01));
 }
 
+TEST_CASE("several lights: every one sampled at each vertex (up to eight), or one picked of more, sum their light ",
+          "[usdlux]") {
+  // A sphere straight above, a rect facing the plane below it and a constant dome: their closed forms add (lights are
+  // transparent to one another: a BSDF-sampled ray towards the rect meets the sphere and the dome behind it too;
+  // counting only the nearest light lost 9 % here). With nine lights (the sphere, the rect and seven domes sharing the
+  // dome's radiance) next event estimation picks one per vertex (it lost 42 %).
+  const double R = 0.5, d = 4, w = 2, h = 1, dr = 1.5, Ls = 10, Lr = 3, Ld = 0.7;
+  const auto corner = [dr](double a, double b) {  // Howell's C-11, as the rect test above
+    const double A = a / dr, B = b / dr;
+    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+           (2 * kPi);
+  };
+  const double expected = Lambert(kPi * Ls * R * R / (d * d) + kPi * Lr * 4 * corner(w / 2, h / 2) + kPi * Ld);
+  for (int domes : {1, 7}) {
+    test::RenderStack s;
+    test::AddLambertPlane(s.scene, 100, kAlbedo);
+    LightParams bulb, rect, dome;
+    bulb.radius = float(R), bulb.intensity = float(Ls);
+    rect.width = float(w), rect.height = float(h), rect.intensity = float(Lr);
+    dome.intensity = float(Ld / domes);
+    s.scene.AddLight("/bulb", primTypes::kSphereLight, bulb, test::LookDownZ(d));
+    s.scene.AddLight("/rect", primTypes::kRectLight, rect, test::LookDownZ(dr));
+    for (int k = 0; k < domes; ++k) s.scene.AddLight("/dome" + std::to_string(k), primTypes::kDomeLight, dome);
+    CameraParams ortho;
+    ortho.orthographic = true;
+    ortho.horizontalAperture = ortho.verticalAperture = 0.02;
+    s.scene.AddCamera("/cam", ortho, test::LookDownZ(0.5));
+    s.scene.AddRenderBuffer("/color", 4, 4, 4);
+    s.delegate.Settings().samplesPerPixel = 512;
+    s.pass.Execute("/cam", {{"color", "/color"}});
+    double sum = 0;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) sum += s.Buffer("/color").Resolved(x, y, 0);
+    const double got = sum / 16;
+    Report(domes == 1 ? "sphere + rect + dome, every light sampled" : "sphere + rect + 7 domes, one light picked", got,
+           expected, "sum of closed forms");
+    CHECK(got == Approx(expected).epsilon(0.005));
+  }
+}
+
 TEST_CASE("colour temperature: 6500 K is white, 3000 K is warm, both of the same luminance ", "[usdlux]") {
   LightParams sun;
   sun.angle = 0;

@@ -101,18 +101,12 @@ class Tracer {
   /// Whether a ray along d passes a hit because its material is cut away there (opacityThreshold).
   bool CutAway(const SurfaceHit& hit, const glm::dvec3& d) const;
 
-  /// The nearest light surface a ray meets before maxDistance (for BSDF-sampled rays), with its pdf.
-  /// skipMneeOf: the ray left an iris straight through the cornea; the lights MNEE counted there
-  /// (MneeCountsLight) are passed over as if absent -- MNEE's own shadow rays treat lights as transparent,
-  /// so a light behind one of them (a dome behind a key) is counted here as MNEE would not.
-  /// minDistance: lights nearer than this were met before (a ray continued past a thin wall starts there).
-  /// skipDomes: dome lights are passed over (camera rays, when RenderSettings::domeLightCameraVisibility is off).
-  /// fromPrim: the rprim the ray left; lights linked away from it are passed over.
-  bool HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance, glm::dvec3* radiance,
-                double* pdf, const EyeLighting* skipMneeOf, bool skipDomes, int fromPrim) const;
-
-  /// The light the path's current ray meets before `maxDistance` (the geometry it hits), weighted by how the
-  /// ray was chosen (PathState's flags); hideDomes: dome lights are not met.
+  /// The light of every light surface the path's current ray meets past path.tNear (a ray continued past a thin wall
+  /// starts there) and before `maxDistance` (the geometry it hits), weighted by how the ray was chosen (PathState's
+  /// flags). Lights are transparent to one another, as to shadow rays: a dome behind a rect counts in full. Passed
+  /// over: the lights MNEE counted when the ray left an iris straight through the cornea (path.skipMneeOf), domes
+  /// with hideDomes (camera rays, when RenderSettings::domeLightCameraVisibility is off), and lights linked away from
+  /// the rprim the ray left.
   glm::dvec3 LightsMet(const PathState& path, double maxDistance, bool hideDomes) const;
 
   /// Next event estimation samples every light at each vertex when there are at most this many, else one picked

@@ -16,36 +16,25 @@ double PowerHeuristic(double a, double b) {
 
 }  // namespace
 
-bool Tracer::HitLight(const glm::dvec3& o, const glm::dvec3& d, double minDistance, double maxDistance,
-                      glm::dvec3* radiance, double* pdf, const EyeLighting* skipMneeOf, bool skipDomes,
-                      int fromPrim) const {
-  double best = kInf;
-  bool found = false;
-  for (std::size_t k = 0; k < lights_.size(); ++k) {
-    if (skipMneeOf && MneeCountsLight(*skipMneeOf, k)) continue;
-    if (skipDomes && lights_[k].type == LightType::Dome) continue;
-    const RenderLight& l = lights_[k];
-    if (skipDomes && l.type == LightType::Dome) continue;
-    if (!Illuminates(l, fromPrim)) continue;
-    glm::dvec3 le(0);
-    double lpdf = 0, dist = kInf;
-    if (IntersectLight(l, o, d, std::min(maxDistance, best), &le, &lpdf, &dist) && dist >= minDistance &&
-        (!found || dist < best)) {
-      best = dist, *radiance = le, *pdf = lpdf, found = true;
-    }
-  }
-  return found;
-}
-
 glm::dvec3 Tracer::LightsMet(const PathState& path, double maxDistance, bool hideDomes) const {
-  glm::dvec3 le(0);
-  double lpdf = 0;
-  if (path.skipLights || !HitLight(path.o, path.d, path.tNear, maxDistance, &le, &lpdf,
-                                   path.skipMnee ? &path.skipMneeOf : nullptr, hideDomes, path.fromPrim))
-    return glm::dvec3(0);
-  if (path.specular) return path.beta * le;
-  if (settings_.mis) return path.beta * le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
-  return glm::dvec3(0);
+  if (path.skipLights) return glm::dvec3(0);
+  // Lights are not geometry: shadow rays pass through them, so a ray meets every light along it before the geometry
+  // it hits (a dome behind a rect included), each weighted as next event estimation would have sampled it.
+  glm::dvec3 sum(0);
+  for (std::size_t k = 0; k < lights_.size(); ++k) {
+    const RenderLight& l = lights_[k];
+    if (path.skipMnee && MneeCountsLight(path.skipMneeOf, k)) continue;
+    if (hideDomes && l.type == LightType::Dome) continue;
+    if (!Illuminates(l, path.fromPrim)) continue;
+    glm::dvec3 le(0);
+    double lpdf = 0, distance = kInf;
+    if (!IntersectLight(l, path.o, path.d, maxDistance, &le, &lpdf, &distance) || distance < path.tNear) continue;
+    if (path.specular)
+      sum += le;
+    else if (settings_.mis)
+      sum += le * PowerHeuristic(path.bsdfPdf, lpdf * LightSelectPdf());
+  }
+  return path.beta * sum;
 }
 
 glm::dvec3 Tracer::SampleLd(const SurfaceHit& hit, const PreviewSurfaceAt& bsdf, const glm::dvec3& origin,
