@@ -127,7 +127,6 @@ std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Text
       luminance[std::size_t(y) * w + x] = std::max(0.0, Luminance(texels[std::size_t(y) * w + x]));
   // Distribution row r is image row h-1-r (v = 0 at the bottom).
   std::vector<double> weights(luminance.size());
-  double luminanceSum = 0, solidAngleSum = 0;
   for (int r = 0; r < h; ++r) {
     const int y = h - 1 - r;
     const double sinTheta = std::cos(kPi * ((r + 0.5) / h - 0.5));
@@ -139,13 +138,11 @@ std::shared_ptr<const DomeTexture> DomeTexture::Build(std::shared_ptr<const Text
           m = std::max(m, luminance[std::size_t(yy) * w + xx]);
         }
       weights[std::size_t(r) * w + x] = m * sinTheta;
-      luminanceSum += luminance[std::size_t(y) * w + x] * sinTheta, solidAngleSum += sinTheta;
     }
   }
   auto dome = std::make_shared<DomeTexture>();
   dome->image = std::move(image);
   dome->distribution = Distribution2D(w, h, weights);
-  dome->meanLuminance = solidAngleSum > 0 ? luminanceSum / solidAngleSum : 0;
   return dome;
 }
 

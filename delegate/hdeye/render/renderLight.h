@@ -27,9 +27,6 @@ struct DomeTexture {
   /// (theta the polar angle from +y), each texel's luminance taken as the largest of its 3x3
   /// neighbourhood so every direction the bilinear lookup lights has a non-zero pdf.
   Distribution2D distribution;
-  /// The image's mean luminance over the sphere (each texel weighted by its solid angle): a constant dome of
-  /// this radiance sends as much light.
-  double meanLuminance = 0;
 
   /// Throws std::invalid_argument if image is null.
   static std::shared_ptr<const DomeTexture> Build(std::shared_ptr<const Texture> image);
