@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 using namespace hdeye;
 
@@ -17,21 +18,26 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kAlbedo = 0.5;
 
-/// A light at height `height` above the centre of a Lambert plane (z = 0) of albedo 0.5, looking down (-z, so
-/// distant, rect and disk lights shine onto it), and an orthographic camera over a `patch`-wide square at its
-/// centre (`pixels` wide). Returns the mean RGB of the plane's outgoing radiance over the patch. `shift` moves the
-/// light sideways (scene units).
-glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, double height, double patch = 0.02,
-                            int pixels = 4, int spp = 128, const glm::dvec3& shift = glm::dvec3(0)) {
+/// A light to place over the plane: its prim type, parameters and local-to-world transform.
+struct PlacedLight {
+  std::string type;
+  LightParams params;
+  Matrix4d transform;
+};
+
+/// `lights` over a Lambert plane (z = 0) of albedo 0.5 and an orthographic camera at `cameraHeight` looking down
+/// (-z) at a `patch`-wide square at its centre (`pixels` wide). Returns the mean RGB of the plane's outgoing radiance
+/// over the patch.
+glm::dvec3 RenderUnderLights(const std::vector<PlacedLight>& lights, double cameraHeight, double patch = 0.02,
+                             int pixels = 4, int spp = 128) {
   test::RenderStack s;
   test::AddLambertPlane(s.scene, 100, kAlbedo);
-  Matrix4d at = test::LookDownZ(height);
-  at[3] += glm::dvec4(shift, 0);
-  s.scene.AddLight("/light", type, light, at);
+  for (std::size_t k = 0; k < lights.size(); ++k)
+    s.scene.AddLight("/light" + (k ? std::to_string(k) : ""), lights[k].type, lights[k].params, lights[k].transform);
   CameraParams ortho;
   ortho.orthographic = true;
   ortho.horizontalAperture = ortho.verticalAperture = patch;
-  s.scene.AddCamera("/cam", ortho, test::LookDownZ(height / 2));
+  s.scene.AddCamera("/cam", ortho, test::LookDownZ(cameraHeight));
   s.scene.AddRenderBuffer("/color", pixels, pixels, 4);
   s.delegate.Settings().samplesPerPixel = spp;
   s.pass.Execute("/cam", {{"color", "/color"}});
@@ -40,6 +46,24 @@ glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, d
   for (int y = 0; y < pixels; ++y)
     for (int x = 0; x < pixels; ++x) sum += glm::dvec3(b.Resolved(x, y, 0), b.Resolved(x, y, 1), b.Resolved(x, y, 2));
   return sum / double(pixels * pixels);
+}
+
+/// One light at height `height` above the plane's centre, looking down (-z, so distant, rect and disk lights shine
+/// onto it), `shift` moving it sideways (scene units); the camera halfway down (RenderUnderLights).
+glm::dvec3 RenderUnderLight(const std::string& type, const LightParams& light, double height, double patch = 0.02,
+                            int pixels = 4, int spp = 128, const glm::dvec3& shift = glm::dvec3(0)) {
+  Matrix4d at = test::LookDownZ(height);
+  at[3] += glm::dvec4(shift, 0);
+  return RenderUnderLights({{type, light, at}}, height / 2, patch, pixels, spp);
+}
+
+/// The form factor of an a x b rectangle at height d from a point under one of its corners (Howell's catalogue,
+/// C-11).
+double RectCornerFormFactor(double a, double b, double d) {
+  const double A = a / d, B = b / d;
+  return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+          B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+         (2 * kPi);
 }
 
 /// Outgoing radiance of the Lambert plane under irradiance E.
@@ -128,14 +152,7 @@ TEST_CASE("a disk light facing the plane gives pi L R^2 / (R^2 + d^2), normalize
 
 TEST_CASE("a rect light facing the plane gives its four corner form factors, normalize divides L by w h ", "[usdlux]") {
   const double w = 2, h = 1, d = 1.5, L = 3;
-  // The form factor of an a x b rectangle at height d from a point under one corner (Howell's catalogue, C-11).
-  const auto corner = [d](double a, double b) {
-    const double A = a / d, B = b / d;
-    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
-           (2 * kPi);
-  };
-  const double E = kPi * L * 4 * corner(w / 2, h / 2);
+  const double E = kPi * L * 4 * RectCornerFormFactor(w / 2, h / 2, d);
   LightParams rect;
   rect.width = float(w), rect.height = float(h), rect.intensity = float(L);
   const double off = RenderUnderLight(primTypes::kRectLight, rect, d).x;
@@ -154,34 +171,17 @@ TEST_CASE("several lights: every one sampled at each vertex (up to eight), or on
   // counting only the nearest light lost 9 % here). With nine lights (the sphere, the rect and seven domes sharing the
   // dome's radiance) next event estimation picks one per vertex (it lost 42 %).
   const double R = 0.5, d = 4, w = 2, h = 1, dr = 1.5, Ls = 10, Lr = 3, Ld = 0.7;
-  const auto corner = [dr](double a, double b) {  // Howell's C-11, as the rect test above
-    const double A = a / dr, B = b / dr;
-    return (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
-           (2 * kPi);
-  };
-  const double expected = Lambert(kPi * Ls * R * R / (d * d) + kPi * Lr * 4 * corner(w / 2, h / 2) + kPi * Ld);
+  const double expected =
+      Lambert(kPi * Ls * R * R / (d * d) + kPi * Lr * 4 * RectCornerFormFactor(w / 2, h / 2, dr) + kPi * Ld);
   for (int domes : {1, 7}) {
-    test::RenderStack s;
-    test::AddLambertPlane(s.scene, 100, kAlbedo);
     LightParams bulb, rect, dome;
     bulb.radius = float(R), bulb.intensity = float(Ls);
     rect.width = float(w), rect.height = float(h), rect.intensity = float(Lr);
     dome.intensity = float(Ld / domes);
-    s.scene.AddLight("/bulb", primTypes::kSphereLight, bulb, test::LookDownZ(d));
-    s.scene.AddLight("/rect", primTypes::kRectLight, rect, test::LookDownZ(dr));
-    for (int k = 0; k < domes; ++k) s.scene.AddLight("/dome" + std::to_string(k), primTypes::kDomeLight, dome);
-    CameraParams ortho;
-    ortho.orthographic = true;
-    ortho.horizontalAperture = ortho.verticalAperture = 0.02;
-    s.scene.AddCamera("/cam", ortho, test::LookDownZ(0.5));
-    s.scene.AddRenderBuffer("/color", 4, 4, 4);
-    s.delegate.Settings().samplesPerPixel = 512;
-    s.pass.Execute("/cam", {{"color", "/color"}});
-    double sum = 0;
-    for (int y = 0; y < 4; ++y)
-      for (int x = 0; x < 4; ++x) sum += s.Buffer("/color").Resolved(x, y, 0);
-    const double got = sum / 16;
+    std::vector<PlacedLight> lights{{primTypes::kSphereLight, bulb, test::LookDownZ(d)},
+                                    {primTypes::kRectLight, rect, test::LookDownZ(dr)}};
+    for (int k = 0; k < domes; ++k) lights.push_back({primTypes::kDomeLight, dome, Matrix4d(1.0)});
+    const double got = RenderUnderLights(lights, 0.5, 0.02, 4, 512).x;  // the camera under the rect
     Report(domes == 1 ? "sphere + rect + dome, every light sampled" : "sphere + rect + 7 domes, one light picked", got,
            expected, "sum of closed forms");
     CHECK(got == Approx(expected).epsilon(0.005));
