@@ -86,7 +86,8 @@ def session_options(args):
                   ("mnee", not args.no_mnee), ("mnee_all_solutions", args.mnee_all_solutions),
                   ("dome_light_camera_visibility", args.enableDomeLightVisibility), ("sampler", args.sampler),
                   ("iris_light_splits", args.iris_light_splits), ("chamber_splits", args.chamber_splits),
-                  *((("chamber_estimator", args.chamber_estimator),) if args.chamber_estimator else ())),
+                  *((("chamber_estimator", args.chamber_estimator),) if args.chamber_estimator else ()),
+                  *((("catchlight_samples", args.catchlight_samples),) if args.catchlight_samples else ())),
         plan=plan_options(args), strict=args.strict,
         shutter=parse_shutter_arguments(args.shutter, args.disableMotionBlur))
 

@@ -204,6 +204,7 @@ class RenderSession:
                       "time_to_first_pixel": render_start + stats.first_pass_seconds if stats.passes else None,
                       "time_to_preview": render_start + stats.preview_seconds if stats.preview_seconds else None,
                       "non_finite_samples": stats.non_finite_samples, "stopped": stats.stopped,
+                      "catchlight_pixels": stats.catchlight_pixels,
                       "time_limit_reached": stats.time_limit_reached,
                       "first_sample": first_sample - (self.stats["samples_per_pixel"] if resumed else 0),
                       "updated": dict(self.scene.last_update),
@@ -264,12 +265,13 @@ class RenderSession:
 
     def header(self):
         """The EXR header attributes of this frame's outputs: the render plan's JSON when the session plans, the time
-        to first pixel and the samples per second (the writers add each cryptomatte layer's metadata, named as its
-        channels are)."""
+        to first pixel, the samples per second and the catchlight's edge pixels (the writers add each cryptomatte
+        layer's metadata, named as its channels are)."""
         attributes = {"eyerender:plan": plan_json(self.last_plan)} if self.last_plan is not None else {}
         if self.stats and self.stats.get("time_to_first_pixel") is not None:
             attributes["eyerender:timeToFirstPixel"] = f"{self.stats['time_to_first_pixel']:.4f} s"
             attributes["eyerender:samplesPerSecond"] = f"{self.stats['samples_per_second']:.0f}"
+            attributes["eyerender:catchlightPixels"] = str(self.stats["catchlight_pixels"])
         return attributes
 
     def image(self, aov):

@@ -129,7 +129,9 @@ void BindRenderSettings(nb::module_& m) {
       .def_rw("iris_light_splits", &RenderSettings::irisLightSplits,
               "eyes: MNEE estimates averaged at a path's first iris vertex")
       .def_rw("chamber_splits", &RenderSettings::chamberSplits,
-              "eyes: chamber walks continued from a path's first iris vertex");
+              "eyes: chamber walks continued from a path's first iris vertex")
+      .def_rw("catchlight_samples", &RenderSettings::catchlightSamples,
+              "eyes: reflection-only camera paths per sample at a catchlight's edge pixels (1: none)");
   EyeSwitchProperty<&EyeSwitches::mnee>(settings, "mnee", "eye_switches.mnee");
   EyeSwitchProperty<&EyeSwitches::mneeAllSolutions>(settings, "mnee_all_solutions", "eye_switches.mnee_all_solutions");
   EyeSwitchProperty<&EyeSwitches::scleraScattering>(settings, "sclera_scattering", "eye_switches.sclera_scattering");
@@ -146,6 +148,9 @@ void BindRenderProgress(nb::module_& m) {
       .def_ro("capped_walks", &RenderStats::cappedWalks, "sclera walks dropped at their step cap")
       .def_ro("time_limit_reached", &RenderStats::timeLimitReached)
       .def_ro("first_pass_seconds", &RenderStats::firstPassSeconds, "seconds to the end of the first pass")
+      .def_ro("catchlight_pixels", &RenderStats::catchlightPixels,
+              "pixels at a catchlight's edge, sampled with catchlight_samples sub-samples")
+      .def_ro("catchlight_seconds", &RenderStats::catchlightSeconds, "seconds spent finding them")
       .def_ro("preview_seconds", &RenderStats::previewSeconds,
               "seconds to the first stage of a first pass in stages (first_pass_stride), 0 without")
       .def_ro("stopped", &RenderStats::stopped, "a stop request or the callback ended the render early");

@@ -177,6 +177,7 @@ TEST_CASE("the corneal glint is the Fresnel-weighted light at every camera sampl
   at[3] = glm::dvec4(0, 12, 120, 1);
   s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
   s.delegate.Settings().samplesPerPixel = 1;
+  s.delegate.Settings().catchlightSamples = 1;  // the split alone (test_catchlight.cpp has the sub-samples)
   s.pass.Execute("/cam", {{"color", "/color"}});
   const double f0 = std::pow((1.376 - 1) / (1.376 + 1), 2), glint = f0 * key.intensity;
   int inside = 0, off = 0;

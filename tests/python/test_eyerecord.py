@@ -188,6 +188,25 @@ def test_chamber_estimators_light_the_iris_alike_and_unknown_names_are_refused(s
         run(stage_file, tmp_path / "bad.exr", "--chamber-estimator", "guided")
 
 
+def test_the_catchlights_edge_pixels_are_counted_in_the_header_and_the_option_is_checked(stage_file, tmp_path,
+                                                                                           capsys):
+    import OpenEXR
+
+    stage = Usd.Stage.Open(str(stage_file))
+    UsdLux.SphereLight(stage.GetPrimAtPath("/World/key")).GetRadiusAttr().Set(8.0)  # a glint pixels across
+    stage.GetRootLayer().Save()
+    counts = {}
+    for n in (16, 1):
+        out = tmp_path / f"catchlight{n}.exr"
+        assert run(stage_file, out, "--camera", "main_cam", "-w", 48, "--spp", 2, "--catchlight-samples", n, "-q") == 0
+        value = OpenEXR.InputFile(str(out)).header()["eyerender:catchlightPixels"]
+        counts[n] = int(value.decode() if isinstance(value, bytes) else value)
+    assert 0 < counts[16] < 48 * 48 // 4 and counts[1] == 0, counts
+    capsys.readouterr()
+    assert run(stage_file, tmp_path / "bad.exr", "--catchlight-samples", 0, "-q") == 1
+    assert "--catchlight-samples 0: must be 1 to 256" in one_line_error(capsys)
+
+
 @pytest.mark.parametrize("case", ["missing file", "malformed", "bad camera", "not a camera", "unwritable",
                                   "bad extension", "frames without placeholder", "bad frames"])
 def test_bad_input_is_one_line_and_nonzero(case, stage_file, tmp_path, capsys):

@@ -100,10 +100,11 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   int primIndex = 0;
   std::map<PrimId, int> primIndices;
   primIdsByIndex_.clear();
-  bool cutouts = false, textured = false;
+  bool cutouts = false, textured = false, eyes = false;
   for (const auto& [id, entry] : index_->Rprims()) {
     GeometryContext* context = entry.prim->Context();
     if (!context) continue;
+    eyes = eyes || context->eye || context->meshEye;
     primIndices[id] = context->primIndex = primIndex++;
     primIdsByIndex_.push_back(id);
     const SurfaceMaterial bound = Resolve(*index_, entry.prim->MaterialId());
@@ -128,6 +129,7 @@ RenderStats RenderPass::Execute(const PrimId& cameraId, const std::vector<AovBin
   }
   renderer_.SetCutouts(cutouts);
   renderer_.SetTextured(textured);
+  renderer_.SetEyes(eyes);
   renderer_.SetSceneVersion(committedVersion_);
   return renderer_.Render(delegate->RootScene(), camera->View(), lights, delegate->Settings(),
                           BindBuffers(*index_, bindings), control);

@@ -383,7 +383,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
     reflectAtEntry(&ev);
     return ev;
   }
-  ev = WalkChamber(eye, p, wt, lighting, random, 1 - F);
+  if (!(lighting.splitAtEntry && lighting.reflectionOnly)) ev = WalkChamber(eye, p, wt, lighting, random, 1 - F);
   if (lighting.splitAtEntry && F > 0) {
     EyeEvent reflected;
     reflectAtEntry(&reflected);

@@ -62,6 +62,9 @@ struct EyeLighting {
   /// weights (EyeEvent::reflection beside the walk), instead of choosing one by F: the glint otherwise comes
   /// from 1 path in 1 / F (about 40 at 25 degrees), in steps of a tenth of its value at hundreds of samples.
   bool splitAtEntry = false;
+  /// With splitAtEntry: the entry gives its reflection alone and no walk (the event is Absorbed beside it). The
+  /// catchlight's sub-samples (RenderSettings::catchlightSamples) estimate only that branch.
+  bool reflectionOnly = false;
 };
 
 /// Whether MNEE counts light `index` of *lighting.lights for this eye (and paths straight out of the iris

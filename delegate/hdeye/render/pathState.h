@@ -91,6 +91,12 @@ struct PathSample {
   FirstHit first;       ///< that first hit (its albedo the one shaded); set (and read) only when hitAny
 };
 
+/// What a camera path does with the reflection off the cornea where it splits (EyeLighting::splitAtEntry) at its first
+/// eye event: traces it beside the walk; leaves it out (the main path of a catchlight pixel, whose sub-samples bring
+/// it: RenderSettings::catchlightSamples); or traces it alone (such a sub-sample: nothing else it meets counts, and
+/// it ends at that eye event, or at the first bounce off a delta chain before it).
+enum class CameraReflection { Traced, Left, Only };
+
 /// What a path carries from one vertex to the next.
 struct PathState {
   PathState(const WorldRay& ray, const RayCone& cameraCone)
@@ -112,8 +118,10 @@ struct PathState {
   // by light, never a mixture.
   bool specular = true, skipLights = false, skipMnee = false;
   /// The path has not yet split at a cornea (EyeLighting::splitAtEntry): only the camera's specular chain splits,
-  /// at the first cornea it meets, so a sample traces at most two paths.
+  /// at the first cornea it meets, so a sample traces at most two paths. Cleared by the split and by the first
+  /// bounce that is not a delta one.
   bool splitsAtCornea = true;
+  CameraReflection cameraReflection = CameraReflection::Traced;
   int fromPrim = -1;        ///< primIndex of the vertex the current ray left (-1: the camera), for light linking
   double bsdfPdf = 0;       ///< the pdf the current ray was sampled with (after a diffuse bounce)
   EyeLighting eyeLighting;  ///< the lights and switches of the eye last met

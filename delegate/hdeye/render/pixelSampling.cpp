@@ -68,7 +68,81 @@ RayCone PixelCone(const CameraView& camera, const WorldRay& ray, double x, doubl
           footprintScale * std::acos(std::clamp(glm::dot(ray.dir, next.dir), -1.0, 1.0))};
 }
 
+/// Where a pixel sample's camera path starts: its ray (jittered in the pixel, through its lens point, at its time), the
+/// ray's footprint and its time.
+struct CameraSample {
+  WorldRay ray;
+  RayCone cone;
+  double time;
+};
+
+/// The camera rays of one render's pixels.
+class FilmSampler {
+ public:
+  FilmSampler(const CameraView& camera, const RenderSettings& settings, int width, int height, bool textured)
+      : camera_(camera),
+        settings_(settings),
+        shutter_(camera.GetShutter()),
+        width_(width),
+        height_(height),
+        aspect_(FilmAspect(settings, width, height)),
+        cones_(textured && settings.textureFiltering) {}
+
+  const Shutter& GetShutter() const { return shutter_; }
+
+  /// Sample `s` of pixel (x, y) from its stream: at the pixel's centre if `centred`, else jittered.
+  CameraSample At(int x, int y, std::uint64_t s, bool centred, SampleStream& rng) const {
+    double jx = 0.5, jy = 0.5;
+    if (!centred) rng.PixelJitter(&jx, &jy);
+    const double time = PathTime(shutter_, settings_.timeStrata, s, rng);
+    const std::optional<CameraView> moved = camera_.motion ? std::optional(camera_.AtTime(time)) : std::nullopt;
+    const CameraView& view = moved ? *moved : camera_;
+    const bool lens = view.HasLens();
+    const double lensU = lens ? rng.FromTop(0) : 0.5, lensV = lens ? rng.FromTop(1) : 0.5;
+    const WorldRay ray = view.GenerateRay((x + jx) / width_, (y + jy) / height_, aspect_, lensU, lensV);
+    // Only texture lookups read the cone (and only when filtering): without them it is never computed.
+    const RayCone cone = cones_ ? PixelCone(view, ray, x + jx, y + jy, width_, height_, aspect_, lensU, lensV,
+                                            settings_.textureFootprintScale)
+                                : RayCone{};
+    return {ray, cone, time};
+  }
+
+ private:
+  const CameraView& camera_;
+  const RenderSettings& settings_;
+  Shutter shutter_;
+  int width_, height_;
+  double aspect_;
+  bool cones_;
+};
+
+/// The cornea's reflection at the first eye event of sample `s` of a catchlight pixel (catchlightPixels.h), from
+/// RenderSettings::catchlightSamples reflection-only paths, each 1 / N of it, added to the sample: sub-sample k is
+/// sample s N + k of the catchlight's own stream (its own seed), so over the pixel's samples its jitter, lens and time
+/// points are one stratified sequence.
+void AddCatchlightSubSamples(const FilmSampler& film, Tracer& tracer, const RenderSettings& settings, int x, int y,
+                             int width, std::uint64_t s, const eyelib::ZSobolKeyTable* keys, PathSample* sample) {
+  const int n = settings.catchlightSamples;
+  const double w = 1.0 / n;
+  for (int k = 0; k < n; ++k) {
+    const std::uint64_t sub = s * std::uint64_t(n) + std::uint64_t(k);
+    SampleStream rng(settings.sampler, CatchlightSeed(settings.seed), x, y, width, sub, keys);
+    const CameraSample camera = film.At(x, y, sub, false, rng);
+    const PathSample r = tracer.Li(camera.ray, camera.cone, rng, camera.time, CameraReflection::Only);
+    sample->L += w * r.L;
+    sample->irisMnee += w * r.irisMnee;
+    for (int part = 0; part < kEyeParts; ++part) sample->parts[part] += w * r.parts[part];
+  }
+}
+
 }  // namespace
+
+double FilmAspect(const RenderSettings& settings, int width, int height) {
+  // Non-square pixels (RenderSettings::pixelAspectRatio) stretch the film.
+  const double par =
+      std::isfinite(settings.pixelAspectRatio) && settings.pixelAspectRatio > 0 ? settings.pixelAspectRatio : 1;
+  return double(width) * par / height;
+}
 
 /// Throws std::invalid_argument unless a colour buffer is bound and every bound buffer has its size.
 void CheckBuffers(const AovBuffers& aovs) {
@@ -87,36 +161,26 @@ void CheckBuffers(const AovBuffers& aovs) {
 void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, const PixelGrid& grid,
                  RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
                  const RenderSettings& settings, bool cutouts, bool textured, const AovBuffers& aovs,
-                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys) {
+                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const SampleKeys& keys,
+                 const CatchlightPixels& catchlights) {
   const int width = aovs.color->Width(), height = aovs.color->Height();
   const int tilesX = (width + kTile - 1) / kTile;
-  // The film's aspect: non-square pixels (RenderSettings::pixelAspectRatio) stretch it.
-  const double par =
-      std::isfinite(settings.pixelAspectRatio) && settings.pixelAspectRatio > 0 ? settings.pixelAspectRatio : 1;
-  const double aspect = double(width) * par / height, invWidth = 1.0 / width, invHeight = 1.0 / height;
-  const Shutter shutter = camera.GetShutter();
-  Tracer tracer(scene, lights, settings, cutouts, shutter, chamberCaches);
+  const FilmSampler film(camera, settings, width, height, textured);
+  Tracer tracer(scene, lights, settings, cutouts, film.GetShutter(), chamberCaches);
   for (int tile = range.begin(); tile != range.end(); ++tile) {
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
-      for (int x = x0; x < std::min(width, x0 + kTile); ++x)
+      for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
+        const bool catchlight = settings.catchlightSamples > 1 && catchlights.Has(x, y);
         for (int s = firstSample; s < firstSample + samples && grid.Has(x, y); ++s) {
-          SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), sampleKeys);
-          double jx = 0.5, jy = 0.5;  // sample 0 at the pixel's centre (the data AOVs')
-          if (s != 0) rng.PixelJitter(&jx, &jy);
-          const double time = PathTime(shutter, settings.timeStrata, std::uint64_t(s), rng);
-          const std::optional<CameraView> moved = camera.motion ? std::optional(camera.AtTime(time)) : std::nullopt;
-          const CameraView& view = moved ? *moved : camera;
-          const bool lens = view.HasLens();
-          const double lensU = lens ? rng.FromTop(0) : 0.5, lensV = lens ? rng.FromTop(1) : 0.5;
-          const WorldRay ray = view.GenerateRay((x + jx) * invWidth, (y + jy) * invHeight, aspect, lensU, lensV);
-          // Only texture lookups read the cone (and only when filtering): without them it is never computed.
-          const RayCone cone = textured && settings.textureFiltering
-                                   ? PixelCone(view, ray, x + jx, y + jy, width, height, aspect, lensU, lensV,
-                                               settings.textureFootprintScale)
-                                   : RayCone{};
-          if (!AddPathSample(aovs, x, y, s, tracer.Li(ray, cone, rng, time))) ++counts->nonFinite;
+          SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), keys.path);
+          const CameraSample c = film.At(x, y, std::uint64_t(s), s == 0, rng);  // sample 0: the data AOVs' centre
+          PathSample sample =
+              tracer.Li(c.ray, c.cone, rng, c.time, catchlight ? CameraReflection::Left : CameraReflection::Traced);
+          if (catchlight) AddCatchlightSubSamples(film, tracer, settings, x, y, width, s, keys.catchlight, &sample);
+          if (!AddPathSample(aovs, x, y, s, sample)) ++counts->nonFinite;
         }
+      }
   }
   counts->Add(tracer.GetCounts());
 }

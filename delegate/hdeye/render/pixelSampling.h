@@ -1,6 +1,7 @@
 #pragma once
 // The pixels of a pass: each (pixel, sample) of a range of tiles traced from its own random stream and added to the
 // AOV buffers. Internal to the renderer: renderer.cpp splits a render into passes over these.
+#include "hdeye/render/catchlightPixels.h"
 #include "hdeye/render/renderer.h"
 #include "hdeye/render/tracer.h"
 
@@ -33,6 +34,19 @@ struct PixelGrid {
   }
 };
 
+/// The film's width over its height: the image's, stretched by RenderSettings::pixelAspectRatio.
+double FilmAspect(const RenderSettings& settings, int width, int height);
+
+/// The seed of the catchlight sub-samples' own stream (AddCatchlightSubSamples), apart from the paths'.
+inline std::uint64_t CatchlightSeed(unsigned seed) { return std::uint64_t(seed) ^ 0x3c6ef372fe94f82bull; }
+
+/// The ZSobol pair keys of a render's two streams, computed once per render (SampleStream::KeyTable); null: computed
+/// where drawn.
+struct SampleKeys {
+  const eyelib::ZSobolKeyTable* path = nullptr;
+  const eyelib::ZSobolKeyTable* catchlight = nullptr;
+};
+
 /// Throws std::invalid_argument unless a colour buffer is bound and every bound buffer has its size.
 void CheckBuffers(const AovBuffers& aovs);
 
@@ -42,6 +56,7 @@ void CheckBuffers(const AovBuffers& aovs);
 void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samples, const PixelGrid& grid,
                  RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
                  const RenderSettings& settings, bool cutouts, bool textured, const AovBuffers& aovs,
-                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const eyelib::ZSobolKeyTable* sampleKeys);
+                 SharedCounts* counts, ChamberLightCaches* chamberCaches, const SampleKeys& keys,
+                 const CatchlightPixels& catchlights);
 
 }  // namespace hdeye

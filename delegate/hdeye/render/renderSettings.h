@@ -66,8 +66,8 @@ struct RenderSettings {
   double pixelAspectRatio = 1;
   /// Motion blur: 0 draws each camera path's time uniformly over the camera's shutter (one more sample dimension);
   /// N > 0 renders N discrete times, the centres of N equal strata of the shutter, sample s at stratum s mod N (the
-  /// accumulation-buffer method: the image is the average of N sharp images, which tests check exactly). Unused
-  /// when the shutter is closed.
+  /// accumulation-buffer method: the image is the average of N sharp images, which tests check exactly, without
+  /// catchlight sub-samples: those draw times of their own). Unused when the shutter is closed.
   int timeStrata = 0;
   SamplerKind sampler = SamplerKind::ZSobol;
   /// Eyes: MNEE estimates of the light at a camera path's first iris vertex, averaged (each weighs 1 / N). More
@@ -76,6 +76,9 @@ struct RenderSettings {
   /// Eyes: chamber walks continued from a camera path's first iris vertex, each gathering the iris light it meets
   /// with weight 1 / N; the first also carries the path out of the eye (its exit keeps the full weight).
   int chamberSplits = 1;
+  /// Eyes: reflection-only camera paths per sample in the pixels at a catchlight's edge (catchlightPixels.h), which
+  /// estimate the cornea's reflection there in place of the sample's own; 1: none (every pixel as any other).
+  int catchlightSamples = 16;
 };
 
 }  // namespace hdeye

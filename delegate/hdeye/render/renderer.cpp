@@ -31,7 +31,8 @@ struct PassContext {
   const AovBuffers& aovs;
   bool cutouts, textured;
   ChamberLightCaches* chamberCaches;
-  const eyelib::ZSobolKeyTable* sampleKeys;
+  SampleKeys keys;
+  CatchlightPixels catchlights;
   int tiles;
   tbb::task_arena* arena;
   SharedCounts* counts;
@@ -42,7 +43,7 @@ void RenderPassSamples(const PassContext& c, int firstSample, int samples, const
   c.arena->execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, c.tiles), [&](const tbb::blocked_range<int>& range) {
       RenderTiles(range, firstSample, samples, grid, c.scene, c.camera, c.lights, c.settings, c.cutouts, c.textured,
-                  c.aovs, c.counts, c.chamberCaches, c.sampleKeys);
+                  c.aovs, c.counts, c.chamberCaches, c.keys, c.catchlights);
     });
   });
 }
@@ -65,6 +66,15 @@ double RenderFirstPassInStages(const PassContext& c, const ProgressiveControl& c
   }
   RenderPassSamples(c, c.settings.firstSample, 1, PixelGrid{1, coarser});
   return progress.previewSeconds;
+}
+
+/// The pixels at a catchlight's edge, if the scene has an eye, a light a cornea can mirror (not a dome) and the
+/// settings ask for catchlight sub-samples; else none (and no probe).
+CatchlightPixels FindCatchlights(const PassContext& c, bool eyes, int width, int height) {
+  const bool mirrored =
+      std::any_of(c.lights.begin(), c.lights.end(), [](const RenderLight& l) { return l.type != LightType::Dome; });
+  if (!eyes || !mirrored || c.settings.catchlightSamples <= 1) return {};
+  return CatchlightPixels::Find(c.scene, c.camera, c.lights, c.settings, c.cutouts, width, height, c.arena);
 }
 
 void CopyCounts(const SharedCounts& counts, RenderStats* stats) {
@@ -98,10 +108,16 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   if (!chamberCaches_) chamberCaches_ = std::make_shared<ChamberLightCaches>();
   chamberCaches_->BeginRender(lights, sceneVersion_);
-  const eyelib::ZSobolKeyTable sampleKeys = SampleStream::KeyTable(settings.seed);
+  const eyelib::ZSobolKeyTable pathKeys = SampleStream::KeyTable(settings.seed);
+  const eyelib::ZSobolKeyTable catchlightKeys = SampleStream::KeyTable(CatchlightSeed(settings.seed));
   const int tiles = ((width + kTile - 1) / kTile) * ((height + kTile - 1) / kTile);
-  const PassContext context{scene,       camera, lights, settings, aovs, cutouts_, textured_, chamberCaches_.get(),
-                            &sampleKeys, tiles,  &arena, &counts};
+  PassContext context{
+      scene, camera, lights, settings, aovs, cutouts_, textured_, chamberCaches_.get(), {&pathKeys, &catchlightKeys},
+      {},    tiles,  &arena, &counts};
+  context.catchlights = FindCatchlights(context, eyes_, width, height);
+  counts.rays += context.catchlights.Rays();
+  stats.catchlightPixels = context.catchlights.Count();
+  stats.catchlightSeconds = SecondsSince(start);
 
   // Without a callback, a stop flag or a time limit every pixel takes all its samples at once (in cache); else pass
   // after pass as NextPassSamples sizes them, stopping only between whole passes so every pixel has the same samples.

@@ -71,6 +71,10 @@ struct RenderStats {
   /// Seconds to the first stage of a first pass in stages (ProgressiveControl::firstPassStride): 0 without stages.
   double previewSeconds = 0;
   bool stopped = false;  ///< a stop request or the pass callback ended the render before its samples
+  /// Pixels at a catchlight's edge (catchlightPixels.h), sampled with RenderSettings::catchlightSamples sub-samples,
+  /// and the seconds spent finding them (before the first pass).
+  std::int64_t catchlightPixels = 0;
+  double catchlightSeconds = 0;
 };
 
 /// Where a progressive render stands after a pass, as the pass callback sees it.
@@ -122,6 +126,9 @@ class Renderer {
   /// Whether a material in the scene has a textured input: without one, ray cones (texture footprints) are not
   /// needed and not computed. Set by the render pass before Render.
   void SetTextured(bool textured) { textured_ = textured; }
+  /// Whether the scene has an eye (analytic or mesh): without one no pixel looks for a catchlight. Set by the render
+  /// pass before Render.
+  void SetEyes(bool eyes) { eyes_ = eyes; }
 
   /// The committed Embree scene's version (RenderParam::SceneVersion): the eyes' chamber-light caches
   /// (chamberLightCache.h), kept across Render calls, are rebuilt when it or the lights change.
@@ -130,6 +137,7 @@ class Renderer {
  private:
   bool cutouts_ = false;
   bool textured_ = true;
+  bool eyes_ = true;
   std::uint64_t sceneVersion_ = 0;
   mutable std::shared_ptr<ChamberLightCaches> chamberCaches_;  ///< created by the first Render
 };

@@ -5,7 +5,8 @@
 
 namespace hdeye {
 
-PathSample Tracer::Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time) {
+PathSample Tracer::Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time,
+                      CameraReflection reflection) {
   SetTime(time);
   PathSample sample;
   // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
@@ -14,7 +15,11 @@ PathSample Tracer::Li(const WorldRay& ray, const RayCone& cone, SampleStream& rn
   };
   PathState path(ray, cone);
   path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.eyeSwitches};
+  path.cameraReflection = reflection;
   TracePath(&path, 0, rng, &sample);
+  // A reflection-only path ends at its first eye event, where it takes the glint part (TraceOnlyCameraReflection);
+  // one that never got there brings nothing.
+  if (reflection == CameraReflection::Only && path.part != kGlint) return PathSample{};
   return sample;
 }
 
@@ -61,8 +66,10 @@ void Tracer::TracePath(PathState* pathState, int firstDepth, SampleStream& rng, 
     if (depth == 0 && !eyeSurface) sample.first.albedo = bsdf.albedo;  // the albedo AOV shows the texture
     const glm::dvec3 origin = SpawnOrigin(hit.p, hit.n, SpawnScaleOf(*hit.context));
     const PreviewSurfaceAt bsdfAt(bsdf, hit.n, -path.d);  // wo's Fresnel and lobes, shared by both
-    sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
+    const bool reflectionOnly = path.cameraReflection == CameraReflection::Only;
+    if (!reflectionOnly) sample.L += SampleLd(hit, bsdfAt, origin, path.beta, rng);
     if (!SampleContinuation(hit, bsdf, bsdfAt, origin, depth, rng, &path)) break;
+    if (reflectionOnly && !path.splitsAtCornea) break;  // past a diffuse bounce: no split to come
   }
   path.SwitchPart(path.part, &sample);
 }
@@ -95,6 +102,7 @@ bool Tracer::SampleContinuation(const SurfaceHit& hit, const PreviewSurface& bsd
   if (bs.transmitted) path->insideGlass = !path->insideGlass;
   path->bsdfPdf = bs.pdf;
   path->specular = bs.delta, path->skipLights = !bs.delta && !settings_.mis, path->skipMnee = false;
+  path->splitsAtCornea = path->splitsAtCornea && bs.delta;  // only the camera's delta chain splits
   path->beta *= bs.weight;
   path->cone = path->cone.AfterBounce(hit.t, bs.delta);
   path->SetRay(glm::dot(bs.wi, hit.n) > 0 ? origin : SpawnOrigin(hit.p, -hit.n, SpawnScaleOf(*hit.context)), bs.wi);

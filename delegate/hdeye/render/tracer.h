@@ -50,7 +50,14 @@ class Tracer {
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
   /// cone: the camera ray's footprint, carried along the path for texture filtering.
   /// time: the path's, frames (PathTime): rays meet the geometry, lights and eyes as they are then.
-  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time);
+  /// reflection: what the path does with the cornea's reflection at its first eye event (CameraReflection).
+  PathSample Li(const WorldRay& ray, const RayCone& cone, SampleStream& rng, double time,
+                CameraReflection reflection = CameraReflection::Traced);
+
+  /// Whether the camera ray's first hit is an eye whose cornea there mirrors a light other than a dome (a
+  /// catchlight): the entry's reflection meets the light before any geometry. A function of the scene only (the
+  /// entry's random numbers are fixed); catchlightPixels.h asks it at pixel corners.
+  bool SeesCatchlight(const WorldRay& ray, double time);
 
   const Counts& GetCounts() const { return counts_; }
 
@@ -141,6 +148,11 @@ class Tracer {
   /// Its light goes to the eye AOV `part`.
   void TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart part, int depth, const SurfaceHit& hit,
                              const PathState& path, SampleStream& rng, PathSample* sample);
+
+  /// A reflection-only path (CameraReflection::Only) at its first eye event: what it gathered so far is dropped, the
+  /// reflection split at the entry (if any) is traced into the glint part, and the path ends.
+  EyeOutcome TraceOnlyCameraReflection(const EyeEvent& ev, int depth, const SurfaceHit& hit, PathState* path,
+                                       SampleStream& rng, PathSample* sample);
 
   /// The sclera's diffuse surface at an eye hit: the eye's own normal, or an eye mesh's shading normal; the
   /// sclera colour, or with a bound material that material's colour (its diffuse texture at the hit's st,

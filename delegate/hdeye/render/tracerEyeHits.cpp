@@ -24,7 +24,44 @@ ResolvedEye ResolveEye(const EyeRenderOptions& options, const EyeGeometry& eye, 
   return {switches, nullptr, kUnplanned.maxChamberEvents};
 }
 
+/// The eye's event at a hit of the ray from o along unit d: an analytic eye's, or an eye mesh's mapped onto it.
+EyeEvent ScatterAtHit(const EyeGeometry& eye, const SurfaceHit& hit, const glm::dvec3& o, const glm::dvec3& d,
+                      const EyeLighting& lighting, eyelib::FunctionRef<double()> random) {
+  const GeometryContext& ctx = *hit.context;
+  return ctx.eye
+             ? ScatterAtEye(eye, o, d, EyeGeometry::Part(hit.part), lighting, random)
+             : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit.part, hit.u, hit.v, d), d, lighting, random);
+}
+
 }  // namespace
+
+bool Tracer::SeesCatchlight(const WorldRay& ray, double time) {
+  SetTime(time);
+  SurfaceHit hit;
+  if (!Intersect(ray.origin, ray.dir, ray.tNear, ray.tFar, &hit)) return false;
+  const EyeGeometry* found = EyeOf(*hit.context);
+  if (!found) return false;
+  const std::optional<EyeGeometry> moved = found->motion ? std::optional(found->AtTime(time_)) : std::nullopt;
+  const auto transmittance = [this](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
+    return Transmittance(lights_[k], o, d, t);
+  };
+  EyeLighting lighting{&lights_, transmittance, hit.primIndex, settings_.eyeSwitches};
+  lighting.splitAtEntry = lighting.reflectionOnly = true;
+  // The entry's two numbers (limbus, Fresnel) fixed: the cornea unless the limbus is all sclera there.
+  const auto fixed = [] { return 1 - 1e-9; };
+  const EyeEvent ev = ScatterAtHit(moved ? *moved : *found, hit, ray.origin, ray.dir, lighting, fixed);
+  if (!(ev.reflection.weight > 0)) return false;
+  const glm::dvec3 &o = ev.reflection.origin, &d = ev.reflection.dir;
+  SurfaceHit blocker;
+  const double reach = Intersect(o, d, 0, kInf, &blocker) ? blocker.t : kInf;
+  for (const RenderLight& light : lights_) {
+    if (light.type == LightType::Dome || !Illuminates(light, hit.primIndex)) continue;
+    glm::dvec3 le(0);
+    double pdf = 0, distance = kInf;
+    if (IntersectLight(light, o, d, reach, &le, &pdf, &distance) && (le.x > 0 || le.y > 0 || le.z > 0)) return true;
+  }
+  return false;
+}
 
 const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const EyeLighting& lighting) {
   LastMneePick& last = lastMneePick_;
@@ -89,14 +126,15 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
   lighting.receiver = hit->primIndex;
   lighting.chamberEstimator = settings_.chamberEstimator;
   lighting.splitAtEntry = path->splitsAtCornea && path->specular;
+  const bool firstEyeVisit = path->part == kNonEye;
+  lighting.reflectionOnly = path->cameraReflection == CameraReflection::Only && firstEyeVisit;
   lighting.mneePick = lighting.switches.mnee ? &MneePickOf(ctx, lighting) : nullptr;
   const bool cached = lighting.switches.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
   lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
-  const EyeEvent ev = ctx.eye
-                          ? ScatterAtEye(eye, path->o, path->d, EyeGeometry::Part(hit->part), lighting, random)
-                          : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit->part, hit->u, hit->v, path->d),
-                                             path->d, lighting, random);
-  const bool firstEyeEvent = path->part == kNonEye && !ev.passThrough;
+  const EyeEvent ev = ScatterAtHit(eye, *hit, path->o, path->d, lighting, random);
+  const bool firstEyeEvent = firstEyeVisit && !ev.passThrough;
+  if (path->cameraReflection == CameraReflection::Only && firstEyeEvent)
+    return TraceOnlyCameraReflection(ev, depth, *hit, path, rng, sample);
   if (firstEyeEvent)
     path->SwitchPart(ev.kind == EyeEvent::Sclera ? kSclera : ev.reflectedAtEntry ? kGlint : kIris, sample);
   sample->L += path->beta * ev.radiance;
@@ -104,7 +142,8 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
   if (ev.reflection.weight > 0) {
     path->splitsAtCornea = false;
     path->SwitchPart(path->part, sample);
-    TraceCorneaReflection(ev.reflection, firstEyeEvent ? kGlint : path->part, depth, *hit, *path, rng, sample);
+    if (!(firstEyeEvent && path->cameraReflection == CameraReflection::Left))
+      TraceCorneaReflection(ev.reflection, firstEyeEvent ? kGlint : path->part, depth, *hit, *path, rng, sample);
     path->lMark = sample->L;  // what the branch gathered is in its own part
   }
   if (ev.kind == EyeEvent::Continue) {
@@ -137,6 +176,16 @@ void Tracer::TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart p
   branch.SetRay(reflection.origin, reflection.dir);
   branch.SetSpecular();
   TracePath(&branch, depth + 1, rng, sample);
+}
+
+EyeOutcome Tracer::TraceOnlyCameraReflection(const EyeEvent& ev, int depth, const SurfaceHit& hit, PathState* path,
+                                             SampleStream& rng, PathSample* sample) {
+  *sample = PathSample{};  // what the path met before its first eye event is the main path's
+  path->lMark = glm::dvec3(0);
+  path->part = kGlint;
+  if (ev.reflection.weight > 0) TraceCorneaReflection(ev.reflection, kGlint, depth, hit, *path, rng, sample);
+  path->lMark = sample->L;  // the branch put its light in its part
+  return EyeOutcome::End;
 }
 
 void Tracer::ShadeScleraSurface(const EyeGeometry& eye, const EyeEvent& ev, const glm::dvec3& d, const RayCone& cone,

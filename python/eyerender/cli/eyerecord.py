@@ -107,6 +107,9 @@ def build_parser():
                    help="eyes: MNEE light estimates averaged at a path's first iris vertex (default 1)")
     p.add_argument("--chamber-splits", type=int, default=1, metavar="N",
                    help="eyes: chamber walks continued from a path's first iris vertex (default 1)")
+    p.add_argument("--catchlight-samples", type=int, default=None, metavar="N",
+                   help="eyes: reflection-only paths per sample in the pixels at a catchlight's edge (1: none; "
+                   "default: the renderer's, 16)")
     p.add_argument("--plan", action="store_true", help="print the render plan (JSON) on stdout and exit: nothing is "
                    "rendered or written (docs/render_plan.md)")
     p.add_argument("--no-auto-plan", action="store_true", help="no render plan: MNEE, sclera scattering etc. as the "
@@ -157,6 +160,8 @@ def samples_per_pixel(args):
     for name in ("iris_light_splits", "chamber_splits"):
         if not 1 <= getattr(args, name) <= 64:
             raise EyeRenderError(f"--{name.replace('_', '-')} {getattr(args, name)}: must be 1 to 64")
+    if args.catchlight_samples is not None and not 1 <= args.catchlight_samples <= 256:
+        raise EyeRenderError(f"--catchlight-samples {args.catchlight_samples}: must be 1 to 256")
     for name in ("imageWidth", "imageHeight"):
         if getattr(args, name) is not None and getattr(args, name) < 1:
             raise EyeRenderError(f"--{name} {getattr(args, name)}: must be at least 1 pixel")

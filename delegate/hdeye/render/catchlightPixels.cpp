@@ -1,0 +1,52 @@
+#include "hdeye/render/catchlightPixels.h"
+
+#include "hdeye/render/pixelSampling.h"
+#include "hdeye/render/tracer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+
+namespace hdeye {
+
+CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera,
+                                        const std::vector<RenderLight>& lights, const RenderSettings& settings,
+                                        bool cutouts, int width, int height, tbb::task_arena* arena) {
+  const int cornersX = width + 1, cornersY = height + 1;
+  std::vector<std::uint8_t> sees(std::size_t(cornersX) * cornersY, 0);
+  const Shutter shutter = camera.GetShutter();
+  const CameraView view = camera.motion ? camera.AtTime(shutter.open) : camera;
+  const double aspect = FilmAspect(settings, width, height);
+  std::atomic<std::int64_t> rays{0};
+  arena->execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, cornersY), [&](const tbb::blocked_range<int>& rows) {
+      Tracer tracer(scene, lights, settings, cutouts, shutter);
+      for (int j = rows.begin(); j != rows.end(); ++j)
+        for (int i = 0; i < cornersX; ++i) {
+          const WorldRay ray = view.GenerateRay(double(i) / width, double(j) / height, aspect);
+          sees[std::size_t(j) * cornersX + i] = tracer.SeesCatchlight(ray, shutter.open);
+        }
+      rays += tracer.GetCounts().rays;
+    });
+  });
+  CatchlightPixels pixels;
+  pixels.rays_ = rays;
+  pixels.width_ = width;
+  pixels.marked_.assign(std::size_t(width) * height, 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      bool any = false, all = true;
+      for (int j = std::max(0, y - 1); j <= std::min(height, y + 2); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(width, x + 2); ++i) {
+          const bool s = sees[std::size_t(j) * cornersX + i];
+          any = any || s, all = all && s;
+        }
+      if (any && !all) pixels.marked_[std::size_t(y) * width + x] = 1, ++pixels.count_;
+    }
+  if (pixels.count_ == 0) pixels.marked_.clear();
+  return pixels;
+}
+
+}  // namespace hdeye
