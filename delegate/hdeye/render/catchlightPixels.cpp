@@ -8,13 +8,23 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 
 namespace hdeye {
+
+namespace {
+
+/// Corners probed at most at a pixel's spacing (512 x 512 pixels); a larger image is probed every `step` pixels, so
+/// the probe stays a small share of a first pass (catchlights narrower than the step may be missed there).
+constexpr double kFullCorners = 512.0 * 512.0;
+
+}  // namespace
 
 CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera,
                                         const std::vector<RenderLight>& lights, const RenderSettings& settings,
                                         bool cutouts, int width, int height, tbb::task_arena* arena) {
-  const int cornersX = width + 1, cornersY = height + 1;
+  const int step = std::max(1, int(std::sqrt(double(width) * height / kFullCorners)));
+  const int cornersX = (width + step - 1) / step + 1, cornersY = (height + step - 1) / step + 1;
   std::vector<std::uint8_t> sees(std::size_t(cornersX) * cornersY, 0);
   const Shutter shutter = camera.GetShutter();
   const CameraView view = camera.motion ? camera.AtTime(shutter.open) : camera;
@@ -25,8 +35,8 @@ CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera
       Tracer tracer(scene, lights, settings, cutouts, shutter);
       for (int j = rows.begin(); j != rows.end(); ++j)
         for (int i = 0; i < cornersX; ++i) {
-          const WorldRay ray = view.GenerateRay(double(i) / width, double(j) / height, aspect);
-          sees[std::size_t(j) * cornersX + i] = tracer.SeesCatchlight(ray, shutter.open);
+          const double u = double(std::min(width, i * step)) / width, v = double(std::min(height, j * step)) / height;
+          sees[std::size_t(j) * cornersX + i] = tracer.SeesCatchlight(view.GenerateRay(u, v, aspect), shutter.open);
         }
       rays += tracer.GetCounts().rays;
     });
@@ -37,9 +47,10 @@ CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera
   pixels.marked_.assign(std::size_t(width) * height, 0);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
+      // The corners of the pixel's lattice cell and of the cells around it.
       bool any = false, all = true;
-      for (int j = std::max(0, y - 1); j <= std::min(height, y + 2); ++j)
-        for (int i = std::max(0, x - 1); i <= std::min(width, x + 2); ++i) {
+      for (int j = std::max(0, y / step - 1); j <= std::min(cornersY - 1, y / step + 2); ++j)
+        for (int i = std::max(0, x / step - 1); i <= std::min(cornersX - 1, x / step + 2); ++i) {
           const bool s = sees[std::size_t(j) * cornersX + i];
           any = any || s, all = all && s;
         }

@@ -22,8 +22,8 @@ class CatchlightPixels {
   CatchlightPixels() = default;  ///< none
 
   /// Asks Tracer::SeesCatchlight along the camera ray through every pixel corner (the lens's centre, the shutter's
-  /// opening) and marks each pixel whose 4 x 4 block of corners (its own and its neighbours') disagrees: every pixel
-  /// within one pixel of a catchlight's edge.
+  /// opening; past 512 x 512 pixels, every few pixels' corner) and marks each pixel whose 4 x 4 block of corners (its
+  /// own cell's and its neighbours') disagrees: every pixel within one cell of a catchlight's edge.
   static CatchlightPixels Find(RTCScene scene, const CameraView& camera, const std::vector<RenderLight>& lights,
                                const RenderSettings& settings, bool cutouts, int width, int height,
                                tbb::task_arena* arena);

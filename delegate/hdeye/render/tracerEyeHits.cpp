@@ -1,6 +1,7 @@
 // The tracer at an eye: the eye's switches, MNEE's light choice and chamber cache, the cornea's reflected branch.
 #include "hdeye/render/tracer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <optional>
 
@@ -52,15 +53,20 @@ bool Tracer::SeesCatchlight(const WorldRay& ray, double time) {
   const EyeEvent ev = ScatterAtHit(moved ? *moved : *found, hit, ray.origin, ray.dir, lighting, fixed);
   if (!(ev.reflection.weight > 0)) return false;
   const glm::dvec3 &o = ev.reflection.origin, &d = ev.reflection.dir;
-  SurfaceHit blocker;
-  const double reach = Intersect(o, d, 0, kInf, &blocker) ? blocker.t : kInf;
+  // The nearest light the mirror direction meets, then one ray to see whether geometry comes first: most corners
+  // meet no light and cast no second ray.
+  double nearest = kInf;
+  bool met = false;
   for (const RenderLight& light : lights_) {
     if (light.type == LightType::Dome || !Illuminates(light, hit.primIndex)) continue;
     glm::dvec3 le(0);
     double pdf = 0, distance = kInf;
-    if (IntersectLight(light, o, d, reach, &le, &pdf, &distance) && (le.x > 0 || le.y > 0 || le.z > 0)) return true;
+    if (IntersectLight(light, o, d, kInf, &le, &pdf, &distance) && (le.x > 0 || le.y > 0 || le.z > 0))
+      met = true, nearest = std::min(nearest, distance);
   }
-  return false;
+  if (!met) return false;
+  SurfaceHit blocker;
+  return !Intersect(o, d, 0, nearest, &blocker);
 }
 
 const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const EyeLighting& lighting) {
