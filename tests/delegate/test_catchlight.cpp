@@ -18,11 +18,12 @@ using namespace hdeye;
 namespace {
 
 constexpr int kSize = 64;
+constexpr int kLarge = 1024;  // past 512 x 512: the probe's corners every 2 pixels
 
 /// A dark analytic eye 40 mm from the camera, which it fills, under a large sphere light near the camera (its
 /// reflection a few pixels across) and, if asked, a dim dome.
 struct CatchlightScene : test::RenderStack {
-  explicit CatchlightScene(bool sphere, bool dome = false) {
+  explicit CatchlightScene(bool sphere, bool dome = false, int size = kSize) {
     EyeParams eye;
     eye.irisColor = glm::vec3(0.1f);
     eye.scleraColor = glm::vec3(0.1f);
@@ -30,8 +31,8 @@ struct CatchlightScene : test::RenderStack {
     CameraParams lens;
     lens.focalLength = 100;
     scene.AddCamera("/cam", lens, test::LookDownZ(40));
-    scene.AddRenderBuffer("/color", kSize, kSize, 4);
-    scene.AddRenderBuffer("/glint", kSize, kSize, 3);
+    scene.AddRenderBuffer("/color", size, size, 4);
+    scene.AddRenderBuffer("/glint", size, size, 3);
     if (sphere) {
       LightParams key;
       key.type = LightType::Sphere;
@@ -83,6 +84,13 @@ TEST_CASE("catchlight pixels: the edge of a light's reflection in the cornea, no
   CHECK(lit.Render(1, 0, 1).catchlightPixels == 0);
   CatchlightScene domeOnly(false, true);
   CHECK(domeOnly.Render(1, 0, 16).catchlightPixels == 0);
+  // 16 times the pixels, probed every 2nd corner: the edge 16 times as long in pixels, its margin twice as wide.
+  CatchlightScene large(true, false, kLarge);
+  const RenderStats big = large.Render(1, 0, 16);
+  std::printf("catchlight pixels at %d x %d: %lld, found in %.4f s\n", kLarge, kLarge, (long long)big.catchlightPixels,
+              big.catchlightSeconds);
+  CHECK(big.catchlightPixels > 8 * stats.catchlightPixels);
+  CHECK(big.catchlightPixels < 64 * stats.catchlightPixels);
 }
 
 TEST_CASE("catchlight sub-samples keep the image's mean and cut the glint's edge noise", "[render][catchlight]") {
