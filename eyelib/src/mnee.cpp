@@ -244,8 +244,8 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     const MneeSolution second = solveOn(other, first.p.x, first.p.y);
     return converged ? first.status : second.status;
   };
-  const Vec2<double> seed = StraightLineSeed(chamber, x, light);
   if (!seeds.allSolutions && !seeds.fallback) {  // Cycles' way: one solve on the piecewise surface
+    const Vec2<double> seed = StraightLineSeed(chamber, x, light);
     const MneeSolution sol = SolveRefractionPath(chamber, x, light, seed.x, seed.y, options);
     result.solves = 1;
     result.failures = sol.status != MneeStatus::Converged;
@@ -253,7 +253,8 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
     if (sol.status == MneeStatus::Converged) result.solutions.push_back(sol), result.transfer = sol.transfer;
     return result;
   }
-  const Vec2<double> start = seeds.start ? *seeds.start : seed;
+  // The straight line only when no start is given (it costs a cap intersection).
+  const Vec2<double> start = seeds.start ? *seeds.start : StraightLineSeed(chamber, x, light);
   const MneeStatus first = trySeed(start.x, start.y);
   if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
   // One solution wanted: stop at the first, but if the straight line failed (it often misses the
