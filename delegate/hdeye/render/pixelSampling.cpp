@@ -85,6 +85,8 @@ class FilmSampler {
         shutter_(camera.GetShutter()),
         width_(width),
         height_(height),
+        invWidth_(1.0 / width),
+        invHeight_(1.0 / height),
         aspect_(FilmAspect(settings, width, height)),
         cones_(textured && settings.textureFiltering) {}
 
@@ -99,7 +101,7 @@ class FilmSampler {
     const CameraView& view = moved ? *moved : camera_;
     const bool lens = view.HasLens();
     const double lensU = lens ? rng.FromTop(0) : 0.5, lensV = lens ? rng.FromTop(1) : 0.5;
-    const WorldRay ray = view.GenerateRay((x + jx) / width_, (y + jy) / height_, aspect_, lensU, lensV);
+    const WorldRay ray = view.GenerateRay((x + jx) * invWidth_, (y + jy) * invHeight_, aspect_, lensU, lensV);
     // Only texture lookups read the cone (and only when filtering): without them it is never computed.
     const RayCone cone = cones_ ? PixelCone(view, ray, x + jx, y + jy, width_, height_, aspect_, lensU, lensV,
                                             settings_.textureFootprintScale)
@@ -112,7 +114,7 @@ class FilmSampler {
   const RenderSettings& settings_;
   Shutter shutter_;
   int width_, height_;
-  double aspect_;
+  double invWidth_, invHeight_, aspect_;
   bool cones_;
 };
 
@@ -171,7 +173,7 @@ void RenderTiles(const tbb::blocked_range<int>& range, int firstSample, int samp
     const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
     for (int y = y0; y < std::min(height, y0 + kTile); ++y)
       for (int x = x0; x < std::min(width, x0 + kTile); ++x) {
-        const bool catchlight = settings.catchlightSamples > 1 && catchlights.Has(x, y);
+        const bool catchlight = catchlights.Has(x, y);  // none are found without sub-samples to give them
         for (int s = firstSample; s < firstSample + samples && grid.Has(x, y); ++s) {
           SampleStream rng(settings.sampler, settings.seed, x, y, width, std::uint64_t(s), keys.path);
           const CameraSample c = film.At(x, y, std::uint64_t(s), s == 0, rng);  // sample 0: the data AOVs' centre

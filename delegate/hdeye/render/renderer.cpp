@@ -114,10 +114,11 @@ RenderStats Renderer::Render(RTCScene scene, const CameraView& camera, const std
   PassContext context{
       scene, camera, lights, settings, aovs, cutouts_, textured_, chamberCaches_.get(), {&pathKeys, &catchlightKeys},
       {},    tiles,  &arena, &counts};
+  const auto probeStart = std::chrono::steady_clock::now();
   context.catchlights = FindCatchlights(context, eyes_, width, height);
   counts.rays += context.catchlights.Rays();
   stats.catchlightPixels = context.catchlights.Count();
-  stats.catchlightSeconds = SecondsSince(start);
+  stats.catchlightSeconds = SecondsSince(probeStart);
 
   // Without a callback, a stop flag or a time limit every pixel takes all its samples at once (in cache); else pass
   // after pass as NextPassSamples sizes them, stopping only between whole passes so every pixel has the same samples.

@@ -10,9 +10,7 @@ PathSample Tracer::Li(const WorldRay& ray, const RayCone& cone, SampleStream& rn
   SetTime(time);
   PathSample sample;
   // Referred to (not copied) by the path's EyeLighting, so it lives as long as the path.
-  const auto transmittance = [this](std::size_t k, const glm::dvec3& po, const glm::dvec3& pd, double t) {
-    return Transmittance(lights_[k], po, pd, t);
-  };
+  const auto transmittance = LightTransmittance();
   PathState path(ray, cone);
   path.eyeLighting = EyeLighting{&lights_, transmittance, -1, settings_.eyeSwitches};
   path.cameraReflection = reflection;

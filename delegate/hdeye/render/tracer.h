@@ -66,6 +66,14 @@ class Tracer {
   /// 0, the first hit's data). A branch split off at a cornea (ShadeEyeHit) goes through here on its own.
   void TracePath(PathState* pathState, int firstDepth, SampleStream& rng, PathSample* samplePtr);
 
+  /// The shadow test an eye's lighting calls (EyeLighting::transmittance) over this tracer's lights, by index. The
+  /// caller keeps the returned callable alive while the lighting refers to it.
+  auto LightTransmittance() {
+    return [this](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
+      return Transmittance(lights_[k], o, d, t);
+    };
+  }
+
   /// The path's time: Embree's ray time, and the moving lights moved to it.
   void SetTime(double time);
 

@@ -43,9 +43,7 @@ bool Tracer::SeesCatchlight(const WorldRay& ray, double time) {
   const EyeGeometry* found = EyeOf(*hit.context);
   if (!found) return false;
   const std::optional<EyeGeometry> moved = found->motion ? std::optional(found->AtTime(time_)) : std::nullopt;
-  const auto transmittance = [this](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
-    return Transmittance(lights_[k], o, d, t);
-  };
+  const auto transmittance = LightTransmittance();
   EyeLighting lighting{&lights_, transmittance, hit.primIndex, settings_.eyeSwitches};
   lighting.splitAtEntry = lighting.reflectionOnly = true;
   // The entry's two numbers (limbus, Fresnel) fixed: the cornea unless the limbus is all sclera there.
@@ -94,9 +92,7 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
   const auto perThread = [&](eyelib::FunctionRef<void(const EyeLighting&)> body) {
     Tracer here(scene_, sourceLights_, settings_, cutouts_, shutter_);
     here.SetTime(time_);
-    const auto transmittance = [&here](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
-      return here.Transmittance(here.lights_[k], o, d, t);
-    };
+    const auto transmittance = here.LightTransmittance();
     EyeLighting own = lighting;
     own.lights = &here.lights_;
     own.transmittance = transmittance;
