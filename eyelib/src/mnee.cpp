@@ -20,6 +20,7 @@ const char* ToString(MneeStatus status) {
     case MneeStatus::WrongSide: return "wrong side";
     case MneeStatus::Occluded: return "occluded";
     case MneeStatus::OffPiece: return "off piece";
+    case MneeStatus::BehindCap: return "behind the cap";
   }
   return "?";
 }
@@ -93,6 +94,19 @@ double ParamJacobianDet(const PathState& s, double eta) {
 
 bool AllFinite(const Vec3d& v) { return IsFinite(v); }
 
+/// Whether a distant light faces away from every outward normal of the cap. The normals tilt at most
+/// atan(MaxSlope) off the axis, and a direction at elevation e has a positive cosine to a normal tilted by t towards
+/// it only if t > -e: so no path leaves towards z <= -sin(atan(MaxSlope)).
+bool BehindCap(const AnteriorSurface<double>& surface, const LightEnd& light) {
+  const double k = surface.MaxSlope(), z = light.direction.z;  // z <= -k / sqrt(1 + k^2), without the root
+  return light.distant && z < 0 && z * z * (1 + k * k) >= k * k;
+}
+
+/// A first solve's outcome that no other seed can change.
+bool Final(MneeStatus s) {
+  return s == MneeStatus::Occluded || s == MneeStatus::InvalidInput || s == MneeStatus::BehindCap;
+}
+
 }  // namespace
 
 MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
@@ -105,6 +119,10 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
   if (!AllFinite(x) || !lightOk || !std::isfinite(u0) || !std::isfinite(v0) ||
       !(x.z < surface.Sag(std::sqrt(x.x * x.x + x.y * x.y))))
     return out;
+  if (BehindCap(surface, light)) {
+    out.status = MneeStatus::BehindCap;
+    return out;
+  }
   // The sclera hides everything below the rim plane from the cornea (lights behind the eye).
   const double zRim = surface.Sag(surface.RimRadius());
   if (options.scleraOccludes && (light.distant ? light.direction.z <= 0 : light.position.z <= zRim)) {
@@ -194,6 +212,16 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 Vec3d ApproximateEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
                             int iterations) {
   Vec3d p(0), n(0, 0, 1);
+  if (BehindCap(chamber.Surface(), light)) return p;  // no path to start
+  // Light from below the rim plane enters near the rim on its own side, where the cap tilts most: three steps from
+  // the apex do not get there, so start there, at 0.83 of the rim radius (mid-cone).
+  const Vec3d fromApex = light.distant ? light.direction : light.position;
+  if (const double across = fromApex.z < 0 ? std::hypot(fromApex.x, fromApex.y) : 0; across > 0) {
+    const AnteriorSurface<double>& surface = chamber.Surface();
+    const double r = 0.83 * surface.RimRadius();
+    p = {r * fromApex.x / across, r * fromApex.y / across, surface.Sag(r)};
+    n = surface.Normal(p.x, p.y);
+  }
   for (int k = 0; k < iterations; ++k) {
     const Vec3d toLight = light.distant ? light.direction : light.position - p;
     const double length = glm::length(toLight);
@@ -232,12 +260,11 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   // junction (the two pieces' caustics overlap there) or beyond its own piece. (A failed first solve is not
   // retried there: on the light-tracing tests that finds no more light.)
   auto trySeed = [&](double u, double v) {
-    const SurfacePiece own = surface.PieceAt(std::hypot(u, v)), other = surface.OtherPiece(own);
+    const SurfacePiece own = surface.PieceAt(Radius(u, v)), other = surface.OtherPiece(own);
     const MneeSolution first = solveOn(own, u, v);
-    if (other == own || first.status == MneeStatus::Occluded || first.status == MneeStatus::InvalidInput)
-      return first.status;
+    if (other == own || Final(first.status)) return first.status;
     const bool converged = first.status == MneeStatus::Converged;
-    const double fromJunction = std::abs(std::hypot(first.p.x, first.p.y) - surface.JunctionRadius());
+    const double fromJunction = std::abs(Radius(first.p.x, first.p.y) - surface.JunctionRadius());
     if (converged && fromJunction >= seeds.junctionPairRadius) return first.status;
     if (!converged && first.status != MneeStatus::OffPiece) return first.status;
     // From where the first solve ended on its extension: the other piece's path is near it.
@@ -256,7 +283,7 @@ MneeResult FindRefractionPaths(const AnteriorChamber<double>& chamber, const Vec
   // The straight line only when no start is given (it costs a cap intersection).
   const Vec2<double> start = seeds.start ? *seeds.start : StraightLineSeed(chamber, x, light);
   const MneeStatus first = trySeed(start.x, start.y);
-  if (first == MneeStatus::Occluded || first == MneeStatus::InvalidInput) return result;
+  if (Final(first)) return result;
   // One solution wanted: stop at the first, but if the straight line failed (it often misses the
   // cap for light from below the rim plane), walk the meridian seeds until one converges.
   const bool stopAtFirst = !seeds.allSolutions;

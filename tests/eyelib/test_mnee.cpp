@@ -201,3 +201,71 @@ TEST_CASE("a small light's failed start is not worth retrying: the same light, i
       if (degrees >= 62) CHECK(iterationsOnce < 0.4 * iterationsRetried);
     }
 }
+
+TEST_CASE("a distant direction started at its own entry point needs no retry, from above or below the rim plane") {
+  // IrisIrradianceFromLight's start for a dome's or a distant light's sampled direction: ApproximateEntryPoint along
+  // it (from mid-cone for light from below the rim plane), no retry. Against the straight line with the meridian
+  // retry, over the whole sphere of directions: the same light, in fewer iterations.
+  const AnteriorChamber<double> chamber;
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  MneeOptions options;
+  options.scleraOccludes = false;
+  for (const auto& [zLow, zHigh] : {std::pair{-0.62, 0.0}, std::pair{0.0, 1.0}}) {
+    double retried = 0, started = 0;
+    long iterationsRetried = 0, iterationsStarted = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
+      const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+      const double z = zLow + (zHigh - zLow) * u(rng), a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
+      const LightEnd end{true, {}, Vec3d(s * std::cos(a), s * std::sin(a), z)};
+      SeedStrategy seeds;
+      const MneeResult withRetry = FindRefractionPaths(chamber, x, end, seeds, options);
+      const Vec3d entry = ApproximateEntryPoint(chamber, x, end);
+      seeds.start = Vec2<double>(entry.x, entry.y);
+      seeds.retryStart = false;
+      const MneeResult once = FindRefractionPaths(chamber, x, end, seeds, options);
+      retried += withRetry.transfer, started += once.transfer;
+      iterationsRetried += withRetry.iterations, iterationsStarted += once.iterations;
+    }
+    std::printf("directions z in [%.2f, %.2f]: light from the entry point %+.4f %%, iterations %.2f -> %.2f\n", zLow,
+                zHigh, 100 * (started / retried - 1), iterationsRetried / 20000.0, iterationsStarted / 20000.0);
+    CHECK(started >= (1 - 1e-4) * retried);
+    CHECK(iterationsStarted < 0.5 * iterationsRetried);
+  }
+}
+
+TEST_CASE("no path leaves towards a direction further below the rim plane than the cap's normals tilt") {
+  // MneeStatus::BehindCap: z <= -sin(atan(MaxSlope)). MaxSlope is the steepest slope over the cap; every direction
+  // light refracted out of the cap from an iris point takes lies above the bound (and comes within a few degrees of
+  // it), and MNEE makes no solve below it.
+  for (CorneaModel model : {CorneaModel::EllipsoidCone, CorneaModel::Paraboloid}) {
+    ChamberParams params;
+    params.model = model;
+    const AnteriorChamber<double> chamber(params);
+    const AnteriorSurface<double>& surface = chamber.Surface();
+    double steepest = 0;
+    for (int i = 0; i <= 10000; ++i) steepest = std::max(steepest, std::abs(surface.Slope(surface.RimRadius() * i / 1e4)));
+    CHECK(surface.MaxSlope() == Approx(steepest).epsilon(1e-3));
+    const double bound = -surface.MaxSlope() / std::sqrt(1 + surface.MaxSlope() * surface.MaxSlope());
+    double lowest = 1;
+    for (int k = 0; k <= 40; ++k) {
+      const Vec3d x = IrisPoint(chamber, chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * k / 40.0,
+                                0.0);
+      for (int i = 1; i <= 200; ++i)
+        for (int j = 0; j < 64; ++j) {
+          const double r = surface.RimRadius() * i / 200, phi = 2 * paper::kPi * j / 64;
+          const Vec3d p(r * std::cos(phi), r * std::sin(phi), surface.Sag(r));
+          Vec3d out;
+          if (Refract(glm::normalize(x - p), -surface.Normal(p.x, p.y), 1 / chamber.CorneaIor(), &out))
+            lowest = std::min(lowest, out.z);
+        }
+      const LightEnd below{true, {}, Vec3d(std::sqrt(1 - bound * bound), 0, bound - 1e-12)};
+      CHECK(SolveRefractionPath(chamber, x, below, 0, 0).status == MneeStatus::BehindCap);
+    }
+    std::printf("%s: max slope %.4f, bound z = %.4f, lowest refracted direction z = %.4f\n", ToString(model),
+                surface.MaxSlope(), bound, lowest);
+    CHECK(lowest > bound);
+    CHECK(lowest < bound + 0.1);
+  }
+}

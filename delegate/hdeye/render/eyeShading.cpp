@@ -236,6 +236,12 @@ glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, 
     // A small sphere or disk (under about 3 degrees) gains nothing from retrying a failed start elsewhere.
     const bool round = light.type == LightType::Sphere || light.type == LightType::Disk;
     seeds.retryStart = !(round && light.radius < 0.05 * glm::length(light.position - origin));
+  } else if (distant) {
+    // One sampled direction (of a dome, or of a distant light's cone): the entry along that very direction, a
+    // light of no extent, so a failed start is not retried either.
+    const glm::dvec3 along = eyelib::ApproximateEntryPoint(eye.chamber, x, end);
+    seeds.start = eyelib::Vec2<double>(along.x, along.y);
+    seeds.retryStart = false;
   }
   const eyelib::MneeResult paths = eyelib::FindRefractionPaths(eye.chamber, x, end, seeds, options);
   glm::dvec3 E(0);
@@ -359,7 +365,7 @@ EyeEvent ScatterFromCornea(const EyeGeometry& eye, const CorneaEntry& entry, con
   // Limbus: the sclera's share of this point is its probability of being shaded as sclera. Both choices at the
   // entry are drawn first: one pair.
   const double uLimbus = random(), uFresnel = random();
-  if (uLimbus < eye.chamber.LimbusWeight(std::hypot(p.x, p.y))) {
+  if (uLimbus < eye.chamber.LimbusWeight(eyelib::Radius(p.x, p.y))) {
     ev.kind = EyeEvent::Sclera;
     ev.scleraAlbedo = eye.scleraColor;
     ev.normal = eye.DirToWorld(n);

@@ -70,6 +70,8 @@ template <class T> class AnteriorSurface {
       zConeApex_ = T(zApex);
       cone_ = {T(-k2), T(2 * k2 * zApex), T(-k2 * zApex * zApex)};
     }
+    const T smooth = std::abs(junction_ * -2 / (2 * primary_.b * PrimarySag(junction_) + primary_.c));
+    maxSlope_ = model == CorneaModel::Paraboloid ? smooth : std::max(smooth, tanCone_);
     // A sphere that bounds the surface; used to re-originate far rays.
     center_ = Vec3<T>(0, 0, T(-2));
     reach_ = T(9);
@@ -118,6 +120,11 @@ template <class T> class AnteriorSurface {
     const T g = SlopeOverRadius(std::sqrt(x * x + y * y));
     return glm::normalize(Vec3<T>(-g * x, -g * y, T(1)));
   }
+
+  /// The steepest slope |f'(r)| on the cap (dimensionless): the sag is concave on each piece, so each piece's slope
+  /// is steepest at its outer radius (the cone's is constant). About 0.78 (38 degrees) for the ellipsoid-cone, 1.04
+  /// for the paraboloid.
+  T MaxSlope() const { return maxSlope_; }
 
   PrincipalCurvatures<T> Curvatures(T r) const {
     const T fp = Slope(r);
@@ -277,7 +284,7 @@ template <class T> class AnteriorSurface {
 
   CorneaModel model_;
   T rim_, junction_;
-  T tanCone_ = 0, zJunction_ = 0, zConeApex_ = 0, zCenter_ = 0;
+  T tanCone_ = 0, zJunction_ = 0, zConeApex_ = 0, zCenter_ = 0, maxSlope_ = 0;
   RotationalQuadric<T> primary_;  // ellipsoid or paraboloid
   RotationalQuadric<T> cone_;
   Vec3<T> center_;

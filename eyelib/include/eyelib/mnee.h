@@ -32,6 +32,9 @@ enum class MneeStatus : std::uint8_t {
   WrongSide,      ///< converged, but the light is not in front of the surface there (a light behind the eye)
   Occluded,       ///< the light is behind the sclera: below the rim plane
   OffPiece,       ///< converged on a piece's analytic extension, outside the radii that piece owns
+  /// a distant light further below the rim plane than the cap's steepest normal tilts (AnteriorSurface::MaxSlope):
+  /// it faces away from the whole cap, so no path exists and no solve is made
+  BehindCap,
 };
 
 const char* ToString(MneeStatus status);
@@ -82,8 +85,10 @@ MneeSolution SolveRefractionPath(const AnteriorChamber<double>& chamber, const V
 Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light);
 
 /// Approximately where light from `light` refracts into the chamber on its way to iris point x (mm): from the
-/// apex, `iterations` fixed-point steps (refract the direction towards the light at the current point, then go back
-/// from x against that direction to the cornea). The apex if a step misses the cap or cannot refract. A light's
+/// apex (for light from below the rim plane, from the cone's middle on the light's side), `iterations` fixed-point
+/// steps (refract the direction towards the light at the current point, then go back from x against that direction
+/// to the cornea). Where it got to if a step misses the cap or cannot refract; the apex for a distant light behind the
+/// cap (MneeStatus::BehindCap). Newton's start for MNEE, and a light's
 /// sampling origin: MNEE's weight for a light point is cos(emission towards the path's cornea point) over the cosine
 /// the sampling origin sees there, which diverges at the light's rim (as seen from the origin) when the origin is the
 /// apex and the path crosses the cornea millimetres away; from this point the two cosines nearly agree.

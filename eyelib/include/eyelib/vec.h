@@ -23,4 +23,8 @@ template <class T> inline bool IsFinite(const Vec3<T>& v) {
 /// Squared radial distance from the gaze axis, x^2 + y^2 (mm^2).
 template <class T> inline T RadiusSquared(const Vec3<T>& p) { return p.x * p.x + p.y * p.y; }
 
+/// Radial distance sqrt(x^2 + y^2) (mm) of eye-sized coordinates: no hypot, whose overflow guard costs more than
+/// the square root, for values that cannot overflow.
+template <class T> inline T Radius(T x, T y) { return std::sqrt(x * x + y * y); }
+
 }  // namespace eyelib
