@@ -232,7 +232,7 @@ IrisChamberCache::IrisChamberCache(const IrisChamberTransport& transport, const 
 
 IrisChamberCache::Stencil IrisChamberCache::StencilAt(const Vec3d& x) const {
   const int rings = grid_.rings, sectors = grid_.sectors;
-  const double rr = (std::hypot(x.x, x.y) - rMin_) / (rMax_ - rMin_) * rings - 0.5;
+  const double rr = (Radius(x.x, x.y) - rMin_) / (rMax_ - rMin_) * rings - 0.5;
   const double ss = Azimuth(x.x, x.y) / (2 * paper::kPi) * sectors - 0.5;
   const double rc = std::clamp(rr, 0.0, double(rings - 1));
   const int r0 = std::min(rings - 1, int(std::floor(rc)));

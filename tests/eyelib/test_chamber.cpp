@@ -135,6 +135,33 @@ TEST_CASE("the next surface from inside the chamber is the full two-piece search
   }
 }
 
+TEST_CASE("a ray from inside aimed at the junction ring leaves through the piece the full search finds") {
+  // The exit's piece is told by where the ray crosses the junction plane (AnteriorSurface::ExitPiece); near the ring,
+  // within rounding, both pieces are tried. Rays from inside and from cap points towards points 1e-12 to 1e-2 mm off
+  // the junction ring, above and below it.
+  const AnteriorChamber<double> chamber = ChamberOf(CorneaModel::EllipsoidCone);
+  const auto& surface = chamber.Surface();
+  const double rj = surface.JunctionRadius(), zj = surface.Sag(rj);
+  int mismatches = 0, cornea = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const double phi = 2 * paper::kPi * UniformAt(5, i, 0), off = std::pow(10.0, -12 + 10 * UniformAt(5, i, 1));
+    const double side = UniformAt(5, i, 2) < 0.5 ? -1 : 1;
+    const V target((rj + side * off) * std::cos(phi), (rj + side * off) * std::sin(phi), zj + side * off * 0.3);
+    const double r = chamber.IrisRadius() * std::sqrt(UniformAt(5, i, 3)), a = 2 * paper::kPi * UniformAt(5, i, 4);
+    const double top = surface.Sag(r);
+    const V p(r * std::cos(a), r * std::sin(a),
+              i % 2 ? top : chamber.IrisZ() + UniformAt(5, i, 5) * (top - chamber.IrisZ()));
+    const V d = glm::normalize(target - p);
+    const ChamberSurfaceHit<double> fast = chamber.NextSurfaceFromInside(p, d),
+                                    full = NextSurfaceByFullSearch(chamber, p, d);
+    cornea += full.kind == ChamberSurfaceHit<double>::Cornea;
+    if (fast.kind != full.kind || !(glm::length(fast.point - full.point) <= 1e-12)) ++mismatches;
+  }
+  std::printf("rays at the junction ring: %d of 100000 leave through the cornea; %d differ\n", cornea, mismatches);
+  CHECK(mismatches == 0);
+  CHECK(cornea > 30000);
+}
+
 TEST_CASE("a ray that heads away from the cap's tangent plane above it meets neither the cap nor the iris disk") {
   // AnteriorSurface::HeadsAway: exact for a convex region; checked against the intersections themselves for rays
   // from points above the cap (on it, as offset shadow rays start, and up to 2 mm above) in every direction.

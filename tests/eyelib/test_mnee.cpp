@@ -245,13 +245,14 @@ TEST_CASE("no path leaves towards a direction further below the rim plane than t
     const AnteriorChamber<double> chamber(params);
     const AnteriorSurface<double>& surface = chamber.Surface();
     double steepest = 0;
-    for (int i = 0; i <= 10000; ++i) steepest = std::max(steepest, std::abs(surface.Slope(surface.RimRadius() * i / 1e4)));
+    for (int i = 0; i <= 10000; ++i)
+      steepest = std::max(steepest, std::abs(surface.Slope(surface.RimRadius() * i / 1e4)));
     CHECK(surface.MaxSlope() == Approx(steepest).epsilon(1e-3));
     const double bound = -surface.MaxSlope() / std::sqrt(1 + surface.MaxSlope() * surface.MaxSlope());
     double lowest = 1;
     for (int k = 0; k <= 40; ++k) {
-      const Vec3d x = IrisPoint(chamber, chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * k / 40.0,
-                                0.0);
+      const Vec3d x =
+          IrisPoint(chamber, chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * k / 40.0, 0.0);
       for (int i = 1; i <= 200; ++i)
         for (int j = 0; j < 64; ++j) {
           const double r = surface.RimRadius() * i / 200, phi = 2 * paper::kPi * j / 64;

@@ -79,7 +79,7 @@ template <class T> class AnteriorChamber {
     auto onPlane = [&] {  // the plane point into `hit`; its radius
       hit.point = p + tPlane * d;
       hit.point.z = irisZ_;
-      const T r = std::hypot(hit.point.x, hit.point.y);
+      const T r = Radius(hit.point.x, hit.point.y);
       hit.kind = r < pupilRadius_ ? ChamberSurfaceHit<T>::Pupil : ChamberSurfaceHit<T>::Iris;
       return r;
     };

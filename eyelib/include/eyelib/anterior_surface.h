@@ -102,11 +102,7 @@ template <class T> class AnteriorSurface {
   T Slope(T r) const { return PieceAt(r) == SurfacePiece::Cone ? -tanCone_ : r * SlopeOverRadius(r); }
 
   /// f'(r) / r, 1/mm; finite at r = 0 (the smooth pieces have f' = r * g(f)).
-  T SlopeOverRadius(T r) const {
-    if (PieceAt(r) == SurfacePiece::Cone) return -tanCone_ / r;
-    // Implicit differentiation of r^2 + b f^2 + c f = 0: f' = -2 r / (2 b f + c).
-    return -2 / (2 * primary_.b * Sag(r) + primary_.c);
-  }
+  T SlopeOverRadius(T r) const { return SlopeOverRadiusAtSag(r, Sag(r)); }
 
   /// f''(r), 1/mm.
   T SecondDerivative(T r) const {
@@ -191,8 +187,10 @@ template <class T> class AnteriorSurface {
   /// a path from its cornea); false says nothing.
   bool HeadsAway(const Vec3<T>& origin, const Vec3<T>& dir) const {
     const T r = std::sqrt(origin.x * origin.x + origin.y * origin.y);
-    if (!(r <= rim_) || !(origin.z > Sag(r))) return false;
-    const T g = SlopeOverRadius(r);  // the tangent plane's normal is (-g x, -g y, 1)
+    if (!(r <= rim_)) return false;
+    const T sag = Sag(r);
+    if (!(origin.z > sag)) return false;
+    const T g = SlopeOverRadiusAtSag(r, sag);  // the tangent plane's normal is (-g x, -g y, 1)
     return -g * (origin.x * dir.x + origin.y * dir.y) + dir.z >= 0;
   }
 
@@ -207,6 +205,13 @@ template <class T> class AnteriorSurface {
   }
 
  private:
+  /// f'(r) / r from the sag f(r) already known.
+  T SlopeOverRadiusAtSag(T r, T sag) const {
+    if (PieceAt(r) == SurfacePiece::Cone) return -tanCone_ / r;
+    // Implicit differentiation of r^2 + b f^2 + c f = 0: f' = -2 r / (2 b f + c).
+    return -2 / (2 * primary_.b * sag + primary_.c);
+  }
+
   /// Intersect's search; `fromInside`: the origin is inside (ExitFromInside), so an exit ends it.
   std::optional<SurfaceHit<T>> FirstCrossing(const Ray<T>& ray, T tMax, bool fromInside) const {
     // Bring |dir| near 1 by a power of two when it is far from it: exact, so the ray is not
@@ -223,12 +228,10 @@ template <class T> class AnteriorSurface {
     const Vec3<T> d = ray.dir * scale;
     std::optional<SurfaceHit<T>> best;
     auto consider = [&](SurfacePiece piece) {
-      const QuadricRoots<T> roots = IntersectQuadric(Quadric(piece), ray.origin, d, center_, reach_);
-      for (int i = 0; i < roots.count; ++i) {
-        const T t = roots.t[i] * scale;
-        if (!(t <= tMax) || (best && t >= best->t)) continue;
-        const Vec3<T>& p = roots.point[i];
-        if (!OnPiece(piece, p)) continue;
+      IntersectQuadric(Quadric(piece), ray.origin, d, center_, reach_, [&](T tScaled, const Vec3<T>& p) {
+        const T t = tScaled * scale;
+        if (!(t <= tMax) || (best && t >= best->t)) return true;  // roots ascend: the later ones are further
+        if (!OnPiece(piece, p)) return false;
         // Within a few ulps of the junction a root of one piece may be accepted; the radius decides
         // which piece, and so which normal, the hit reports.
         const SurfacePiece owner = model_ == CorneaModel::Paraboloid          ? piece
@@ -236,11 +239,19 @@ template <class T> class AnteriorSurface {
                                                                               : SurfacePiece::Cone;
         const Vec3<T> n = glm::normalize(Quadric(owner).Gradient(p));
         best = SurfaceHit<T>{t, p, n, owner, glm::dot(n, d) < 0};
-        return;  // roots ascend; the first valid one is this piece's nearest
-      }
+        return true;  // the first valid root is this piece's nearest
+      });
     };
     if (model_ == CorneaModel::Paraboloid) {
       consider(SurfacePiece::Paraboloid);
+      return best;
+    }
+    // A ray from inside leaves through one piece, which the junction plane tells: only that one is intersected
+    // (the other too if it yields nothing, as near the junction ring).
+    const std::optional<SurfacePiece> exit = fromInside ? ExitPiece(ray.origin, d) : std::nullopt;
+    if (exit) {
+      consider(*exit);
+      if (!best) consider(OtherPiece(*exit));
       return best;
     }
     consider(SurfacePiece::Ellipsoid);
@@ -248,6 +259,21 @@ template <class T> class AnteriorSurface {
     // ellipsoid is the first crossing, and the cone need not be tried; nor, for a ray from inside, after an exit.
     if (!best || (best->fromOutside == fromInside)) consider(SurfacePiece::Cone);
     return best;
+  }
+
+  /// The piece a ray from inside the region under the ellipsoid-cone cap (or from a point of the cap) leaves through:
+  /// the ellipsoid owns the region above the junction plane z = f(5.01 mm), the cone the band below it, so it is the
+  /// origin's side unless the ray crosses that plane inside the junction disk. Nothing within rounding of the
+  /// junction ring.
+  std::optional<SurfacePiece> ExitPiece(const Vec3<T>& o, const Vec3<T>& d) const {
+    const bool above = o.z > zJunction_;
+    const SurfacePiece own = above ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
+    if (!(d.z != 0) || above == (d.z > 0)) return own;  // heads away from the plane
+    const T t = (zJunction_ - o.z) / d.z;
+    const T r2 = RadiusSquared(o + t * d), j2 = junction_ * junction_;
+    if (r2 < j2 * (1 - T(1e-6))) return OtherPiece(own);
+    if (r2 > j2 * (1 + T(1e-6))) return own;
+    return std::nullopt;
   }
 
   static double EllipsoidSag(double r) {

@@ -41,14 +41,6 @@ template <class T> struct RotationalQuadric {
   }
 };
 
-/// Ray parameters (ascending, t > 0) where a ray meets a quadric, with the points computed where
-/// they are accurate (from the re-originated ray).
-template <class T> struct QuadricRoots {
-  int count = 0;
-  T t[2] = {0, 0};
-  Vec3<T> point[2];
-};
-
 namespace detail {
 
 template <class T> inline T DifferenceOfProducts(T a, T b, T c, T d) {
@@ -60,13 +52,14 @@ template <class T> inline T DifferenceOfProducts(T a, T b, T c, T d) {
 
 }  // namespace detail
 
-/// Intersects the ray origin + t * dir (finite, dir of length near 1: any length works, but keep it
-/// within a few binades of 1 so that dir*dir neither overflows nor underflows) with q for t > 0.
+/// Visits, in ascending order, the ray parameters t > 0 where the ray origin + t * dir (finite, dir of length near 1:
+/// any length works, but keep it within a few binades of 1 so that dir*dir neither overflows nor underflows) meets
+/// q, each with its point computed where it is accurate (from the re-originated ray): visit(t, point) returns true
+/// to stop. A root is polished only when it is visited, so a caller that takes the first pays for one.
 /// `center` and `reach` describe where the surface lives (a sphere bounding the part of interest):
 /// origins outside it are re-originated near `center` first.
-template <class T> QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
-                                                    const Vec3<T>& center, T reach) {
-  QuadricRoots<T> out;
+template <class T, class Visit> void IntersectQuadric(const RotationalQuadric<T>& q, Vec3<T> origin, const Vec3<T>& dir,
+                                                      const Vec3<T>& center, T reach, Visit&& visit) {
   // Re-originate far rays at their closest approach to `center`; fma keeps the new origin on the ray.
   T tShift = 0;
   const Vec3<T> toCenter = center - origin;
@@ -90,18 +83,20 @@ template <class T> QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& 
     if (A != 0) roots[n++] = -2 * B / A;
   } else {
     const T D = detail::DifferenceOfProducts(B, B, A, C);
-    if (D < 0) return out;
+    if (D < 0) return;
     const T qv = -(B + std::copysign(std::sqrt(D), B));
     if (A != 0) roots[n++] = qv / A;
     if (qv != 0) roots[n++] = C / qv;
   }
+  if (n == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
 
   // The polish may move a root by at most a quarter of the gap to the other one, so near tangency
-  // it can never jump across to its partner.
+  // it can never jump across to its partner (and the roots stay in order).
   const T maxStep = n == 2 ? std::abs(roots[1] - roots[0]) / 4 : std::abs(roots[0]) / 4;
   for (int i = 0; i < n; ++i) {
     T tl = roots[i];
-    if (!std::isfinite(tl)) continue;
+    // The polish moves a root by at most maxStep: one that stays behind the origin is not worth it.
+    if (!std::isfinite(tl) || tl + tShift + 2 * maxStep < 0) continue;
     Vec3<T> p = origin + tl * dir;
     const T f = q.Eval(p);
     const T df = glm::dot(q.Gradient(p), dir);
@@ -114,16 +109,8 @@ template <class T> QuadricRoots<T> IntersectQuadric(const RotationalQuadric<T>& 
       }
     }
     const T t = tl + tShift;
-    if (!(t > 0)) continue;
-    out.t[out.count] = t;
-    out.point[out.count] = p;
-    ++out.count;
+    if (t > 0 && visit(t, p)) return;
   }
-  if (out.count == 2 && out.t[1] < out.t[0]) {
-    std::swap(out.t[0], out.t[1]);
-    std::swap(out.point[0], out.point[1]);
-  }
-  return out;
 }
 
 }  // namespace eyelib
