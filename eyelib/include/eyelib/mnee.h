@@ -13,6 +13,7 @@
 //
 // All in double precision, in the canonical eye frame (mm).
 #include "eyelib/anterior_chamber.h"
+#include "eyelib/inline_vector.h"
 #include "eyelib/vec.h"
 
 #include <cstdint>
@@ -131,11 +132,11 @@ struct SeedStrategy {
 };
 
 struct MneeResult {
-  std::vector<MneeSolution> solutions;  ///< distinct converged solutions
-  int solves = 0;                       ///< Newton solves run
-  int failures = 0;                     ///< solves that did not converge to a valid path
-  int iterations = 0;                   ///< Newton iterations over all solves
-  int maxIterations = 0;                ///< the most any one solve took
+  InlineVector<MneeSolution, 4> solutions;  ///< distinct converged solutions
+  int solves = 0;                           ///< Newton solves run
+  int failures = 0;                         ///< solves that did not converge to a valid path
+  int iterations = 0;                       ///< Newton iterations over all solves
+  int maxIterations = 0;                    ///< the most any one solve took
   /// Sum of the solutions' transfers (see MneeSolution::transfer).
   double transfer = 0;
 };
