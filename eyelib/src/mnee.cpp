@@ -211,17 +211,21 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 
 Vec3d ApproximateEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
                             int iterations) {
-  Vec3d p(0), n(0, 0, 1);
-  if (BehindCap(chamber.Surface(), light)) return p;  // no path to start
+  if (BehindCap(chamber.Surface(), light)) return Vec3d(0);  // no path to start
   // Light from below the rim plane enters near the rim on its own side, where the cap tilts most: three steps from
   // the apex do not get there, so start there, at 0.83 of the rim radius (mid-cone).
   const Vec3d fromApex = light.distant ? light.direction : light.position;
   if (const double across = fromApex.z < 0 ? std::hypot(fromApex.x, fromApex.y) : 0; across > 0) {
     const AnteriorSurface<double>& surface = chamber.Surface();
     const double r = 0.83 * surface.RimRadius();
-    p = {r * fromApex.x / across, r * fromApex.y / across, surface.Sag(r)};
-    n = surface.Normal(p.x, p.y);
+    const Vec3d p(r * fromApex.x / across, r * fromApex.y / across, surface.Sag(r));
+    return RefineEntryPoint(chamber, x, light, p, surface.Normal(p.x, p.y), iterations);
   }
+  return RefineEntryPoint(chamber, x, light, Vec3d(0), Vec3d(0, 0, 1), iterations);
+}
+
+Vec3d RefineEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light, Vec3d p, Vec3d n,
+                       int iterations) {
   for (int k = 0; k < iterations; ++k) {
     const Vec3d toLight = light.distant ? light.direction : light.position - p;
     const double length = glm::length(toLight);

@@ -201,11 +201,13 @@ TEST_CASE(
   const int strata = 4;
   // The identity is the chamber walk's: the control variate's cache is one per render (built at the shutter's
   // opening), so a blurred render's differs from each sharp render's, though every one of them is unbiased. So are
-  // the catchlight's sub-samples (found at the opening, each at a time of its own): off here.
+  // the catchlight's sub-samples (found at the opening, each at a time of its own), and the still eye's entry tables
+  // the sharp renders would use: off here.
   const auto walkOnly = [](test::RenderStack& s) {
     SaccadeScene(s);
     s.delegate.Settings().chamberEstimator = ChamberEstimator::Path;
     s.delegate.Settings().catchlightSamples = 1;
+    s.delegate.Settings().mneeEntryTables = false;
   };
   const auto [blurred, sharp, still] = RenderStrata(walkOnly, 8, strata);
   const Difference color = Compare(blurred.color, sharp.color), iris = Compare(blurred.iris, sharp.iris);

@@ -1,6 +1,7 @@
 // Manifold next event estimation through the analytic cornea: Snell's law at the solutions, the
 // generalized geometry term against closed forms and finite differences, and the irradiance against
 // an independent light-tracing reference.
+#include "eyelib/entry_point_table.h"
 #include "eyelib/mnee.h"
 #include "eyelib/optics.h"
 #include "mnee_test_helpers.h"
@@ -269,4 +270,50 @@ TEST_CASE("no path leaves towards a direction further below the rim plane than t
     CHECK(lowest > bound);
     CHECK(lowest < bound + 0.1);
   }
+}
+
+TEST_CASE("a tabulated entry point starts MNEE as well as the computed one") {
+  // EntryPointTable: a bilinear guess from 17 x 17 nodes over the iris and one fixed-point step, against
+  // ApproximateEntryPoint's three steps from the apex, for points on a small light 100 mm and 15 mm away at 0-88
+  // degrees, iris points over the whole disk: the same light, in no more iterations, from a start as near the path.
+  const AnteriorChamber<double> chamber;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0, 1);
+  MneeOptions options;
+  options.scleraOccludes = false;
+  for (double distance : {15.0, 100.0})
+    for (double degrees : {0.0, 30.0, 62.0, 80.0, 88.0}) {
+      const double a0 = degrees * paper::kPi / 180, radius = 0.049 * distance;
+      const Vec3d centre(distance * std::sin(a0), 0, distance * std::cos(a0));
+      const EntryPointTable table(chamber, {false, centre, {}});
+      double computed = 0, tabulated = 0, offComputed = 0, offTabulated = 0;
+      long iterationsComputed = 0, iterationsTabulated = 0, found = 0;
+      for (int i = 0; i < 4000; ++i) {
+        const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
+        const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+        const double z = 2 * u(rng) - 1, a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
+        const LightEnd end{false, centre + radius * Vec3d(s * std::cos(a), s * std::sin(a), z), {}};
+        SeedStrategy seeds;
+        seeds.retryStart = false;
+        const Vec3d fromApex = ApproximateEntryPoint(chamber, x, {false, centre, {}}), fromTable = table.At(chamber, x);
+        seeds.start = Vec2<double>(fromApex.x, fromApex.y);
+        const MneeResult one = FindRefractionPaths(chamber, x, end, seeds, options);
+        seeds.start = Vec2<double>(fromTable.x, fromTable.y);
+        const MneeResult other = FindRefractionPaths(chamber, x, end, seeds, options);
+        computed += one.transfer, tabulated += other.transfer;
+        iterationsComputed += one.iterations, iterationsTabulated += other.iterations;
+        if (one.solutions.empty()) continue;
+        ++found;
+        offComputed += glm::length(fromApex - one.solutions[0].p);
+        offTabulated += glm::length(fromTable - one.solutions[0].p);
+      }
+      std::printf(
+          "light %3.0f mm, %2.0f deg: light from the table %+.4f %%, iterations %.2f -> %.2f, start %.4f -> %.4f mm "
+          "off the path\n",
+          distance, degrees, 100 * (tabulated / computed - 1), iterationsComputed / 4000.0,
+          iterationsTabulated / 4000.0, offComputed / std::max(1L, found), offTabulated / std::max(1L, found));
+      CHECK(std::abs(tabulated / computed - 1) < 1e-3);
+      CHECK(iterationsTabulated <= 1.05 * iterationsComputed);
+      CHECK(offTabulated <= 1.5 * offComputed + 1e-3 * found);
+    }
 }

@@ -192,9 +192,12 @@ glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, 
   // own cornea point over the apex's cosine diverges at the light's rim for iris points off the axis
   // (eyelib::ApproximateEntryPoint). The estimate is unbiased for any origin.
   const bool hasCentre = !light.delta && light.type != LightType::Distant && light.type != LightType::Dome;
-  const glm::dvec3 entry =
-      hasCentre ? eyelib::ApproximateEntryPoint(eye.chamber, x, {false, eye.ToCanonical(light.position), {}})
-                : glm::dvec3(0);
+  glm::dvec3 entry(0);
+  if (hasCentre) {
+    const eyelib::LightEnd centre{false, eye.ToCanonical(light.position), {}};
+    entry = lighting.entryTables && !light.motion ? lighting.entryTables->At(lighting.eyeKey, eye.chamber, centre, x)
+                                                  : eyelib::ApproximateEntryPoint(eye.chamber, x, centre);
+  }
   const glm::dvec3 origin = eye.ToWorld(entry);
   const LightSample ls = SampleLight(light, origin, u1, u2);
   if (!(ls.pdf > 0)) return glm::dvec3(0);

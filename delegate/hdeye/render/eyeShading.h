@@ -10,6 +10,7 @@
 // and ScatterAtEyeMesh (an eye mesh: the hit mapped onto the analytic cornea) both end in
 // ScatterFromCornea, which owns everything from "a point on the analytic cornea and an incoming
 // canonical direction" onward.
+#include "hdeye/render/entryTables.h"
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/eyeMeshMapping.h"
 #include "hdeye/render/renderLight.h"
@@ -55,6 +56,11 @@ struct EyeLighting {
   ChamberEstimator chamberEstimator = ChamberEstimator::Path;
   /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
   std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
+  /// Where each small light's centre enters this eye, tabulated (the renderer's, for a still eye; a moving light is
+  /// never looked up), or null: computed at each iris point. Mutable: tables are built when first asked for.
+  /// `eyeKey`: the eye's key into them.
+  EntryTables* entryTables = nullptr;
+  const void* eyeKey = nullptr;
   /// With switches.mnee: the probability MNEE picks each light with (over *lights, MneeLightPick), or null or of
   /// another length: uniformly among the lights it counts.
   const std::vector<double>* mneePick = nullptr;

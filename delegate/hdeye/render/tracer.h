@@ -6,6 +6,7 @@
 // renderer (renderer.cpp and pixelSampling.cpp drive it).
 #include "hdeye/params/motion.h"
 #include "hdeye/render/chamberLightCache.h"
+#include "hdeye/render/entryTables.h"
 #include "hdeye/render/materialShading.h"
 #include "hdeye/render/movingLights.h"
 #include "hdeye/render/pathState.h"
@@ -233,6 +234,7 @@ class Tracer {
     glm::dmat4 frame{0.0};
     std::shared_ptr<const eyelib::IrisChamberCache> cache;
   } lastChamberCache_;
+  EntryTables entryTables_;  ///< the eyes' lights' entry points for MNEE (EyeLighting::entryTables)
   struct LastMneePick {
     const GeometryContext* ctx = nullptr;
     int receiver = -1;

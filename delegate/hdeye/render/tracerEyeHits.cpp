@@ -96,6 +96,7 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
     EyeLighting own = lighting;
     own.lights = &here.lights_;
     own.transmittance = transmittance;
+    own.entryTables = nullptr;  // the path's are its thread's; the build's nodes are few
     body(own);
     buildRays += here.counts_.rays;
   };
@@ -131,6 +132,10 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
   const bool firstEyeVisit = path->part == kNonEye;
   lighting.reflectionOnly = path->cameraReflection == CameraReflection::Only && firstEyeVisit;
   lighting.mneePick = lighting.switches.mnee ? &MneePickOf(ctx, lighting) : nullptr;
+  // Tables only for a still eye (and, in IrisIrradianceFromLight, a still light): a moving one's key changes from
+  // sample to sample.
+  lighting.entryTables = settings_.mneeEntryTables && lighting.switches.mnee && !eye.motion ? &entryTables_ : nullptr;
+  lighting.eyeKey = &ctx;
   const bool cached = lighting.switches.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
   lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
   const EyeEvent ev = ScatterAtHit(eye, *hit, path->o, path->d, lighting, random);

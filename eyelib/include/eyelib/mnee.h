@@ -96,6 +96,10 @@ Vec2<double> StraightLineSeed(const AnteriorChamber<double>& chamber, const Vec3
 Vec3d ApproximateEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light,
                             int iterations = 3);
 
+/// ApproximateEntryPoint's fixed-point steps from cap point p (mm) with outward unit normal n there.
+Vec3d RefineEntryPoint(const AnteriorChamber<double>& chamber, const Vec3d& x, const LightEnd& light, Vec3d p, Vec3d n,
+                       int iterations);
+
 /// How to look for solutions.
 struct SeedStrategy {
   /// false: one solution: the straight-line seed, then (if it fails and `fallback` is on) the
