@@ -27,7 +27,8 @@ Vec3d EntryPointTable::At(const AnteriorChamber<double>& chamber, const Vec3d& x
   const int i = std::min(kNodes - 2, int(gx)), j = std::min(kNodes - 2, int(gy));
   const double fx = gx - i, fy = gy - j;
   const Vec2<double>* row = &nodes_[j * kNodes + i];
-  const Vec2<double> q = (1 - fy) * ((1 - fx) * row[0] + fx * row[1]) + fy * ((1 - fx) * row[kNodes] + fx * row[kNodes + 1]);
+  const Vec2<double> q =
+      (1 - fy) * ((1 - fx) * row[0] + fx * row[1]) + fy * ((1 - fx) * row[kNodes] + fx * row[kNodes + 1]);
   const AnteriorSurface<double>& surface = chamber.Surface();
   const Vec3d p(q.x, q.y, surface.Sag(Radius(q.x, q.y)));
   return RefineEntryPoint(chamber, x, light_, p, surface.Normal(p.x, p.y), 1);

@@ -21,6 +21,13 @@ Vec3d IrisPoint(const AnteriorChamber<double>& chamber, double r, double phi) {
   return {r * std::cos(phi), r * std::sin(phi), chamber.IrisZ()};
 }
 
+/// An iris point between the pupil and the iris edge, at a random radius (sqrt: denser outwards) and azimuth.
+template <class Rng> Vec3d RandomIrisPoint(const AnteriorChamber<double>& chamber, Rng& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
+  return IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+}
+
 LightEnd PointEnd(double degrees, double distance = 100) {
   return {false, test::PointLightAt(degrees, distance).position, {}};
 }
@@ -140,8 +147,7 @@ TEST_CASE("started at the approximate entry point, MNEE finds the straight line'
     double transferLine = 0, transferEntry = 0;
     const int n = 20000;
     for (int i = 0; i < n; ++i) {
-      const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
-      const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+      const Vec3d x = RandomIrisPoint(chamber, rng);
       const double z = 2 * u(rng) - 1, a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
       const LightEnd end{false, centre + Vec3d(s * std::cos(a), s * std::sin(a), z), {}};
       SeedStrategy seeds;
@@ -181,8 +187,7 @@ TEST_CASE("a small light's failed start is not worth retrying: the same light, i
       double retried = 0, once = 0;
       long iterationsRetried = 0, iterationsOnce = 0;
       for (int i = 0; i < 4000; ++i) {
-        const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
-        const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+        const Vec3d x = RandomIrisPoint(chamber, rng);
         const double z = 2 * u(rng) - 1, a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
         const LightEnd end{false, centre + radius * Vec3d(s * std::cos(a), s * std::sin(a), z), {}};
         MneeOptions options;
@@ -216,8 +221,7 @@ TEST_CASE("a distant direction started at its own entry point needs no retry, fr
     double retried = 0, started = 0;
     long iterationsRetried = 0, iterationsStarted = 0;
     for (int i = 0; i < 20000; ++i) {
-      const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
-      const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+      const Vec3d x = RandomIrisPoint(chamber, rng);
       const double z = zLow + (zHigh - zLow) * u(rng), a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
       const LightEnd end{true, {}, Vec3d(s * std::cos(a), s * std::sin(a), z)};
       SeedStrategy seeds;
@@ -289,8 +293,7 @@ TEST_CASE("a tabulated entry point starts MNEE as well as the computed one") {
       double computed = 0, tabulated = 0, offComputed = 0, offTabulated = 0;
       long iterationsComputed = 0, iterationsTabulated = 0, found = 0;
       for (int i = 0; i < 4000; ++i) {
-        const double r = chamber.PupilRadius() + (chamber.IrisRadius() - chamber.PupilRadius()) * std::sqrt(u(rng));
-        const Vec3d x = IrisPoint(chamber, r, 2 * paper::kPi * u(rng));
+        const Vec3d x = RandomIrisPoint(chamber, rng);
         const double z = 2 * u(rng) - 1, a = 2 * paper::kPi * u(rng), s = std::sqrt(1 - z * z);
         const LightEnd end{false, centre + radius * Vec3d(s * std::cos(a), s * std::sin(a), z), {}};
         SeedStrategy seeds;

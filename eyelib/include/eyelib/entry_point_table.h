@@ -21,7 +21,8 @@ class EntryPointTable {
   const LightEnd& Light() const { return light_; }
   bool Empty() const { return nodes_.empty(); }
 
-  /// The entry point for iris point x (mm): the table's bilinear (x, y), put on the cap, then one RefineEntryPoint step.
+  /// The entry point for iris point x (mm): the table's bilinear (x, y), put on the cap, then one RefineEntryPoint
+  /// step.
   Vec3d At(const AnteriorChamber<double>& chamber, const Vec3d& x) const;
 
  private:
