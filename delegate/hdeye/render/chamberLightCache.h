@@ -5,6 +5,7 @@
 // rays, the first time a render needs it, and kept while the eye, its lights and the scene stay the same: a
 // progressive render (one Render call per sample) builds it once. Its build uses no random number of the render, so
 // every sample stays a pure function of (seed, pixel, sample index) and split sample ranges still merge exactly.
+#include "hdeye/render/entryTables.h"
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/renderLight.h"
 #include "hdeye/render/renderSettings.h"
@@ -61,6 +62,8 @@ class ChamberLightCaches {
                                                       const EyeLighting& lighting, int rings,
                                                       PerThreadLighting perThread);
   int Builds() const { return builds_; }
+  /// The eyes' entry-point tables (entryTables.h), kept alongside: they outlive renders as the caches do.
+  EntryTableCache& EntryTables() { return entryTables_; }
 
  private:
   /// One build, done once by whichever threads arrive.
@@ -79,6 +82,7 @@ class ChamberLightCaches {
   /// Transports by chamber geometry (model, depth, pupil, index, walk bound) and grid: they depend on nothing else.
   std::map<std::uint64_t, std::shared_ptr<Slot<eyelib::IrisChamberTransport>>> transports_;
   int builds_ = 0;
+  EntryTableCache entryTables_;
 };
 
 }  // namespace hdeye

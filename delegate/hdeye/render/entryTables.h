@@ -1,37 +1,58 @@
 #pragma once
-// One thread's tables of where a light's centre enters an eye (eyelib::EntryPointTable), for MNEE's start and its
-// light sampling origin: built the first time an eye asks for a light and kept while the eye and the light's
-// canonical position stay the same, so a still scene builds each once per tracer. A moving eye or light would change
-// the key with every sample: the renderer asks for none for them (RenderSettings::mneeEntryTables).
+// Where a light's centre enters an eye, tabulated (eyelib::EntryPointTable) for MNEE's start and its light sampling
+// origin. A table is a pure function of the chamber's shape and the light's canonical position, so the renderer keeps
+// one per such key for all its threads and renders (EntryTableCache), and each tracer a few of them at hand
+// (EntryTables) so that a lookup takes no lock. A moving eye or light would change the key with every sample: the
+// renderer asks for none for them (RenderSettings::mneeEntryTables).
 #include <eyelib/entry_point_table.h>
 
 #include <cstddef>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace hdeye {
 
-class EntryTables {
- public:
-  /// The tables kept: every eye's lights in most scenes; past it, the oldest is rebuilt for the new key.
-  static constexpr std::size_t kKept = 16;
+/// What a table depends on: the chamber's model, iris depth (mm) and index, and the light point (canonical mm).
+struct EntryTableKey {
+  eyelib::CorneaModel model;
+  double irisDepth, corneaIor;
+  eyelib::Vec3d light;
 
-  /// The entry for iris point x (canonical mm) of the light whose centre is `centre`, into the eye that `eye` (its
-  /// GeometryContext, which owns the chamber) stands for.
-  eyelib::Vec3d At(const void* eye, const eyelib::AnteriorChamber<double>& chamber, const eyelib::LightEnd& centre,
-                   const eyelib::Vec3d& x) {
-    for (const Entry& e : entries_)
-      if (e.eye == eye && e.table.Light().position == centre.position) return e.table.At(chamber, x);
-    if (entries_.size() == kKept) entries_.erase(entries_.begin());
-    entries_.push_back({eye, eyelib::EntryPointTable(chamber, centre)});
-    return entries_.back().table.At(chamber, x);
+  static EntryTableKey Of(const eyelib::AnteriorChamber<double>& chamber, const eyelib::LightEnd& centre) {
+    const eyelib::ChamberParams& p = chamber.Params();
+    return {p.model, p.irisDepth, p.corneaIor, centre.position};
   }
+  bool operator==(const EntryTableKey& o) const {
+    return model == o.model && irisDepth == o.irisDepth && corneaIor == o.corneaIor && light == o.light;
+  }
+};
+
+/// The renderer's tables, shared by its threads. Thread-safe; a table is built under the lock (a millisecond).
+class EntryTableCache {
+ public:
+  /// Tables kept: past it (a long session of light moves) the cache starts again.
+  static constexpr std::size_t kKept = 256;
+  std::shared_ptr<const eyelib::EntryPointTable> Get(const eyelib::AnteriorChamber<double>& chamber,
+                                                     const eyelib::LightEnd& centre);
 
  private:
-  struct Entry {
-    const void* eye;
-    eyelib::EntryPointTable table;
-  };
-  std::vector<Entry> entries_;
+  std::mutex mutex_;
+  std::vector<std::pair<EntryTableKey, std::shared_ptr<const eyelib::EntryPointTable>>> tables_;
+};
+
+/// One tracer's tables at hand, from the shared cache.
+class EntryTables {
+ public:
+  explicit EntryTables(EntryTableCache* shared) : shared_(shared) {}
+  /// The entry for iris point x (canonical mm) of the light whose centre is `centre`.
+  eyelib::Vec3d At(const eyelib::AnteriorChamber<double>& chamber, const eyelib::LightEnd& centre,
+                   const eyelib::Vec3d& x);
+
+ private:
+  static constexpr std::size_t kAtHand = 8;
+  EntryTableCache* shared_;
+  std::vector<std::pair<EntryTableKey, std::shared_ptr<const eyelib::EntryPointTable>>> atHand_;
 };
 
 }  // namespace hdeye

@@ -195,7 +195,7 @@ glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, 
   glm::dvec3 entry(0);
   if (hasCentre) {
     const eyelib::LightEnd centre{false, eye.ToCanonical(light.position), {}};
-    entry = lighting.entryTables && !light.motion ? lighting.entryTables->At(lighting.eyeKey, eye.chamber, centre, x)
+    entry = lighting.entryTables && !light.motion ? lighting.entryTables->At(eye.chamber, centre, x)
                                                   : eyelib::ApproximateEntryPoint(eye.chamber, x, centre);
   }
   const glm::dvec3 origin = eye.ToWorld(entry);

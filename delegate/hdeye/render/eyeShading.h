@@ -57,10 +57,8 @@ struct EyeLighting {
   /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
   std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
   /// Where each small light's centre enters this eye, tabulated (the renderer's, for a still eye; a moving light is
-  /// never looked up), or null: computed at each iris point. Mutable: tables are built when first asked for.
-  /// `eyeKey`: the eye's key into them.
+  /// never looked up), or null: computed at each iris point. Mutable: tables are fetched when first asked for.
   EntryTables* entryTables = nullptr;
-  const void* eyeKey = nullptr;
   /// With switches.mnee: the probability MNEE picks each light with (over *lights, MneeLightPick), or null or of
   /// another length: uniformly among the lights it counts.
   const std::vector<double>* mneePick = nullptr;

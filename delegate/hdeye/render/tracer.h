@@ -34,7 +34,7 @@ class Tracer {
 
   /// cutouts: some material has an opacityThreshold, so shadow rays must look at what they meet.
   /// shutter: the camera's (the Embree ray time of each path's time).
-  /// chamberCaches: the eyes' chamber light (RenderSettings::chamberEstimator), or null.
+  /// chamberCaches: the eyes' chamber light (RenderSettings::chamberEstimator) and entry tables, or null.
   Tracer(RTCScene scene, const std::vector<RenderLight>& lights, const RenderSettings& settings, bool cutouts,
          const Shutter& shutter, ChamberLightCaches* chamberCaches = nullptr)
       : scene_(scene),
@@ -45,6 +45,7 @@ class Tracer {
         settings_(settings),
         cutouts_(cutouts),
         chamberCaches_(chamberCaches),
+        entryTables_(chamberCaches ? &chamberCaches->EntryTables() : nullptr),
         textureThread_(CurrentTextureThread()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
@@ -234,7 +235,8 @@ class Tracer {
     glm::dmat4 frame{0.0};
     std::shared_ptr<const eyelib::IrisChamberCache> cache;
   } lastChamberCache_;
-  EntryTables entryTables_;  ///< the eyes' lights' entry points for MNEE (EyeLighting::entryTables)
+  EntryTables
+      entryTables_;  ///< the eyes' lights' entry points for MNEE (EyeLighting::entryTables), from chamberCaches_
   struct LastMneePick {
     const GeometryContext* ctx = nullptr;
     int receiver = -1;

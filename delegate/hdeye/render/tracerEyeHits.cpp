@@ -134,8 +134,8 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
   lighting.mneePick = lighting.switches.mnee ? &MneePickOf(ctx, lighting) : nullptr;
   // Tables only for a still eye (and, in IrisIrradianceFromLight, a still light): a moving one's key changes from
   // sample to sample.
-  lighting.entryTables = settings_.mneeEntryTables && lighting.switches.mnee && !eye.motion ? &entryTables_ : nullptr;
-  lighting.eyeKey = &ctx;
+  const bool tabulated = settings_.mneeEntryTables && lighting.switches.mnee && !eye.motion && chamberCaches_;
+  lighting.entryTables = tabulated ? &entryTables_ : nullptr;
   const bool cached = lighting.switches.mnee && chamberCaches_ && settings_.chamberEstimator != ChamberEstimator::Path;
   lighting.chamberCache = cached ? ChamberCacheOf(ctx, eye, lighting) : nullptr;
   const EyeEvent ev = ScatterAtHit(eye, *hit, path->o, path->d, lighting, random);
