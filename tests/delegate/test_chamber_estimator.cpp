@@ -178,3 +178,21 @@ TEST_CASE("the iris's MNEE light is the same whether a still eye's entry points 
     CHECK(std::abs(z) < 4);
   }
 }
+
+TEST_CASE("an entry table answers as the computed entry point does, and a light point that is not finite gets none",
+          "[render]") {
+  // EntryTables over the renderer's EntryTableCache: a still eye's table is shared (the same object for two tracers),
+  // lands within a hair of ApproximateEntryPoint's three steps, and a NaN light is computed, not tabulated.
+  const eyelib::AnteriorChamber<double> chamber;
+  EntryTableCache shared;
+  EntryTables one(&shared), two(&shared);
+  const eyelib::LightEnd key{false, {80, 0, 60}, {}};
+  const eyelib::Vec3d x(2.5, -1.0, chamber.IrisZ());
+  const eyelib::Vec3d tabulated = one.At(chamber, key, x), computed = eyelib::ApproximateEntryPoint(chamber, x, key);
+  CHECK(glm::length(tabulated - computed) < 0.05);  // mm: both are starts, refined by Newton
+  CHECK(two.At(chamber, key, x) == tabulated);
+  CHECK(shared.Get(chamber, key) == shared.Get(chamber, key));
+  const eyelib::LightEnd broken{false, {std::nan(""), 0, 60}, {}};
+  CHECK(one.At(chamber, broken, x) == eyelib::ApproximateEntryPoint(chamber, x, broken));
+  CHECK(shared.Size() == 1);
+}

@@ -15,6 +15,8 @@ std::shared_ptr<const eyelib::EntryPointTable> EntryTableCache::Get(const eyelib
 
 eyelib::Vec3d EntryTables::At(const eyelib::AnteriorChamber<double>& chamber, const eyelib::LightEnd& centre,
                               const eyelib::Vec3d& x) {
+  // A light point that is not finite never equals its own key: computed, not tabulated (one table per call).
+  if (!eyelib::IsFinite(centre.position)) return eyelib::ApproximateEntryPoint(chamber, x, centre);
   const EntryTableKey key = EntryTableKey::Of(chamber, centre);
   for (const auto& [k, table] : atHand_)
     if (k == key) return table->At(chamber, x);

@@ -35,6 +35,11 @@ class EntryTableCache {
   static constexpr std::size_t kKept = 256;
   std::shared_ptr<const eyelib::EntryPointTable> Get(const eyelib::AnteriorChamber<double>& chamber,
                                                      const eyelib::LightEnd& centre);
+  /// Tables held.
+  std::size_t Size() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return tables_.size();
+  }
 
  private:
   std::mutex mutex_;
