@@ -1,5 +1,6 @@
 #include "hdeye/render/eyeShading.h"
 
+#include "hdeye/render/entryTables.h"
 #include "hdeye/render/surfacePoint.h"
 
 #include <eyelib/eye_constants.h>

@@ -10,7 +10,6 @@
 // and ScatterAtEyeMesh (an eye mesh: the hit mapped onto the analytic cornea) both end in
 // ScatterFromCornea, which owns everything from "a point on the analytic cornea and an incoming
 // canonical direction" onward.
-#include "hdeye/render/entryTables.h"
 #include "hdeye/render/eyeGeometry.h"
 #include "hdeye/render/eyeMeshMapping.h"
 #include "hdeye/render/renderLight.h"
@@ -24,6 +23,8 @@
 #include <vector>
 
 namespace hdeye {
+
+class EntryTables;  // entryTables.h: EyeLighting only points to one
 
 /// What the eye needs from the renderer: its lights, a world-space shadow test, random numbers.
 ///

@@ -79,10 +79,10 @@ struct RenderSettings {
   /// Eyes: reflection-only camera paths per sample in the pixels at a catchlight's edge (catchlightPixels.h), which
   /// estimate the cornea's reflection there in place of the sample's own; 1: none (every pixel as any other).
   int catchlightSamples = 16;
-  /// Eyes with MNEE: where each small light's centre enters a still eye, tabulated per thread (eyelib::EntryPointTable:
-  /// a bilinear guess and one fixed-point step) for MNEE's start and light sampling origin, instead of three steps at
-  /// every iris point. A moving eye or light always computes it. Off: computed everywhere, so a motion-blurred
-  /// render's samples equal sharp renders' at their times (the strata tests).
+  /// Eyes with MNEE: where each small light's centre enters a still eye, tabulated once for the renderer's threads
+  /// (eyelib::EntryPointTable: a bilinear guess and one fixed-point step; entryTables.h) for MNEE's start and light
+  /// sampling origin, instead of three steps at every iris point. A moving eye or light always computes it. Off:
+  /// computed everywhere, so a motion-blurred render's samples equal sharp renders' at their times (the strata tests).
   bool mneeEntryTables = true;
 };
 

@@ -235,8 +235,7 @@ class Tracer {
     glm::dmat4 frame{0.0};
     std::shared_ptr<const eyelib::IrisChamberCache> cache;
   } lastChamberCache_;
-  EntryTables
-      entryTables_;  ///< the eyes' lights' entry points for MNEE (EyeLighting::entryTables), from chamberCaches_
+  EntryTables entryTables_;  ///< from chamberCaches_, for EyeLighting::entryTables
   struct LastMneePick {
     const GeometryContext* ctx = nullptr;
     int receiver = -1;

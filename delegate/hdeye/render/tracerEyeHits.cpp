@@ -96,7 +96,7 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
     EyeLighting own = lighting;
     own.lights = &here.lights_;
     own.transmittance = transmittance;
-    own.entryTables = nullptr;  // the path's are its thread's; the build's nodes are few
+    own.entryTables = nullptr;  // the path tracer's tables at hand are not for the build's other threads
     body(own);
     buildRays += here.counts_.rays;
   };
