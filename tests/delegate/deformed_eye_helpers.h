@@ -83,12 +83,8 @@ struct DeformedEyeScene : RenderStack {
     hdeye::Matrix4d camera = rotation;
     camera[3] = frame * glm::dvec4(offset.x, offset.y, distance, 1);
     scene.AddCamera("/cam", lens, camera);
-    hdeye::LightParams key;
-    key.radius = float(2 * scale);
-    key.intensity = 400;
-    hdeye::Matrix4d at(1.0);
-    at[3] = frame * glm::dvec4(100 * std::sin(0.5), 0, 100 * std::cos(0.5), 1);
-    scene.AddLight("/key", hdeye::primTypes::kSphereLight, key, at);
+    AddSphereLight(scene, "/key", float(2 * scale), 400,
+                   glm::dvec3(frame * glm::dvec4(100 * std::sin(0.5), 0, 100 * std::cos(0.5), 1)));
     for (const char* b : {"/color", "/iris"}) scene.AddRenderBuffer(b, size, size, b[1] == 'c' ? 4 : 3);
   }
   hdeye::RenderStats Render(int spp, unsigned seed = 0) {

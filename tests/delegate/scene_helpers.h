@@ -113,6 +113,25 @@ inline hdeye::Matrix4d LookDownZ(double distance) {
   return m;
 }
 
+/// A camera "/cam" with a 100 mm lens at (0, 0, 40) looking down -z: an analytic eye at the origin (mm) fills it.
+inline void AddEyeCamera(hdeye::InMemorySceneDelegate& scene) {
+  hdeye::CameraParams lens;
+  lens.focalLength = 100;
+  scene.AddCamera("/cam", lens, LookDownZ(40));
+}
+
+/// A sphere light `id` of `radius` (world units) and `intensity` (nits) centred at `position`.
+inline void AddSphereLight(hdeye::InMemorySceneDelegate& scene, const hdeye::PrimId& id, double radius,
+                           double intensity, const glm::dvec3& position) {
+  hdeye::LightParams key;
+  key.type = hdeye::LightType::Sphere;
+  key.radius = float(radius);
+  key.intensity = float(intensity);
+  hdeye::Matrix4d at(1.0);
+  at[3] = glm::dvec4(position, 1);
+  scene.AddLight(id, hdeye::primTypes::kSphereLight, key, at);
+}
+
 /// The delegate stack a test renders through: a render delegate, its render index, an in-memory scene
 /// delegate feeding that index, and a render pass over it. Test scenes derive from it and add their prims.
 struct RenderStack {

@@ -28,19 +28,11 @@ struct CatchlightScene : test::RenderStack {
     eye.irisColor = glm::vec3(0.1f);
     eye.scleraColor = glm::vec3(0.1f);
     scene.AddAnalyticEye("/eye", eye);
-    CameraParams lens;
-    lens.focalLength = 100;
-    scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    test::AddEyeCamera(scene);
     scene.AddRenderBuffer("/color", size, size, 4);
     scene.AddRenderBuffer("/glint", size, size, 3);
     if (sphere) {
-      LightParams key;
-      key.type = LightType::Sphere;
-      key.radius = 6;
-      key.intensity = 100;
-      Matrix4d at(1.0);
-      at[3] = glm::dvec4(30, 20, 110, 1);
-      scene.AddLight("/key", primTypes::kSphereLight, key, at);
+      test::AddSphereLight(scene, "/key", 6, 100, {30, 20, 110});
     }
     if (dome) {
       LightParams fill;

@@ -30,19 +30,11 @@ struct GrazingEye : test::RenderStack {
     EyeParams eye;
     eye.irisColor = glm::vec3(0.5f);
     scene.AddAnalyticEye("/eye", eye);
-    CameraParams lens;
-    lens.focalLength = 100;
-    scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    test::AddEyeCamera(scene);
     scene.AddRenderBuffer("/color", kSize, kSize, 4);
     scene.AddRenderBuffer("/iris", kSize, kSize, 3);
-    LightParams key;
-    key.type = LightType::Sphere;
-    key.radius = radius;
-    key.intensity = 1600 / (radius * radius);
-    Matrix4d at(1.0);
     const double a = degrees * 3.14159265358979 / 180;
-    at[3] = glm::dvec4(100 * std::sin(a), 0, 100 * std::cos(a), 1);
-    scene.AddLight("/key", primTypes::kSphereLight, key, at);
+    test::AddSphereLight(scene, "/key", radius, 1600 / (radius * radius), {100 * std::sin(a), 0, 100 * std::cos(a)});
   }
   /// The light that reached the iris through MNEE (the irisMnee AOV, R: what the estimators change) of every pixel
   /// after a render of `spp` samples.

@@ -36,12 +36,8 @@ struct EyeScene : test::RenderStack {
     Matrix4d camera = rotation;
     camera[3] = frame * glm::dvec4(0, 0, 40, 1);
     scene.AddCamera("/cam", lens, camera);
-    LightParams key;
-    key.radius = float(2 * scale);
-    key.intensity = 400;
-    Matrix4d at(1.0);
-    at[3] = frame * glm::dvec4(100 * std::sin(0.5), 0, 100 * std::cos(0.5), 1);
-    scene.AddLight("/key", primTypes::kSphereLight, key, at);
+    test::AddSphereLight(scene, "/key", float(2 * scale), 400,
+                         glm::dvec3(frame * glm::dvec4(100 * std::sin(0.5), 0, 100 * std::cos(0.5), 1)));
     for (const char* b : {"/color", "/iris", "/albedo"}) scene.AddRenderBuffer(b, size, size, b[1] == 'c' ? 4 : 3);
   }
   /// Swaps the key light for a constant dome of radiance 1 (a white furnace).
@@ -400,12 +396,7 @@ TEST_CASE("an eye mesh's corneal glint is the analytic eye's, Fresnel-weighted a
   auto glintTotal = [&](bool mesh) {
     EyeScene s(size);
     s.scene.RemovePrim("/key");  // a large key, its reflection many pixels wide
-    LightParams key;
-    key.radius = 20;
-    key.intensity = 40;
-    Matrix4d at(1.0);
-    at[3] = glm::dvec4(100 * std::sin(0.3), 0, 100 * std::cos(0.3), 1);
-    s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
+    test::AddSphereLight(s.scene, "/key", 20, 40, {100 * std::sin(0.3), 0, 100 * std::cos(0.3)});
     if (mesh) {
       MeshTopology topology;
       std::vector<Vec3f> points;

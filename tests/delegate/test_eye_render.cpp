@@ -20,9 +20,7 @@ struct EyeScene : test::RenderStack {
   /// An analytic eye in mm at the origin, gazing at a camera 40 mm away that it fills.
   explicit EyeScene(const EyeParams& eye, int size) {
     scene.AddAnalyticEye("/eye", eye);
-    CameraParams lens;
-    lens.focalLength = 100;
-    scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    test::AddEyeCamera(scene);
     scene.AddRenderBuffer("/color", size, size, 4);
   }
   const RenderBuffer& Color() { return Buffer("/color"); }
@@ -65,13 +63,8 @@ TEST_CASE("a side-lit eye shows its caustic crescent on the iris side away from 
   eye.irisColor = glm::vec3(0.5f);
   EyeScene s(eye, 48);
   s.scene.AddRenderBuffer("/iris", 48, 48, 3);
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 2;
-  key.intensity = 400;
-  Matrix4d at(1.0);
-  at[3] = glm::dvec4(100 * std::sin(1.31), 0, 100 * std::cos(1.31), 1);  // 75 deg off the gaze, towards +x
-  s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
+  test::AddSphereLight(s.scene, "/key", 2, 400,
+                       {100 * std::sin(1.31), 0, 100 * std::cos(1.31)});  // 75 deg off the gaze, towards +x
   s.delegate.Settings().samplesPerPixel = 32;
   const RenderStats stats = s.pass.Execute("/cam", {{"color", "/color"}, {"irisMnee", "/iris"}});
   // The brightest tenth of the iris light (the irisMnee AOV) sits on the far side: image x grows with
@@ -110,13 +103,8 @@ TEST_CASE("splitting the light and the chamber walk at the first iris vertex kee
     for (int seed = 0; seed < seeds; ++seed) {
       EyeScene s(eye, size);
       s.scene.AddRenderBuffer("/iris", size, size, 3);
-      LightParams key;
-      key.type = LightType::Sphere;
-      key.radius = 1;
-      key.intensity = 1000;
-      Matrix4d at(1.0);
-      at[3] = glm::dvec4(100 * std::sin(1.08), 0, 100 * std::cos(1.08), 1);  // 62 degrees off the gaze
-      s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
+      test::AddSphereLight(s.scene, "/key", 1, 1000,
+                           {100 * std::sin(1.08), 0, 100 * std::cos(1.08)});  // 62 degrees off the gaze
       RenderSettings& settings = s.delegate.Settings();
       settings.samplesPerPixel = spp;
       settings.seed = unsigned(seed);
@@ -169,17 +157,12 @@ TEST_CASE("the corneal glint is the Fresnel-weighted light at every camera sampl
   eye.scleraColor = glm::vec3(0);
   const int size = 96;
   EyeScene s(eye, size);
-  LightParams key;
-  key.type = LightType::Sphere;
-  key.radius = 12;
-  key.intensity = 100;
-  Matrix4d at(1.0);
-  at[3] = glm::dvec4(0, 12, 120, 1);
-  s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
+  const double intensity = 100;  // nits
+  test::AddSphereLight(s.scene, "/key", 12, intensity, {0, 12, 120});
   s.delegate.Settings().samplesPerPixel = 1;
   s.delegate.Settings().catchlightSamples = 1;  // the split alone (test_catchlight.cpp has the sub-samples)
   s.pass.Execute("/cam", {{"color", "/color"}});
-  const double f0 = std::pow((1.376 - 1) / (1.376 + 1), 2), glint = f0 * key.intensity;
+  const double f0 = std::pow((1.376 - 1) / (1.376 + 1), 2), glint = f0 * intensity;
   int inside = 0, off = 0;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {

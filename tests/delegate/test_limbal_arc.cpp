@@ -30,20 +30,13 @@ struct ArcScene : test::RenderStack {
   int size;
 
   ArcScene(int size, const EyeParams& eye, bool dome, double lightAngle = 0) : size(size) {
-    CameraParams lens;
-    lens.focalLength = 100;
-    scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    test::AddEyeCamera(scene);
     if (dome) {
       LightParams d;
       d.type = LightType::Dome;
       scene.AddLight("/light", primTypes::kDomeLight, d);
     } else {
-      LightParams key;
-      key.radius = 2;
-      key.intensity = 400;
-      Matrix4d at(1.0);
-      at[3] = glm::dvec4(100 * std::sin(lightAngle), 0, 100 * std::cos(lightAngle), 1);
-      scene.AddLight("/light", primTypes::kSphereLight, key, at);
+      test::AddSphereLight(scene, "/light", 2, 400, {100 * std::sin(lightAngle), 0, 100 * std::cos(lightAngle)});
     }
     MeshTopology topology;
     std::vector<Vec3f> points;
@@ -379,9 +372,7 @@ TEST_CASE("sclera walks run only for eye meshes with scattering on, and bad mean
   RenderIndex index(&delegate);
   InMemorySceneDelegate scene(&index);
   RenderPass pass(&index);
-  CameraParams lens;
-  lens.focalLength = 100;
-  scene.AddCamera("/cam", lens, test::LookDownZ(40));
+  test::AddEyeCamera(scene);
   LightParams d;
   d.type = LightType::Dome;
   scene.AddLight("/dome", primTypes::kDomeLight, d);

@@ -169,9 +169,7 @@ void SaccadeScene(test::RenderStack& s) {
   key.intensity = 400;
   s.scene.AddLight("/key", primTypes::kSphereLight, key, KeyAt(70));
   s.scene.SetTransformSamples("/key", {-0.5f, 0.5f}, {KeyAt(70), KeyAt(80)});
-  CameraParams lens;
-  lens.focalLength = 100;
-  s.scene.AddCamera("/cam", lens, test::LookDownZ(40));
+  test::AddEyeCamera(s.scene);
   s.scene.AddRenderBuffer("/color", 24, 24, 4);
   s.scene.AddRenderBuffer("/iris", 24, 24, 3);
 }

@@ -181,16 +181,8 @@ TEST_CASE("MNEE's shadow rays cross a thin wall over the cornea: the iris light 
       s.scene.AddMaterial("/sheetMat", sheet);
       s.scene.AddMesh("/sheet", quad, points, test::LookDownZ(2), "/sheetMat");
     }
-    LightParams key;
-    key.type = LightType::Sphere;
-    key.radius = 3;
-    key.intensity = 100;
-    Matrix4d at(1.0);
-    at[3] = glm::dvec4(0, 30, 80, 1);
-    s.scene.AddLight("/key", primTypes::kSphereLight, key, at);
-    CameraParams lens;
-    lens.focalLength = 100;
-    s.scene.AddCamera("/cam", lens, test::LookDownZ(40));
+    test::AddSphereLight(s.scene, "/key", 3, 100, {0, 30, 80});
+    test::AddEyeCamera(s.scene);
     s.scene.AddRenderBuffer("/color", 24, 24, 4);
     s.scene.AddRenderBuffer("/iris", 24, 24, 3);
     s.delegate.Settings().samplesPerPixel = 64;
