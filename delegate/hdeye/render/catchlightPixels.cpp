@@ -14,8 +14,8 @@ namespace hdeye {
 
 namespace {
 
-/// Corners probed at most at a pixel's spacing (512 x 512 pixels); a larger image is probed every `step` pixels, so
-/// the probe stays a small share of a first pass (catchlights narrower than the step may be missed there).
+/// Corners probed at most (about 512 x 512): a larger image is probed every `step` pixels, the smallest step keeping
+/// to it, so the probe stays a small share of a first pass (catchlights narrower than the step may be missed there).
 constexpr double kFullCorners = 512.0 * 512.0;
 
 }  // namespace
@@ -23,7 +23,7 @@ constexpr double kFullCorners = 512.0 * 512.0;
 CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera,
                                         const std::vector<RenderLight>& lights, const RenderSettings& settings,
                                         bool cutouts, int width, int height, tbb::task_arena* arena) {
-  const int step = std::max(1, int(std::sqrt(double(width) * height / kFullCorners)));
+  const int step = std::max(1, int(std::ceil(std::sqrt(double(width) * height / kFullCorners))));
   const int cornersX = (width + step - 1) / step + 1, cornersY = (height + step - 1) / step + 1;
   std::vector<std::uint8_t> sees(std::size_t(cornersX) * cornersY, 0);
   const Shutter shutter = camera.GetShutter();
