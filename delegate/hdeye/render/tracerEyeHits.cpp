@@ -90,13 +90,14 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
   // The build's shadow rays, on whichever thread joins it: a tracer of that thread's own, at this path's time.
   std::atomic<std::int64_t> buildRays{0};
   const auto perThread = [&](eyelib::FunctionRef<void(const EyeLighting&)> body) {
-    Tracer here(scene_, sourceLights_, settings_, cutouts_, shutter_);
+    Tracer here(scene_, sourceLights_, settings_, cutouts_, shutter_, chamberCaches_);
     here.SetTime(time_);
     const auto transmittance = here.LightTransmittance();
     EyeLighting own = lighting;
     own.lights = &here.lights_;
     own.transmittance = transmittance;
-    own.entryTables = nullptr;  // the path tracer's tables at hand are not for the build's other threads
+    // The tables at hand are per tracer: each thread of the build takes its own from the shared ones.
+    if (own.entryTables) own.entryTables = &here.entryTables_;
     body(own);
     buildRays += here.counts_.rays;
   };
