@@ -57,7 +57,7 @@ template <class Random> glm::dvec3 PredictedChamberLight(const EyeGeometry& eye,
 /// is the path's whatever the cache's error).
 glm::dvec3 IrisDirectLight(const EyeGeometry& eye, const glm::dvec3& x, const glm::dvec3& albedo, int vertex,
                            const EyeLighting& lighting, eyelib::FunctionRef<double()> random, int splits) {
-  const eyelib::IrisChamberCache* cache = lighting.chamberCache.get();
+  const eyelib::IrisChamberCache* cache = lighting.chamberCache;
   const ChamberEstimator estimator = cache ? lighting.chamberEstimator : ChamberEstimator::Path;
   if (estimator == ChamberEstimator::Cache && vertex > 1) return glm::dvec3(0);
   glm::dvec3 E(0);

@@ -55,8 +55,9 @@ struct EyeLighting {
   int chamberSplits = 1;
   /// With switches.mnee: how the iris gathers chamber light; Cache and ControlVariate need `chamberCache` (null: Path).
   ChamberEstimator chamberEstimator = ChamberEstimator::Path;
-  /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null.
-  std::shared_ptr<const eyelib::IrisChamberCache> chamberCache = nullptr;
+  /// The eye's chamber light, on the same MNEE lights (ChamberLightCaches::Get), or null. Not owned: the tracer that
+  /// set it holds the cache while it lives (a path copies its lighting at every branch, a shared pointer's count too).
+  const eyelib::IrisChamberCache* chamberCache = nullptr;
   /// Where each small light's centre enters this eye, tabulated (the renderer's, for a still eye; a moving light is
   /// never looked up), or null: computed at each iris point. Mutable: tables are fetched when first asked for.
   EntryTables* entryTables = nullptr;

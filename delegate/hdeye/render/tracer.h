@@ -145,8 +145,9 @@ class Tracer {
   /// Under an open shutter it is built from the eye, the lights and the shadow rays at the shutter's opening, so
   /// which path builds it (thread count, sample split) never changes it; the control variate stays unbiased for
   /// an eye or light that moves, the cache alone then shows them where they were at the opening.
-  std::shared_ptr<const eyelib::IrisChamberCache> ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
-                                                                 const EyeLighting& lighting);
+  /// Held by the tracer while it lives.
+  const eyelib::IrisChamberCache* ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
+                                                 const EyeLighting& lighting);
 
   /// An eye hit (pbrt has no such vertex): the eye's switches resolved once, then its shading (eyeShading.h):
   /// the path continues through the cornea, ends, or meets the sclera, which is shaded at the hit or walked.
@@ -233,8 +234,10 @@ class Tracer {
     const GeometryContext* ctx = nullptr;
     int receiver = -1;
     glm::dmat4 frame{0.0};
-    std::shared_ptr<const eyelib::IrisChamberCache> cache;
+    const eyelib::IrisChamberCache* cache = nullptr;
   } lastChamberCache_;
+  /// Every cache ChamberCacheOf handed out, held while the tracer lives: paths point to them (EyeLighting).
+  std::vector<std::shared_ptr<const eyelib::IrisChamberCache>> heldChamberCaches_;
   EntryTables entryTables_;  ///< from chamberCaches_, for EyeLighting::entryTables
   struct LastMneePick {
     const GeometryContext* ctx = nullptr;

@@ -77,9 +77,8 @@ const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const 
   return last.pick;
 }
 
-std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const GeometryContext& ctx,
-                                                                       const EyeGeometry& eye,
-                                                                       const EyeLighting& lighting) {
+const eyelib::IrisChamberCache* Tracer::ChamberCacheOf(const GeometryContext& ctx, const EyeGeometry& eye,
+                                                       const EyeLighting& lighting) {
   // Successive eye hits are mostly the same eye's: the last cache is kept so that they skip the shared map's
   // lock and key (and, under an open shutter, moving the lights to the opening and back).
   const EyeGeometry& still = shutter_.IsOpen() ? *EyeOf(ctx) : eye;
@@ -112,8 +111,10 @@ std::shared_ptr<const eyelib::IrisChamberCache> Tracer::ChamberCacheOf(const Geo
     SetTime(pathTime);
   }
   counts_.rays += buildRays;
-  last = {&ctx, lighting.receiver, still.canonicalToWorld, cache};
-  return cache;
+  const auto held = std::find(heldChamberCaches_.begin(), heldChamberCaches_.end(), cache);
+  if (cache && held == heldChamberCaches_.end()) heldChamberCaches_.push_back(cache);
+  last = {&ctx, lighting.receiver, still.canonicalToWorld, cache.get()};
+  return cache.get();
 }
 
 EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& rng, SurfaceHit* hit, PathState* path,
