@@ -3,6 +3,7 @@
 #include "hdeye/pass/renderPass.h"
 #include "hdeye/prims/renderBuffer.h"
 #include "hdeye/prims/renderDelegate.h"
+#include "hdeye/render/renderContext.h"
 #include "hdeye/scene/inMemorySceneDelegate.h"
 #include "scene_helpers.h"
 
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 using namespace hdeye;
 
@@ -173,4 +175,63 @@ TEST_CASE("the corneal glint is the Fresnel-weighted light at every camera sampl
               inside, glint, off);
   CHECK(inside >= 4);
   CHECK(off <= inside / 4);  // the glint's edge pixels: partly covered by the light's reflection
+}
+
+TEST_CASE("an analytic eye's intersection hands shading its exact cornea point, the one the float ray meets") {
+  // In cm, turned and moved off the origin, so that the record is checked in a frame that is not the canonical one.
+  const Matrix4d prim = glm::translate(glm::dmat4(1.0), glm::dvec3(3, -2, 5)) *
+                        glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(1, 1, 0)) *
+                        glm::scale(glm::dmat4(1.0), glm::dvec3(0.1));
+  test::RenderStack s;
+  s.scene.AddAnalyticEye("/eye", EyeParams{}, prim);
+  test::AddEyeCamera(s.scene);
+  s.scene.AddRenderBuffer("/color", 4, 4, 4);
+  s.pass.Execute("/cam", {{"color", "/color"}});  // syncs and commits the scene
+  RTCScene root = s.delegate.RootScene();
+  int cornea = 0, back = 0;
+  for (int i = 0; i < 21; ++i)
+    for (int j = 0; j < 21; ++j) {
+      // From in front of the eye (and, for the last rows, from behind it: the back, no cornea record).
+      const bool behind = i >= 18;
+      const glm::dvec3 target((i % 18 - 9) * 0.09, (j - 10) * 0.09, -0.2);
+      const glm::dvec3 from(0.3 * std::sin(j), 0.2, behind ? -6 : 6);
+      const glm::dvec3 o(prim * glm::dvec4(from, 1)),
+          d = glm::normalize(glm::dvec3(prim * glm::dvec4(target - from, 0)));
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      RTCRayHit rh{};
+      rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+      rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+      rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = ~0u;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      ExactCorneaHit& record = ThisThreadsCorneaHit();
+      record.eye = nullptr;
+      rtcIntersect1(root, &context, &rh);
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      const auto* ctx =
+          static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(root, rh.hit.geomID)));
+      REQUIRE(ctx->eye);
+      const EyeGeometry& eye = *ctx->eye;
+      if (rh.hit.primID == EyeGeometry::kBack) {
+        ++back;
+        CHECK(record.eye == nullptr);
+        continue;
+      }
+      ++cornea;
+      REQUIRE(record.eye == &eye);
+      CHECK(record.t == rh.ray.tfar);
+      // What shading found before: the cornea met again from the exact (double) ray. The float ray is within a few
+      // of float's ulps of it, so the two points agree to a small fraction of a micron, and the normals too.
+      const auto again = eye.chamber.Surface().Intersect({eye.ToCanonical(o), eye.DirToCanonical(d)});
+      REQUIRE(again);
+      CHECK(again->fromOutside);
+      CHECK(glm::length(again->point - record.at.point) < 1e-4);  // mm
+      CHECK(glm::length(again->normal - record.at.normal) < 1e-4);
+      CHECK(std::abs(glm::length(record.at.normal) - 1) < 1e-12);
+      CHECK(std::abs(eye.chamber.Surface().Sag(std::hypot(record.at.point.x, record.at.point.y)) - record.at.point.z) <
+            1e-9);
+    }
+  std::printf("exact cornea records: %d cornea hits, %d back hits\n", cornea, back);
+  CHECK(cornea > 200);
+  CHECK(back > 10);
 }

@@ -15,8 +15,10 @@ namespace {
 /// The first crossing of a ray with the eye, in the ray's own parameter: the cornea cap, or the
 /// closing disk at the iris plane seen from behind.
 /// worldToCanonical: the eye's frame at the ray's time.
+/// cornea: where the hit is, when it is on the cornea.
 bool IntersectEye(const EyeGeometry& eye, const glm::dmat4& worldToCanonical, const glm::dvec3& o, const glm::dvec3& d,
-                  double tNear, double tFar, double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal) {
+                  double tNear, double tFar, double* t, EyeGeometry::Part* part, glm::dvec3* worldNormal,
+                  CorneaPoint* cornea = nullptr) {
   // Map without normalising the direction, so the ray parameter t is the world ray's.
   const glm::dvec3 oc(worldToCanonical * glm::dvec4(o, 1)), dc(worldToCanonical * glm::dvec4(d, 0));
   if (eye.chamber.Surface().HeadsAway(oc, dc)) return false;  // leaving the eye: its shadow rays, its exits
@@ -24,6 +26,7 @@ bool IntersectEye(const EyeGeometry& eye, const glm::dmat4& worldToCanonical, co
   glm::dvec3 nc;
   if (const auto h = eye.chamber.Surface().Intersect({oc, dc}, tFar); h && h->t > tNear && h->fromOutside) {
     *t = h->t, *part = EyeGeometry::kCornea, nc = h->normal, hit = true;
+    if (cornea) *cornea = {h->point, h->normal};
   }
   // The back: the plane of the iris, from below, inside the iris disk (pupil included: the lens).
   if (dc.z > 0 && oc.z < eye.chamber.IrisZ()) {
@@ -79,11 +82,13 @@ void Intersect(const RTCIntersectFunctionNArguments* args) {
     double t;
     EyeGeometry::Part part;
     glm::dvec3 n;
+    CorneaPoint cornea;
     const EyeGeometry& eye = *ctx->eye;
     if (!IntersectEye(eye, WorldToCanonicalAt(eye, RTCRayN_time(ray, args->N, i)), o, d, RTCRayN_tnear(ray, args->N, i),
-                      RTCRayN_tfar(ray, args->N, i), &t, &part, &n))
+                      RTCRayN_tfar(ray, args->N, i), &t, &part, &n, &cornea))
       continue;
     RTCRayN_tfar(ray, args->N, i) = float(t);
+    if (part == EyeGeometry::kCornea) ThisThreadsCorneaHit() = {&eye, float(t), cornea};
     RTCHitN_Ng_x(hitN, args->N, i) = float(n.x);
     RTCHitN_Ng_y(hitN, args->N, i) = float(n.y);
     RTCHitN_Ng_z(hitN, args->N, i) = float(n.z);

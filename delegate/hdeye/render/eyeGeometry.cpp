@@ -36,4 +36,9 @@ std::vector<glm::dmat4> EyeGeometry::CanonicalToWorldOverShutter(int count) cons
   return frames;
 }
 
+ExactCorneaHit& ThisThreadsCorneaHit() {
+  thread_local ExactCorneaHit hit;
+  return hit;
+}
+
 }  // namespace hdeye

@@ -93,4 +93,20 @@ struct EyeGeometry {
   }
 };
 
+/// A point of an analytic eye's cornea as an intersection found it, in double precision: canonical mm, and the unit
+/// outward normal there.
+struct CorneaPoint {
+  glm::dvec3 point, normal;
+};
+
+/// The cornea hit an analytic eye's Embree intersect callback accepted last on the calling thread (Embree runs a
+/// user geometry's callback on the thread that traces the ray). The tracer clears it before a ray and takes it for
+/// the ray's hit when that hit is this eye's cornea at this distance, so that shading need not intersect again.
+struct ExactCorneaHit {
+  const EyeGeometry* eye = nullptr;  ///< whose cornea (null: none since the tracer cleared it)
+  float t = 0;                       ///< the distance the callback gave Embree
+  CorneaPoint at;
+};
+ExactCorneaHit& ThisThreadsCorneaHit();
+
 }  // namespace hdeye

@@ -308,9 +308,11 @@ std::vector<double> MneeLightPick(const EyeGeometry& eye, const EyeLighting& lig
 }
 
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
-                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random) {
+                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random,
+                      const std::optional<CorneaPoint>& cornea) {
   if (part == EyeGeometry::kBack) return EyeEvent{};  // the back of the eye: dark
   const glm::dvec3 d = eye.DirToCanonical(worldDir);
+  if (cornea) return ScatterFromCornea(eye, CorneaEntry{cornea->point, cornea->normal, d}, lighting, random);
   const auto entry = eye.chamber.Surface().Intersect({eye.ToCanonical(worldOrigin), d});
   if (!entry || !entry->fromOutside) return EyeEvent{};  // Embree's float hit was a graze the exact test rejects
   return ScatterFromCornea(eye, CorneaEntry{entry->point, entry->normal, d}, lighting, random);

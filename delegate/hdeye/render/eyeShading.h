@@ -20,6 +20,7 @@
 #include <eyelib/function_ref.h>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace hdeye {
@@ -123,11 +124,12 @@ struct CorneaEntry {
   glm::dvec3 dir;     ///< unit, incoming: dot(dir, normal) < 0
 };
 
-/// Scatters a world ray (origin, unit direction) that hit `part` of an analytic eye. The hit is found
-/// again in the canonical frame in double precision: Embree reports a user geometry's distance in
-/// float, which puts the point microns off the cornea, on either side.
+/// Scatters a world ray (origin, unit direction) that hit `part` of an analytic eye. The entry is the cornea point
+/// the eye's intersection found in double precision (`cornea`; Embree reports a user geometry's distance in float,
+/// which puts the point microns off the cornea, on either side), or, without one, found again here.
 EyeEvent ScatterAtEye(const EyeGeometry& eye, const glm::dvec3& worldOrigin, const glm::dvec3& worldDir,
-                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random);
+                      EyeGeometry::Part part, const EyeLighting& lighting, eyelib::FunctionRef<double()> random,
+                      const std::optional<CorneaPoint>& cornea = std::nullopt);
 
 /// Scatters a world ray (unit direction) that hit an eye mesh, mapped by EyeMeshHitToCanonical.
 /// Off the cornea (past the outer limbus edge, below the iris plane, outside the projection) it is

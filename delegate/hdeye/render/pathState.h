@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace hdeye {
 
@@ -35,6 +36,8 @@ struct SurfaceHit {
   const Vec3f* instanceColor = nullptr;       // the instancer's displayColor for the hit instance, or null
   int instanceIndex = 0;                      // the hit instance's index in its instancer (0: not instanced)
   float rayTime = 0;                          // the Embree ray time of the ray that hit (deforming meshes' normals)
+  /// A still analytic eye's cornea hit as its intersection found it (ExactCorneaHit), else null.
+  std::optional<CorneaPoint> cornea;
 };
 
 /// The eye a hit belongs to (analytic or mesh), or null.

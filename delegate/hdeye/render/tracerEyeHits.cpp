@@ -30,7 +30,7 @@ EyeEvent ScatterAtHit(const EyeGeometry& eye, const SurfaceHit& hit, const glm::
                       const EyeLighting& lighting, eyelib::FunctionRef<double()> random) {
   const GeometryContext& ctx = *hit.context;
   return ctx.eye
-             ? ScatterAtEye(eye, o, d, EyeGeometry::Part(hit.part), lighting, random)
+             ? ScatterAtEye(eye, o, d, EyeGeometry::Part(hit.part), lighting, random, hit.cornea)
              : ScatterAtEyeMesh(eye, EyeMeshHitToCanonical(ctx, eye, hit.part, hit.u, hit.v, d), d, lighting, random);
 }
 

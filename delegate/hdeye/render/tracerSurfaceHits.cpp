@@ -29,6 +29,8 @@ bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, d
   rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
   rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = rayTime_;
   rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  ExactCorneaHit& cornea = ThisThreadsCorneaHit();
+  cornea.eye = nullptr;
   rtcIntersect1(scene_, &context, &rh);
   ++counts_.rays;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -60,6 +62,9 @@ bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, d
   hit->part = rh.hit.primID;
   hit->context = ctx;
   hit->rayTime = rayTime_;
+  // The callback intersected a moving eye at the float ray time, not at the path's: shading intersects it again.
+  const bool exact = ctx->eye && cornea.eye == ctx->eye && cornea.t == rh.ray.tfar && !ctx->eye->motion;
+  hit->cornea = exact ? std::optional(cornea.at) : std::nullopt;
   FillPrimvars(normalToWorld, hit);
   return true;
 }
