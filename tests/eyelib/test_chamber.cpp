@@ -162,6 +162,54 @@ TEST_CASE("a ray from inside aimed at the junction ring leaves through the piece
   CHECK(cornea > 30000);
 }
 
+TEST_CASE("a ray from outside enters the cap where both pieces' search finds, whichever piece is tried first") {
+  // AnteriorSurface tries the cone first for rays that come down through the junction plane outside the junction
+  // disk, and stops at the first piece that gives an entry. The reference intersects both pieces' quadrics and takes
+  // the nearest root on its own piece (an exit, for rays from below that reach the cap from inside). Rays from 20 to 60
+  // mm away (above the cap, beside it, below the rim plane) towards cap points and past the rim; points within 1e-6 mm
+  // of the junction ring are left to the ring's own test.
+  const AnteriorChamber<double> chamber = ChamberOf(CorneaModel::EllipsoidCone);
+  const auto& surface = chamber.Surface();
+  const double rj = surface.JunctionRadius(), rim = surface.RimRadius();
+  const auto reference = [&](const V& o, const V& d) {
+    double best = INFINITY;
+    for (SurfacePiece piece : {SurfacePiece::Ellipsoid, SurfacePiece::Cone})
+      IntersectQuadric(surface.Quadric(piece), o, d, V(0, 0, -2), 9.0, [&](double t, const V& p) {
+        const double r = std::hypot(p.x, p.y);
+        // On the cap: the piece's radii, and its sheet through the apex (not the ellipsoid's far side).
+        if (r > rim || surface.PieceAt(r) != piece || !(std::abs(p.z - surface.Sag(r)) < 1e-6)) return false;
+        best = std::min(best, t);
+        return true;
+      });
+    return best;
+  };
+  int entries[2] = {}, entering = 0, misses = 0, mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const V from = (20 + 40 * UniformAt(7, i, 0)) * UniformDirection(7, i);
+    const double r = 1.1 * rim * std::sqrt(UniformAt(7, i, 1)), a = 2 * paper::kPi * UniformAt(7, i, 2);
+    const V target(r * std::cos(a), r * std::sin(a), surface.Sag(std::min(r, rim)));
+    const V d = glm::normalize(target - from);
+    const auto hit = surface.Intersect({from, d});
+    const double expected = reference(from, d);
+    if (!hit) {
+      ++misses;
+      if (std::isfinite(expected)) ++mismatches;
+      continue;
+    }
+    const double radius = std::hypot(hit->point.x, hit->point.y);
+    if (std::abs(radius - rj) < 1e-6) continue;
+    ++entries[surface.PieceAt(radius) == SurfacePiece::Cone];
+    entering += hit->fromOutside;
+    if (!(std::abs(hit->t - expected) <= 1e-9)) ++mismatches;
+  }
+  std::printf("rays from outside: %d meet the ellipsoid first, %d the cone (%d of them entering), %d miss; %d differ\n",
+              entries[0], entries[1], entering, misses, mismatches);
+  CHECK(mismatches == 0);
+  CHECK(entering > 100000);
+  CHECK(entries[0] > 20000);
+  CHECK(entries[1] > 20000);
+}
+
 TEST_CASE("a ray that heads away from the cap's tangent plane above it meets neither the cap nor the iris disk") {
   // AnteriorSurface::HeadsAway: exact for a convex region; checked against the intersections themselves for rays
   // from points above the cap (on it, as offset shadow rays start, and up to 2 mm above) in every direction.

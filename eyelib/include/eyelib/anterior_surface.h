@@ -254,11 +254,22 @@ template <class T> class AnteriorSurface {
       if (!best) consider(OtherPiece(*exit));
       return best;
     }
-    consider(SurfacePiece::Ellipsoid);
-    // The cap bounds a convex region, which a ray enters at most once: an entering hit on the
-    // ellipsoid is the first crossing, and the cone need not be tried; nor, for a ray from inside, after an exit.
-    if (!best || (best->fromOutside == fromInside)) consider(SurfacePiece::Cone);
+    // The cap bounds a convex region, which a ray enters at most once: an entering hit on either piece is the first
+    // crossing, and the other piece need not be tried; nor, for a ray from inside, after an exit. The piece tried
+    // first is the one the ray likely enters (EntryGuess).
+    const SurfacePiece first = fromInside ? SurfacePiece::Ellipsoid : EntryGuess(ray.origin, d);
+    consider(first);
+    if (!best || (best->fromOutside == fromInside)) consider(OtherPiece(first));
     return best;
+  }
+
+  /// The piece a ray from outside more likely enters: the cone when it comes down through the junction plane
+  /// z = f(5.01 mm) outside the junction disk, from above it (where the cone band lies below the plane), else the
+  /// ellipsoid. Only an order: either answer gives the same crossing.
+  SurfacePiece EntryGuess(const Vec3<T>& o, const Vec3<T>& d) const {
+    if (!(o.z > zJunction_) || !(d.z < 0)) return SurfacePiece::Ellipsoid;
+    const T t = (zJunction_ - o.z) / d.z;
+    return RadiusSquared(o + t * d) > junction_ * junction_ ? SurfacePiece::Cone : SurfacePiece::Ellipsoid;
   }
 
   /// The piece a ray from inside the region under the ellipsoid-cone cap (or from a point of the cap) leaves through:
