@@ -1,12 +1,12 @@
 #include "hdeye/render/eyeShading.h"
 
 #include "hdeye/render/entryTables.h"
+#include "hdeye/render/sampleDirections.h"
 #include "hdeye/render/surfacePoint.h"
 
 #include <eyelib/eye_constants.h>
 #include <eyelib/mnee.h>
 #include <eyelib/optics.h>
-#include <eyelib/sampling.h>
 
 #include <algorithm>
 #include <cmath>
@@ -70,10 +70,10 @@ glm::dvec3 IrisDirectLight(const EyeGeometry& eye, const glm::dvec3& x, const gl
   return (albedo / kPi) * E;
 }
 
-/// A cosine-distributed direction off the iris plane into the chamber; one 2D sample (two draws).
+/// A cosine-distributed direction off the iris plane into the chamber (+z, canonical); one 2D sample (two draws).
 glm::dvec3 IrisBounce(eyelib::FunctionRef<double()> random) {
   const double u1 = random(), u2 = random();
-  return eyelib::SampleCosineHemisphere(glm::dvec3(0, 0, 1), u1, u2);
+  return CosineHemisphereLocal(u1, u2);
 }
 
 /// Whether a walk meeting the cornea from inside (unit d, outward normal n) reflects (Fresnel, 1 under total
