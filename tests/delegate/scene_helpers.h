@@ -9,10 +9,24 @@
 
 #include <eyelib/anterior_surface.h>
 
+#include <embree3/rtcore.h>
+
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace test {
+
+/// An Embree ray from o along d (world), unbounded, every mask, no hit yet: for tests that trace the delegate's scene
+/// directly.
+inline RTCRayHit UnboundedRayHit(const glm::dvec3& o, const glm::dvec3& d) {
+  RTCRayHit rh{};
+  rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+  rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+  rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
 
 /// A convex UV sphere (planar quads, triangles at the poles) of the given radius around the origin.
 inline void UvSphere(double radius, int rings, int segments, hdeye::MeshTopology* topology,

@@ -15,7 +15,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 using namespace hdeye;
 
@@ -219,11 +218,7 @@ TEST_CASE("an eye mesh is invisible from inside: rays leaving the cornea do not 
     o = glm::dvec3(prim * glm::dvec4(o, 1)), d = glm::dvec3(prim * glm::dvec4(d, 0));
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = ~0u;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = test::UnboundedRayHit(o, d);
     if (occluded) {
       rtcOccluded1(root, &context, &rh.ray);
       return rh.ray.tfar < 0;

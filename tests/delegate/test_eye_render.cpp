@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 using namespace hdeye;
 
@@ -199,11 +198,7 @@ TEST_CASE("an analytic eye's intersection hands shading its exact cornea point, 
           d = glm::normalize(glm::dvec3(prim * glm::dvec4(target - from, 0)));
       RTCIntersectContext context;
       rtcInitIntersectContext(&context);
-      RTCRayHit rh{};
-      rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
-      rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-      rh.ray.tnear = 0, rh.ray.tfar = std::numeric_limits<float>::infinity(), rh.ray.mask = ~0u;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      RTCRayHit rh = test::UnboundedRayHit(o, d);
       ExactCorneaHit& record = ThisThreadsCorneaHit();
       record.eye = nullptr;
       rtcIntersect1(root, &context, &rh);

@@ -46,7 +46,8 @@ class Tracer {
         cutouts_(cutouts),
         chamberCaches_(chamberCaches),
         entryTables_(chamberCaches ? &chamberCaches->EntryTables() : nullptr),
-        textureThread_(CurrentTextureThread()) {}
+        textureThread_(CurrentTextureThread()),
+        corneaHit_(&ThisThreadsCorneaHit()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
@@ -246,6 +247,7 @@ class Tracer {
     std::vector<double> pick;
   } lastMneePick_;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
+  ExactCorneaHit* corneaHit_ = nullptr;     ///< that thread's record of an analytic eye's exact cornea hit
   mutable Counts counts_;
 };
 

@@ -29,7 +29,7 @@ bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, d
   rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
   rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = rayTime_;
   rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  ExactCorneaHit& cornea = ThisThreadsCorneaHit();
+  ExactCorneaHit& cornea = *corneaHit_;
   cornea.eye = nullptr;
   rtcIntersect1(scene_, &context, &rh);
   ++counts_.rays;

@@ -268,8 +268,12 @@ template <class T> class AnteriorSurface {
   /// ellipsoid. Only an order: either answer gives the same crossing.
   SurfacePiece EntryGuess(const Vec3<T>& o, const Vec3<T>& d) const {
     if (!(o.z > zJunction_) || !(d.z < 0)) return SurfacePiece::Ellipsoid;
-    const T t = (zJunction_ - o.z) / d.z;
-    return RadiusSquared(o + t * d) > junction_ * junction_ ? SurfacePiece::Cone : SurfacePiece::Ellipsoid;
+    return JunctionPlaneRadiusSquared(o, d) > junction_ * junction_ ? SurfacePiece::Cone : SurfacePiece::Ellipsoid;
+  }
+
+  /// x^2 + y^2 (mm^2) where the ray (d.z != 0) crosses the junction plane z = f(5.01 mm).
+  T JunctionPlaneRadiusSquared(const Vec3<T>& o, const Vec3<T>& d) const {
+    return RadiusSquared(o + (zJunction_ - o.z) / d.z * d);
   }
 
   /// The piece a ray from inside the region under the ellipsoid-cone cap (or from a point of the cap) leaves through:
@@ -280,8 +284,7 @@ template <class T> class AnteriorSurface {
     const bool above = o.z > zJunction_;
     const SurfacePiece own = above ? SurfacePiece::Ellipsoid : SurfacePiece::Cone;
     if (!(d.z != 0) || above == (d.z > 0)) return own;  // heads away from the plane
-    const T t = (zJunction_ - o.z) / d.z;
-    const T r2 = RadiusSquared(o + t * d), j2 = junction_ * junction_;
+    const T r2 = JunctionPlaneRadiusSquared(o, d), j2 = junction_ * junction_;
     if (r2 < j2 * (1 - T(1e-6))) return OtherPiece(own);
     if (r2 > j2 * (1 + T(1e-6))) return own;
     return std::nullopt;
