@@ -7,16 +7,24 @@ namespace eyelib {
 
 EntryPointTable::EntryPointTable(const AnteriorChamber<double>& chamber, const LightEnd& light)
     : light_(light), half_(chamber.IrisRadius()), nodes_(kNodes * kNodes) {
-  const double step = 2 * half_ / (kNodes - 1), inside = half_ * (1 - 1e-9);
+  // Nodes at most this far out are solved where they are; the iris edge itself meets the cap, where the walk back to
+  // the cornea has no room.
+  const double step = 2 * half_ / (kNodes - 1), inside = half_ * (1 - 5e-3);
   for (int j = 0; j < kNodes; ++j)
     for (int i = 0; i < kNodes; ++i) {
       Vec3d x(-half_ + i * step, -half_ + j * step, chamber.IrisZ());
-      // Nodes past the disk's edge take its nearest point's entry: the map continued, so cells at the edge blend
-      // neighbours rather than points outside the chamber.
+      // Past that, the map is continued as the identity plus the edge's offset: at the edge, where the iris meets the
+      // cap, a point's entry is right above it. Cells at the edge then interpolate a map that goes on smoothly,
+      // rather than a constant (or points outside the chamber, which have no entry).
       const double r = Radius(x.x, x.y);
-      if (r > inside) x.x *= inside / r, x.y *= inside / r;
-      const Vec3d p = ApproximateEntryPoint(chamber, x, light);
-      nodes_[j * kNodes + i] = {p.x, p.y};
+      Vec2<double> beyond(0);
+      if (r > inside) {
+        const double s = inside / r;
+        beyond = {x.x * (1 - s), x.y * (1 - s)};
+        x.x *= s, x.y *= s;
+      }
+      const Vec3d p = ApproximateEntryPoint(chamber, x, light, kSteps);
+      nodes_[j * kNodes + i] = Vec2<double>(p.x, p.y) + beyond;
     }
 }
 
@@ -29,9 +37,7 @@ Vec3d EntryPointTable::At(const AnteriorChamber<double>& chamber, const Vec3d& x
   const Vec2<double>* row = &nodes_[j * kNodes + i];
   const Vec2<double> q =
       (1 - fy) * ((1 - fx) * row[0] + fx * row[1]) + fy * ((1 - fx) * row[kNodes] + fx * row[kNodes + 1]);
-  const AnteriorSurface<double>& surface = chamber.Surface();
-  const Vec3d p(q.x, q.y, surface.Sag(Radius(q.x, q.y)));
-  return RefineEntryPoint(chamber, x, light_, p, surface.Normal(p.x, p.y), 1);
+  return Vec3d(q.x, q.y, chamber.Surface().Sag(Radius(q.x, q.y)));
 }
 
 }  // namespace eyelib
