@@ -87,6 +87,48 @@ TEST_CASE("a side-lit eye shows its caustic crescent on the iris side away from 
   CHECK(sx / sw < -3);
 }
 
+TEST_CASE("Russian roulette at the iris bounce keeps the mean: a grey iris in a uniform dome, by MNEE and by the walk",
+          "[render]") {
+  // With MNEE the dome's light at the first iris vertex is MNEE's and the walk's exit skips the dome; without it,
+  // that light is what the exit meets after the bounce, which survives the roulette with probability 0.4 (the
+  // albedo) and weighs 1 / 0.4. Both estimates of the eye's pixels are unbiased (the chamber light by the walk in
+  // both): their means over four seeds agree within four standard errors of the difference.
+  EyeParams grey;
+  grey.chamber.pupilDiameter = 0;
+  grey.irisColor = glm::vec3(0.4f);
+  const int size = 20, seeds = 4;
+  auto meanOver = [&](bool mnee) {
+    double sum = 0, sumSq = 0;
+    for (int seed = 0; seed < seeds; ++seed) {
+      EyeScene s(grey, size);
+      LightParams dome;
+      dome.type = LightType::Dome;
+      s.scene.AddLight("/dome", primTypes::kDomeLight, dome);
+      RenderSettings& settings = s.delegate.Settings();
+      settings.samplesPerPixel = 64;
+      settings.seed = unsigned(seed);
+      settings.eyeSwitches.mnee = mnee;
+      settings.chamberEstimator = ChamberEstimator::Path;
+      s.pass.Execute("/cam", {{"color", "/color"}});
+      double pixels = 0;
+      int n = 0;
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+          if (s.Color().Resolved(x, y, 3) == 1) pixels += s.Color().Resolved(x, y, 0), ++n;
+      REQUIRE(n > 100);
+      sum += pixels / n, sumSq += (pixels / n) * (pixels / n);
+    }
+    const double mean = sum / seeds, se = std::sqrt(std::max(0.0, sumSq / seeds - mean * mean) / (seeds - 1));
+    return std::pair{mean, se};
+  };
+  const auto [byMnee, seMnee] = meanOver(true);
+  const auto [byWalk, seWalk] = meanOver(false);
+  const double tolerance = 4 * std::hypot(seMnee, seWalk);
+  std::printf("grey iris in a dome: by MNEE %.5f (se %.5f), by the walk %.5f (se %.5f), tolerance %.5f\n", byMnee,
+              seMnee, byWalk, seWalk, tolerance);
+  CHECK(std::abs(byMnee - byWalk) < std::max(tolerance, 2e-3 * byMnee));
+}
+
 TEST_CASE("splitting the light and the chamber walk at the first iris vertex keeps the image's mean",
           "[render][split]") {
   // A side-lit eye with a bright iris (much of its light bounces in the chamber): six seeds unsplit and six with

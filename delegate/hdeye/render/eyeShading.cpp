@@ -76,6 +76,20 @@ glm::dvec3 IrisBounce(eyelib::FunctionRef<double()> random) {
   return CosineHemisphereLocal(u1, u2);
 }
 
+/// Russian roulette at an iris bounce, on the walk's throughput `beta` (which carries the 1 / n^2 of the entry; what
+/// leaves the eye carries beta n^2): the walk goes on with probability q = min(1, max(beta n^2)), as pbrt does past a
+/// path's first bounce, and its throughput is divided by q. A dark iris's walks mostly end where they would carry
+/// little; what the surviving ones gather is unbiased. Draws a pair (the second unused) only when q < 1.
+bool SurvivesRoulette(double ior, eyelib::FunctionRef<double()> random, glm::dvec3* beta) {
+  const double q = std::max({beta->x, beta->y, beta->z}) * (ior * ior);
+  if (!(q < 1)) return true;
+  const double u = random();
+  random();
+  if (!(u < q)) return false;
+  *beta /= q;
+  return true;
+}
+
 /// Whether a walk meeting the cornea from inside (unit d, outward normal n) reflects (Fresnel, 1 under total
 /// internal reflection) rather than leaves. Draws two numbers (the second unused) so the walk's next draws start on
 /// a pair.
@@ -442,8 +456,9 @@ EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const E
           ev.radiance += gatherWeight * beta * albedo * GatherFromIris(eye, hit.point, lighting, random, eventsLeft);
       }
       split = true;
-      d = IrisBounce(random);
       beta *= albedo;
+      if (!SurvivesRoulette(ior, random, &beta)) return ev;
+      d = IrisBounce(random);
       p = hit.point;
       straightFromIris = true;
       continue;
