@@ -133,7 +133,9 @@ TEST_CASE(
     const std::vector<RenderLight> lights{RenderLight::FromParams(key, at)};
     EyeLighting lighting;
     lighting.lights = &lights;
-    lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+    lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double, const EyeGeometry*) {
+      return 1.0;
+    };
     const eyelib::IrisChamberTransport transport(eye.chamber, eyelib::IrisPolarGrid{8, 24, 8});
     const auto sameLighting = [&](eyelib::FunctionRef<void(const EyeLighting&)> body) { body(lighting); };
     const eyelib::IrisChamberCache cache = BuildChamberLightCache(eye, transport, sameLighting, 4);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 using namespace hdeye;
 
@@ -241,7 +242,7 @@ TEST_CASE("an analytic eye's intersection hands shading its exact cornea point, 
       RTCIntersectContext context;
       rtcInitIntersectContext(&context);
       RTCRayHit rh = test::UnboundedRayHit(o, d);
-      ExactCorneaHit& record = ThisThreadsCorneaHit();
+      ExactCorneaHit& record = ThisThreadsEyeRays().cornea;
       record.eye = nullptr;
       rtcIntersect1(root, &context, &rh);
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
@@ -271,4 +272,64 @@ TEST_CASE("an analytic eye's intersection hands shading its exact cornea point, 
   std::printf("exact cornea records: %d cornea hits, %d back hits\n", cornea, back);
   CHECK(cornea > 200);
   CHECK(back > 10);
+}
+
+TEST_CASE("a ray leaving an analytic eye's cornea outwards meets nothing of that eye, and its skip keeps other eyes") {
+  // What the tracer's EyeRayExchange::leaving relies on: from a point of the cap (offset outwards as the eye's rays
+  // are), heading to the outer side of its tangent plane, a ray never meets the convex region under the cap. A second
+  // eye faces the first 30 mm in front of it, turned back towards it, so that many of the rays meet that one: the
+  // skip must leave those hits as they are. In cm, the first eye turned.
+  const Matrix4d first =
+      glm::rotate(glm::dmat4(1.0), 0.4, glm::dvec3(0, 1, 0)) * glm::scale(glm::dmat4(1.0), glm::dvec3(0.1));
+  const Matrix4d second = glm::translate(glm::dmat4(1.0), glm::dvec3(glm::dmat3(first) * glm::dvec3(0, 0, 30))) *
+                          glm::rotate(glm::dmat4(1.0), 0.4 + eyelib::paper::kPi, glm::dvec3(0, 1, 0)) *
+                          glm::scale(glm::dmat4(1.0), glm::dvec3(0.1));
+  test::RenderStack s;
+  s.scene.AddAnalyticEye("/first", EyeParams{}, first);
+  s.scene.AddAnalyticEye("/second", EyeParams{}, second);
+  test::AddEyeCamera(s.scene);
+  s.scene.AddRenderBuffer("/color", 4, 4, 4);
+  s.pass.Execute("/cam", {{"color", "/color"}});  // syncs and commits the scene
+  RTCScene root = s.delegate.RootScene();
+  auto eyeOf = [&](unsigned geomID) {
+    return static_cast<const GeometryContext*>(rtcGetGeometryUserData(rtcGetGeometry(root, geomID)))->eye;
+  };
+  const EyeGeometry* leaving = nullptr;
+  for (unsigned id = 0; id < 2; ++id)
+    if (glm::length(glm::dvec3(eyeOf(id)->canonicalToWorld[3])) < 1e-9) leaving = eyeOf(id);
+  REQUIRE(leaving);
+  auto trace = [&](const glm::dvec3& o, const glm::dvec3& d, const EyeGeometry* skip) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh = test::UnboundedRayHit(o, d);
+    ThisThreadsEyeRays().leaving = skip;
+    rtcIntersect1(root, &context, &rh);
+    ThisThreadsEyeRays().leaving = nullptr;
+    return rh;
+  };
+  const eyelib::AnteriorSurface<double>& surface = leaving->chamber.Surface();
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int selfHits = 0, otherHits = 0, changed = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double r = surface.RimRadius() * std::sqrt(u(rng)), phi = 2 * eyelib::paper::kPi * u(rng);
+    const glm::dvec3 p(r * std::cos(phi), r * std::sin(phi), surface.Sag(r));
+    const glm::dvec3 n = surface.Normal(p.x, p.y);
+    // Outward directions down to grazing ones (a cosine of 1e-3 to the normal).
+    glm::dvec3 d(2 * u(rng) - 1, 2 * u(rng) - 1, 2 * u(rng) - 1);
+    d = glm::normalize(d - glm::dot(d, n) * n) * std::sqrt(1 - 1e-6) + n * (1e-3 + 0.999 * u(rng));
+    d = glm::normalize(d);
+    const glm::dvec3 o = leaving->ToWorld(p) + leaving->DirToWorld(n) * (1e-6 * leaving->worldPerMm * 8);
+    const glm::dvec3 dw = leaving->DirToWorld(d);
+    const RTCRayHit all = trace(o, dw, nullptr), skipped = trace(o, dw, leaving);
+    const bool hitAny = all.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    if (hitAny && eyeOf(all.hit.geomID) == leaving) ++selfHits;
+    if (hitAny && eyeOf(all.hit.geomID) != leaving) ++otherHits;
+    if (all.hit.geomID != skipped.hit.geomID || all.ray.tfar != skipped.ray.tfar) ++changed;
+  }
+  std::printf("rays leaving a cornea: %d meet that eye, %d the other one, %d changed by the skip\n", selfHits,
+              otherHits, changed);
+  CHECK(selfHits == 0);
+  CHECK(otherHits > 150);
+  CHECK(changed == 0);
 }

@@ -31,7 +31,9 @@ TEST_CASE("a 1 mm sphere light 100 mm away samples with bounded weights at iris 
   point.treatAsPoint = true;  // the same power from the centre: E differs by the light's extent alone
   const std::vector<RenderLight> points{RenderLight::FromParams(point, test::KeyAt(62, 100))};
   EyeLighting lighting;
-  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double, const EyeGeometry*) {
+    return 1.0;
+  };
   int lit = 0;
   for (const double r : {-6.5, -4.0, -2.0, 2.0, 4.0, 6.5}) {
     const glm::dvec3 x(r, 0, eye.chamber.IrisZ());
@@ -84,7 +86,9 @@ TEST_CASE("the cornea's Fresnel choice at a camera path's entry picks the path's
   const std::vector<RenderLight> lights{RenderLight::FromParams(point, test::KeyAt(40, 100))};
   EyeLighting lighting;
   lighting.lights = &lights;
-  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double, const EyeGeometry*) {
+    return 1.0;
+  };
   lighting.switches.mnee = true;
   lighting.maxChamberEvents = 1;  // the first iris vertex's light alone
   // A camera ray 60 degrees off the gaze at the cornea: F is about 16 %.
@@ -127,7 +131,9 @@ TEST_CASE(
                                         RenderLight::FromParams(fill, test::KeyAt(-30, 100)),
                                         RenderLight::FromParams(dome, Matrix4d(1.0))};
   EyeLighting lighting;
-  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double, const EyeGeometry*) {
+    return 1.0;
+  };
   lighting.lights = &lights;
   const std::vector<double> pick = MneeLightPick(eye, lighting);
   std::printf("MNEE light pick: key %.3f, fill %.3f, dome %.3f\n", pick[0], pick[1], pick[2]);

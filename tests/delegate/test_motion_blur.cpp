@@ -324,7 +324,9 @@ TEST_CASE("a saccade's time-averaged iris caustic matches eyelib's light tracer 
   REQUIRE(lights[0].delta);
   EyeLighting lighting;
   lighting.lights = &lights;
-  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double) { return 1.0; };
+  lighting.transmittance = [](std::size_t, const glm::dvec3&, const glm::dvec3&, double, const EyeGeometry*) {
+    return 1.0;
+  };
   const std::function<double()> random = [] { return 0.5; };  // one light, a point: nothing to sample
 
   const eyelib::IrisGrid grid{16, 7.54};

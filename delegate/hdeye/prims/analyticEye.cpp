@@ -72,6 +72,8 @@ void Bounds(const RTCBoundsFunctionArguments* args) {
 
 void Intersect(const RTCIntersectFunctionNArguments* args) {
   const auto* ctx = static_cast<const GeometryContext*>(args->geometryUserPtr);
+  EyeRayExchange& exchange = ThisThreadsEyeRays();
+  if (exchange.leaving == ctx->eye) return;
   RTCRayHitN* rayhit = args->rayhit;
   RTCRayN* ray = RTCRayHitN_RayN(rayhit, args->N);
   RTCHitN* hitN = RTCRayHitN_HitN(rayhit, args->N);
@@ -88,7 +90,7 @@ void Intersect(const RTCIntersectFunctionNArguments* args) {
                       RTCRayN_tfar(ray, args->N, i), &t, &part, &n, &cornea))
       continue;
     RTCRayN_tfar(ray, args->N, i) = float(t);
-    if (part == EyeGeometry::kCornea) ThisThreadsCorneaHit() = {&eye, float(t), cornea};
+    if (part == EyeGeometry::kCornea) exchange.cornea = {&eye, float(t), cornea};
     RTCHitN_Ng_x(hitN, args->N, i) = float(n.x);
     RTCHitN_Ng_y(hitN, args->N, i) = float(n.y);
     RTCHitN_Ng_z(hitN, args->N, i) = float(n.z);
@@ -102,6 +104,7 @@ void Intersect(const RTCIntersectFunctionNArguments* args) {
 
 void Occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* ctx = static_cast<const GeometryContext*>(args->geometryUserPtr);
+  if (ThisThreadsEyeRays().leaving == ctx->eye) return;
   for (unsigned i = 0; i < args->N; ++i) {
     if (!args->valid[i]) continue;
     const glm::dvec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),

@@ -36,9 +36,9 @@ std::vector<glm::dmat4> EyeGeometry::CanonicalToWorldOverShutter(int count) cons
   return frames;
 }
 
-ExactCorneaHit& ThisThreadsCorneaHit() {
-  thread_local ExactCorneaHit hit;
-  return hit;
+EyeRayExchange& ThisThreadsEyeRays() {
+  thread_local EyeRayExchange exchange;
+  return exchange;
 }
 
 }  // namespace hdeye

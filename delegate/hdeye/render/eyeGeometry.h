@@ -99,14 +99,25 @@ struct CorneaPoint {
   glm::dvec3 point, normal;
 };
 
-/// The cornea hit an analytic eye's Embree intersect callback accepted last on the calling thread (Embree runs a
-/// user geometry's callback on the thread that traces the ray). The tracer clears it before a ray and takes it for
-/// the ray's hit when that hit is this eye's cornea at this distance, so that shading need not intersect again.
+/// A cornea hit an analytic eye's Embree intersect callback accepted.
 struct ExactCorneaHit {
-  const EyeGeometry* eye = nullptr;  ///< whose cornea (null: none since the tracer cleared it)
+  const EyeGeometry* eye = nullptr;  ///< whose cornea (null: none)
   float t = 0;                       ///< the distance the callback gave Embree
   CorneaPoint at;
 };
-ExactCorneaHit& ThisThreadsCorneaHit();
+
+/// What the tracer and the analytic eyes' Embree callbacks share on one thread (Embree runs a user geometry's
+/// callbacks on the thread that traces the ray): the tracer sets it before each ray.
+struct EyeRayExchange {
+  /// The eye whose cornea the ray leaves outwards (an exit, a reflection, a shadow ray from a cornea point, heading
+  /// to the outer side of the cap's tangent plane there): the region under a cap is convex, so the ray cannot meet
+  /// it, and that eye's callbacks skip it. Null: none.
+  const EyeGeometry* leaving = nullptr;
+  /// The cornea hit the intersect callback accepted last (eye null: none since the tracer cleared it). The tracer
+  /// takes it for the ray's hit when that hit is this eye's cornea at this distance, so shading need not intersect
+  /// again.
+  ExactCorneaHit cornea;
+};
+EyeRayExchange& ThisThreadsEyeRays();
 
 }  // namespace hdeye

@@ -275,7 +275,7 @@ glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, 
       if (cosEmit == 0) continue;
       tFar *= 1 - 1e-6;
     }
-    const double transmittance = lighting.transmittance(index, Offset(eye, p, n), toLight, tFar);
+    const double transmittance = lighting.transmittance(index, Offset(eye, p, n), toLight, tFar, &eye);
     if (!(transmittance > 0)) continue;
     // Emission from the sampled light point towards this path's own cornea point (a rect's texture there,
     // ShapingAPI; the sample's radiance for distant lights and domes, which have no shaping).

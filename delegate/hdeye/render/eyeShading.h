@@ -35,8 +35,10 @@ struct EyeLighting {
   const std::vector<RenderLight>* lights = nullptr;
   /// The fraction of light `light` (an index into *lights) reaching `origin` from along unit `dir` within tFar
   /// (world units): 0 blocked, 1 clear, between for thin walls (an occlusion shell) on the way. The light's
-  /// shadow linking decides what blocks it. A reference: the renderer's callable outlives the lighting.
-  eyelib::FunctionRef<double(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar)>
+  /// shadow linking decides what blocks it. `leaving`: the analytic eye whose cornea origin leaves outwards (the
+  /// ray cannot meet it), or null. A reference: the renderer's callable outlives the lighting.
+  eyelib::FunctionRef<double(std::size_t light, const glm::dvec3& origin, const glm::dvec3& dir, double tFar,
+                             const EyeGeometry* leaving)>
       transmittance;
   /// The eye's GeometryContext::primIndex: lights linked away from it (Illuminates) give it nothing, MNEE
   /// included.

@@ -129,6 +129,8 @@ struct PathState {
   double bsdfPdf = 0;       ///< the pdf the current ray was sampled with (after a diffuse bounce)
   EyeLighting eyeLighting;  ///< the lights and switches of the eye last met
   EyeLighting skipMneeOf;   ///< skipMnee: the lighting of the iris the path left (its MNEE lights)
+  /// The analytic eye whose cornea the current ray leaves outwards (EyeRayExchange::leaving), or null.
+  const EyeGeometry* leavingEye = nullptr;
   // Whether the path is inside a glass (opacity < 1) object: flipped at every refraction. Hits carry no
   // front/back flag, so this assumes the camera is outside and glass objects are closed and do not nest.
   bool insideGlass = false;
@@ -138,7 +140,9 @@ struct PathState {
   glm::dvec3 lMark{0};
 
   /// The next ray starts at `origin` along unit `dir`, unbounded.
-  void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) { o = origin, d = dir, tNear = 0, tFar = kInf; }
+  void SetRay(const glm::dvec3& origin, const glm::dvec3& dir) {
+    o = origin, d = dir, tNear = 0, tFar = kInf, leavingEye = nullptr;
+  }
   /// What the sample gathered since the last mark goes to the path's part; from now on the path's light goes to `next`.
   void SwitchPart(EyePart next, PathSample* sample) {
     sample->parts[part] += sample->L - lMark;

@@ -26,7 +26,7 @@ void Tracer::TracePath(PathState* pathState, int firstDepth, SampleStream& rng, 
   PathSample& sample = *samplePtr;
   for (int depth = firstDepth; depth <= settings_.maxDepth; ++depth) {
     SurfaceHit hit;
-    const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit);
+    const bool hitGeometry = Intersect(path.o, path.d, path.tNear, path.tFar, &hit, path.leavingEye);
     if (depth == 0) {
       sample.hitAny = hitGeometry;
       if (hitGeometry) sample.first.Set(hit);

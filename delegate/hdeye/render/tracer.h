@@ -47,7 +47,7 @@ class Tracer {
         chamberCaches_(chamberCaches),
         entryTables_(chamberCaches ? &chamberCaches->EntryTables() : nullptr),
         textureThread_(CurrentTextureThread()),
-        corneaHit_(&ThisThreadsCorneaHit()) {}
+        eyeRays_(&ThisThreadsEyeRays()) {}
 
   /// Radiance along a camera ray (pbrt's PathIntegrator::Li): per vertex, the lights the ray meets, the
   /// surface's emission, the eye (if it is one), direct light (SampleLd) and the BSDF-sampled continuation.
@@ -72,16 +72,18 @@ class Tracer {
   /// The shadow test an eye's lighting calls (EyeLighting::transmittance) over this tracer's lights, by index. The
   /// caller keeps the returned callable alive while the lighting refers to it.
   auto LightTransmittance() {
-    return [this](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t) {
-      return Transmittance(lights_[k], o, d, t);
+    return [this](std::size_t k, const glm::dvec3& o, const glm::dvec3& d, double t, const EyeGeometry* leaving) {
+      return Transmittance(lights_[k], o, d, t, leaving);
     };
   }
 
   /// The path's time: Embree's ray time, and the moving lights moved to it.
   void SetTime(double time);
 
-  /// Closest hit of the scene's geometry along the ray, if any.
-  bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const;
+  /// Closest hit of the scene's geometry along the ray, if any. `leaving`: the analytic eye whose cornea the ray leaves
+  /// outwards (EyeRayExchange::leaving: its callbacks skip the ray), or null.
+  bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit,
+                 const EyeGeometry* leaving = nullptr) const;
 
   /// The hit's shading normal, st, albedo and emission from its geometry's primvars: per-vertex values
   /// (triangleVertices) or per-corner ones (3 per triangle), weighted by the hit's barycentrics; object-space normals
@@ -109,12 +111,14 @@ class Tracer {
   /// they are cut away. Without shadow linking one any-hit query that skips thin walls decides, and only if it
   /// met one (or, in a scene with cut-outs, anything) are the surfaces crossed in order (CrossSurfaces); with
   /// shadow linking they are crossed at once.
-  double Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const;
+  double Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar,
+                       const EyeGeometry* leaving = nullptr) const;
 
   /// Transmittance by walking the surfaces from o along d to tFar in order: a surface the light's shadow linking
   /// leaves out passes, as do cut-away parts of cut-outs; thin walls attenuate, anything else blocks. At most
   /// kMaxCutoutCrossings surfaces; more count as opaque (light never leaks through a thick stack).
-  double CrossSurfaces(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const;
+  double CrossSurfaces(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar,
+                       const EyeGeometry* leaving) const;
 
   /// Whether a ray along d passes a hit because its material is cut away there (opacityThreshold).
   bool CutAway(const SurfaceHit& hit, const glm::dvec3& d) const;
@@ -247,7 +251,7 @@ class Tracer {
     std::vector<double> pick;
   } lastMneePick_;
   TextureThread* textureThread_ = nullptr;  ///< OIIO's per-thread state of the thread running this tracer
-  ExactCorneaHit* corneaHit_ = nullptr;     ///< that thread's record of an analytic eye's exact cornea hit
+  EyeRayExchange* eyeRays_ = nullptr;       ///< what that thread's rays share with the analytic eyes' callbacks
   mutable Counts counts_;
 };
 

@@ -64,7 +64,7 @@ bool Tracer::SeesCatchlight(const WorldRay& ray, double time) {
   }
   if (!met) return false;
   SurfaceHit blocker;
-  return !Intersect(o, d, 0, nearest, &blocker);
+  return !Intersect(o, d, 0, nearest, &blocker, hit.context->eye);
 }
 
 const std::vector<double>& Tracer::MneePickOf(const GeometryContext& ctx, const EyeLighting& lighting) {
@@ -159,6 +159,8 @@ EyeOutcome Tracer::ShadeEyeHit(const EyeGeometry& eye, int depth, SampleStream& 
     path->beta *= ev.weight;
     path->cone = path->cone.AfterBounce(hit->t, true);
     path->SetRay(ev.origin, ev.dir);
+    // Every ray an analytic eye continues leaves its cornea outwards (its exits and reflections).
+    path->leavingEye = ctx.eye;
     if (!ev.passThrough) {
       path->specular = true, path->skipLights = false, path->skipMnee = ev.skipLightHits;
       if (path->skipMnee) path->skipMneeOf = lighting;
@@ -183,6 +185,7 @@ void Tracer::TraceCorneaReflection(const EyeEvent::Branch& reflection, EyePart p
   branch.beta *= reflection.weight;
   branch.cone = path.cone.AfterBounce(hit.t, true);
   branch.SetRay(reflection.origin, reflection.dir);
+  branch.leavingEye = hit.context->eye;  // an analytic eye's reflection leaves its cornea outwards
   branch.SetSpecular();
   TracePath(&branch, depth + 1, rng, sample);
 }

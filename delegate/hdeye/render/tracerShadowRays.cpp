@@ -6,8 +6,9 @@
 
 namespace hdeye {
 
-double Tracer::Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
-  if (!light.unshadowed.empty()) return CrossSurfaces(light, o, d, tFar);
+double Tracer::Transmittance(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar,
+                             const EyeGeometry* leaving) const {
+  if (!light.unshadowed.empty()) return CrossSurfaces(light, o, d, tFar, leaving);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;
@@ -17,20 +18,23 @@ double Tracer::Transmittance(const RenderLight& light, const glm::dvec3& o, cons
   ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
   ray.mask = ~0u, ray.flags = 0, ray.time = rayTime_;
   ThinWallsMet::Reset();
+  eyeRays_->leaving = leaving;
   rtcOccluded1(scene_, &context, &ray);
+  eyeRays_->leaving = nullptr;
   ++counts_.rays;
   const bool blocked = ray.tfar < 0;
   if (blocked && !cutouts_) return 0;
   if (!blocked && !ThinWallsMet::Any()) return 1;
-  return CrossSurfaces(light, o, d, tFar);
+  return CrossSurfaces(light, o, d, tFar, leaving);
 }
 
-double Tracer::CrossSurfaces(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar) const {
+double Tracer::CrossSurfaces(const RenderLight& light, const glm::dvec3& o, const glm::dvec3& d, double tFar,
+                             const EyeGeometry* leaving) const {
   double transmittance = 1, left = tFar;
   glm::dvec3 origin = o;
   for (int crossed = 0; crossed < kMaxCutoutCrossings; ++crossed) {
     SurfaceHit hit;
-    if (!Intersect(origin, d, 0, left, &hit)) return transmittance;
+    if (!Intersect(origin, d, 0, left, &hit, leaving)) return transmittance;  // further along: still leaving
     if (CastsShadow(light, hit.primIndex) && !CutAway(hit, d)) {
       if (!IsThinWall(*hit.context)) return 0;  // an eye or an opaque surface
       transmittance *= ThinWallTransmittance(*hit.context, glm::dot(hit.ng, d));

@@ -19,7 +19,8 @@ const SurfaceMaterial& MaterialAt(const GeometryContext& context, unsigned part)
 
 }  // namespace
 
-bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit) const {
+bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, double tFar, SurfaceHit* hit,
+                       const EyeGeometry* leaving) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -29,9 +30,12 @@ bool Tracer::Intersect(const glm::dvec3& o, const glm::dvec3& d, double tNear, d
   rh.ray.tfar = tFar < 3e38 ? float(tFar) : std::numeric_limits<float>::infinity();
   rh.ray.mask = ~0u, rh.ray.flags = 0, rh.ray.time = rayTime_;
   rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  ExactCorneaHit& cornea = *corneaHit_;
-  cornea.eye = nullptr;
+  EyeRayExchange& exchange = *eyeRays_;
+  const ExactCorneaHit& cornea = exchange.cornea;
+  exchange.cornea.eye = nullptr;
+  exchange.leaving = leaving;
   rtcIntersect1(scene_, &context, &rh);
+  exchange.leaving = nullptr;  // rays traced elsewhere on this thread leave no eye
   ++counts_.rays;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   // Meshes sit under instances (user data: an InstanceContext, one per instance); analytic eyes are user
