@@ -19,6 +19,11 @@ namespace {
 using eyelib::paper::kPi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+/// The angular error of Snell's law (radians) at which a render's MNEE solve stops: a cornea point within about
+/// 1e-8 mm of the path's, far below anything an image resolves. Newton converges quadratically, so eyelib's default
+/// 1e-11 often costs one more iteration for nothing the image can show.
+constexpr double kRenderMneeTolerance = 1e-8;
+
 /// World offset for spawning a ray off the eye's surface along world normal n.
 glm::dvec3 Offset(const EyeGeometry& eye, const glm::dvec3& p, const glm::dvec3& n) {
   return p + n * (1e-6 * eye.worldPerMm * 8 + 1e-7 * glm::length(p));
@@ -247,6 +252,7 @@ glm::dvec3 IrisIrradianceFromLight(const EyeGeometry& eye, const glm::dvec3& x, 
   }
   eyelib::MneeOptions options;
   options.scleraOccludes = false;  // visibility is the renderer's: shadow rays below
+  options.tolerance = kRenderMneeTolerance;
   eyelib::SeedStrategy seeds;
   seeds.allSolutions = lighting.switches.mneeAllSolutions;
   if (hasCentre) {
