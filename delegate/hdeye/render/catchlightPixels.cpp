@@ -45,16 +45,22 @@ CatchlightPixels CatchlightPixels::Find(RTCScene scene, const CameraView& camera
   pixels.rays_ = rays;
   pixels.width_ = width;
   pixels.marked_.assign(std::size_t(width) * height, 0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      // The corners of the pixel's lattice cell and of the cells around it.
+  // A lattice cell (the pixels from corner (i, j) to corner (i + 1, j + 1)) is marked when the corners of it and of
+  // the cells around it disagree; its pixels take its mark. Decided once per cell, not once per pixel.
+  for (int cj = 0; cj + 1 < cornersY; ++cj)
+    for (int ci = 0; ci + 1 < cornersX; ++ci) {
       bool any = false, all = true;
-      for (int j = std::max(0, y / step - 1); j <= std::min(cornersY - 1, y / step + 2); ++j)
-        for (int i = std::max(0, x / step - 1); i <= std::min(cornersX - 1, x / step + 2); ++i) {
+      for (int j = std::max(0, cj - 1); j <= std::min(cornersY - 1, cj + 2); ++j)
+        for (int i = std::max(0, ci - 1); i <= std::min(cornersX - 1, ci + 2); ++i) {
           const bool s = sees[std::size_t(j) * cornersX + i];
           any = any || s, all = all && s;
         }
-      if (any && !all) pixels.marked_[std::size_t(y) * width + x] = 1, ++pixels.count_;
+      if (!any || all) continue;
+      const int x0 = ci * step, x1 = std::min(width, x0 + step);
+      for (int y = cj * step; y < std::min(height, (cj + 1) * step); ++y) {
+        std::fill_n(pixels.marked_.begin() + std::ptrdiff_t(std::size_t(y) * width + x0), x1 - x0, std::uint8_t(1));
+        pixels.count_ += x1 - x0;
+      }
     }
   if (pixels.count_ == 0) pixels.marked_.clear();
   return pixels;
