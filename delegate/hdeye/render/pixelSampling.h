@@ -30,8 +30,10 @@ struct SharedCounts {
 struct PixelGrid {
   int stride = 1, coarser = 0;
   bool Has(int x, int y) const {
-    return x % stride == 0 && y % stride == 0 && !(coarser && x % coarser == 0 && y % coarser == 0);
+    // Asked once per pixel: the common grids (every pixel; a stage's power-of-two strides) take no division.
+    return Divides(stride, x) && Divides(stride, y) && !(coarser && Divides(coarser, x) && Divides(coarser, y));
   }
+  static bool Divides(int n, int x) { return (n & (n - 1)) == 0 ? (x & (n - 1)) == 0 : x % n == 0; }
 };
 
 /// The film's width over its height: the image's, stretched by RenderSettings::pixelAspectRatio.
