@@ -90,10 +90,10 @@ TEST_CASE("a side-lit eye shows its caustic crescent on the iris side away from 
 
 TEST_CASE("Russian roulette at the iris bounce keeps the mean: a grey iris in a uniform dome, by MNEE and by the walk",
           "[render]") {
-  // With MNEE the dome's light at the first iris vertex is MNEE's and the walk's exit skips the dome; without it,
-  // that light is what the exit meets after the bounce, which survives the roulette with probability 0.4 (the
-  // albedo) and weighs 1 / 0.4. Both estimates of the eye's pixels are unbiased (the chamber light by the walk in
-  // both): their means over four seeds agree within four standard errors of the difference.
+  // With MNEE the dome's light at the first iris vertex is MNEE's, and the walk goes on from each bounce with
+  // probability 0.4 (the albedo), weighing 1 / 0.4, to gather the chamber light (by the walk, no cache). Without
+  // MNEE the dome reaches the iris only through the walk's exit, and no bounce plays roulette. Both estimates of the
+  // eye's pixels are unbiased: their means over four seeds agree within four standard errors of the difference.
   EyeParams grey;
   grey.chamber.pupilDiameter = 0;
   grey.irisColor = glm::vec3(0.4f);

@@ -81,10 +81,20 @@ glm::dvec3 IrisBounce(eyelib::FunctionRef<double()> random) {
   return CosineHemisphereLocal(u1, u2);
 }
 
+/// Whether MNEE counts every light that illuminates the eye. Only then do the iris bounces play Russian roulette: a
+/// light MNEE leaves out (too large, too grazing, or switched off) reaches the iris only through the walk's exit,
+/// whose every path it needs.
+bool MneeCountsEveryLight(const EyeLighting& lighting) {
+  for (std::size_t k = 0; k < lighting.lights->size(); ++k)
+    if (Illuminates((*lighting.lights)[k], lighting.receiver) && !MneeCountsLight(lighting, k)) return false;
+  return true;
+}
+
 /// Russian roulette at an iris bounce, on the walk's throughput `beta` (which carries the 1 / n^2 of the entry; what
 /// leaves the eye carries beta n^2): the walk goes on with probability q = min(1, max(beta n^2)), as pbrt does past a
-/// path's first bounce, and its throughput is divided by q. A dark iris's walks mostly end where they would carry
-/// little; what the surviving ones gather is unbiased. Draws a pair (the second unused) only when q < 1.
+/// path's first bounce, and its throughput is divided by q. What it carries on is the chamber light and the light of
+/// surfaces seen through the exit (MNEE has the lights): a dark iris's walks mostly end where they would carry
+/// little, and what the surviving ones gather is unbiased. Draws a pair (the second unused) only when q < 1.
 bool SurvivesRoulette(double ior, eyelib::FunctionRef<double()> random, glm::dvec3* beta) {
   const double q = std::max({beta->x, beta->y, beta->z}) * (ior * ior);
   if (!(q < 1)) return true;
@@ -443,6 +453,7 @@ EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const E
   // it gathers inside from then on weighs 1 / chamberSplits, and its exit keeps the full weight.
   glm::dvec3 beta(1 / (ior * ior));
   bool straightFromIris = false, split = false;
+  const bool roulette = lighting.switches.mnee && MneeCountsEveryLight(lighting);
   int irisVertices = 0;
   double gatherWeight = gatherScale;
   const int chamberSplits = std::max(1, lighting.chamberSplits);
@@ -463,7 +474,7 @@ EyeEvent WalkChamber(const EyeGeometry& eye, glm::dvec3 p, glm::dvec3 d, const E
       }
       split = true;
       beta *= albedo;
-      if (!SurvivesRoulette(ior, random, &beta)) return ev;
+      if (roulette && !SurvivesRoulette(ior, random, &beta)) return ev;
       d = IrisBounce(random);
       p = hit.point;
       straightFromIris = true;
